@@ -1,0 +1,35 @@
+/* Error messages: one buffer per thread, set by rl_error(), read by rl_last_error(). */
+#include "rotleap/error.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+static _Thread_local char last_message[1024];
+
+const char *rl_last_error(void) { return last_message; }
+
+void rl_error_clear(void) { last_message[0] = '\0'; }
+
+int rl_error(int status, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(last_message, sizeof last_message, fmt, ap);
+  va_end(ap);
+  return status;
+}
+
+const char *rl_strerror(int status)
+{
+  switch (status) {
+  case RL_OK: return "RL_OK";
+  case RL_EINVAL: return "RL_EINVAL";
+  case RL_ENOMEM: return "RL_ENOMEM";
+  case RL_ENONFINITE: return "RL_ENONFINITE";
+  case RL_EORTHO: return "RL_EORTHO";
+  case RL_ENOCONV: return "RL_ENOCONV";
+  case RL_EFORCE: return "RL_EFORCE";
+  case RL_ESTATE: return "RL_ESTATE";
+  default: return "RL_E?";
+  }
+}

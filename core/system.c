@@ -1,0 +1,421 @@
+/* The system of rigid bodies: species table and contiguous state arrays. */
+#include "system_impl.h"
+#include "rotleap/error.h"
+#include "rotleap/integrator.h"
+#include "rotleap/rotation.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+rl_system *rl_system_alloc(rl_units units)
+{
+  rl_system *s = calloc(1, sizeof *s);
+  if (!s) { rl_error(RL_ENOMEM, "rl_system_alloc: out of memory"); return NULL; }
+  s->units = units;
+  s->kB = rl_units_kB(units);
+  s->removed_dof = 3;
+  return s;
+}
+
+void rl_system_free(rl_system *s)
+{
+  if (!s) return;
+  for (int i = 0; i < s->nspecies; i++) free(s->sp[i].sites);
+  free(s->sp);
+  free(s->species_of);
+  free(s->r);
+  free(s->v);
+  free(s->l);
+  free(s->A);
+  free(s->rho);
+  free(s);
+}
+
+const char *rl_kind_name(rl_kind k)
+{
+  switch (k) {
+  case RL_KIND_POINT: return "point";
+  case RL_KIND_DIPOLE: return "dipole";
+  case RL_KIND_LINEAR: return "linear";
+  case RL_KIND_SPHERICAL: return "spherical";
+  case RL_KIND_SYMMETRIC: return "symmetric";
+  case RL_KIND_ASYMMETRIC: return "asymmetric";
+  case RL_KIND_AUTO: return "auto";
+  }
+  return "?";
+}
+
+int rl_kind_rotational_dof(rl_kind k)
+{
+  if (k == RL_KIND_POINT) return 0;
+  return rl_kind_is_axis(k) ? 2 : 3;
+}
+
+static int close_moments(double a, double b, double scale)
+{
+  return fabs(a - b) <= RL_INERTIA_RTOL * scale;
+}
+
+rl_kind rl_classify_inertia(const double J[3])
+{
+  double mx = fmax(J[0], fmax(J[1], J[2]));
+  if (!(mx > 0.0)) return RL_KIND_POINT;
+  int zero = 0;
+  for (int i = 0; i < 3; i++) zero += J[i] <= RL_INERTIA_RTOL * mx;
+  if (zero >= 1) return RL_KIND_LINEAR;
+  int e01 = close_moments(J[0], J[1], mx), e12 = close_moments(J[1], J[2], mx),
+      e02 = close_moments(J[0], J[2], mx);
+  if (e01 && e12 && e02) return RL_KIND_SPHERICAL;
+  if (e01 || e12 || e02) return RL_KIND_SYMMETRIC;
+  return RL_KIND_ASYMMETRIC;
+}
+
+static int grow(void **p, size_t elem, int n)
+{
+  void *q = realloc(*p, elem * (size_t)(n > 0 ? n : 1));
+  if (!q) return 0;
+  *p = q;
+  return 1;
+}
+
+static int finite3(const double a[3]) { return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]); }
+
+int rl_system_add_species(rl_system *s, const rl_species_desc *d, int count, int *species)
+{
+  const char *nm = d && d->name ? d->name : "(unnamed)";
+  if (!s || !d) return rl_error(RL_EINVAL, "rl_system_add_species: NULL argument");
+  if (count < 0) return rl_error(RL_EINVAL, "species %s: count %d is negative", nm, count);
+  if (!(d->mass > 0.0) || !isfinite(d->mass))
+    return rl_error(RL_EINVAL, "species %s: mass %g must be positive and finite", nm, d->mass);
+  if (d->nsites < 0 || (d->nsites > 0 && !d->sites))
+    return rl_error(RL_EINVAL, "species %s: nsites = %d but no site positions", nm, d->nsites);
+  rl_kind kind = d->kind;
+  const double *J = d->inertia;
+  if (kind != RL_KIND_POINT) {
+    for (int a = 0; a < 3; a++)
+      if (!isfinite(J[a]) || J[a] < 0.0)
+        return rl_error(RL_EINVAL, "species %s: principal moment J[%d] = %g must be finite and "
+                        ">= 0", nm, a, J[a]);
+  }
+  if (kind == RL_KIND_AUTO) kind = rl_classify_inertia(J);
+  double mx = fmax(J[0], fmax(J[1], J[2]));
+  switch (kind) {
+  case RL_KIND_POINT: break;
+  case RL_KIND_DIPOLE:
+    if (!(J[0] > 0.0) || !close_moments(J[0], J[1], mx) ||
+        !(close_moments(J[2], J[0], mx) || J[2] == 0.0))
+      return rl_error(RL_EINVAL, "species %s: a point dipole needs spherical inertia I, I, I "
+                      "(or I, I, 0), got %g %g %g", nm, J[0], J[1], J[2]);
+    break;
+  case RL_KIND_LINEAR:
+    if (!(J[0] > 0.0) || !close_moments(J[0], J[1], mx) || J[2] > RL_INERTIA_RTOL * mx)
+      return rl_error(RL_EINVAL, "species %s: a linear molecule needs moments J, J, 0 with its "
+                      "axis along body Z, got %g %g %g", nm, J[0], J[1], J[2]);
+    break;
+  default:
+    for (int a = 0; a < 3; a++)
+      if (!(J[a] > 0.0))
+        return rl_error(RL_EINVAL, "species %s: %s body needs positive principal moments, "
+                        "J[%d] = %g", nm, rl_kind_name(kind), a, J[a]);
+    if (J[0] > J[1] + J[2] || J[1] > J[0] + J[2] || J[2] > J[0] + J[1])
+      return rl_error(RL_EINVAL, "species %s: moments %g %g %g violate the triangle "
+                      "inequality J_a <= J_b + J_c", nm, J[0], J[1], J[2]);
+    if (kind == RL_KIND_SPHERICAL &&
+        !(close_moments(J[0], J[1], mx) && close_moments(J[1], J[2], mx)))
+      return rl_error(RL_EINVAL, "species %s: spherical top needs equal moments, got %g %g %g",
+                      nm, J[0], J[1], J[2]);
+    if (kind == RL_KIND_SYMMETRIC && !(close_moments(J[0], J[1], mx) ||
+                                       close_moments(J[1], J[2], mx) ||
+                                       close_moments(J[0], J[2], mx)))
+      return rl_error(RL_EINVAL, "species %s: symmetric top needs two equal moments, got %g %g %g",
+                      nm, J[0], J[1], J[2]);
+    break;
+  }
+  for (int a = 0; a < d->nsites; a++) {
+    const double *p = d->sites + 3 * a;
+    if (!finite3(p)) return rl_error(RL_ENONFINITE, "species %s: site %d is not finite", nm, a);
+    if (rl_kind_is_axis(kind) && (p[0] != 0.0 || p[1] != 0.0))
+      return rl_error(RL_EINVAL, "species %s: %s species must have its sites on body Z; site %d "
+                      "is at (%g, %g, %g)", nm, rl_kind_name(kind), a, p[0], p[1], p[2]);
+    if (kind == RL_KIND_POINT && (p[0] != 0.0 || p[1] != 0.0 || p[2] != 0.0))
+      return rl_error(RL_EINVAL, "species %s: a point species has its sites at the centre", nm);
+  }
+
+  if (s->nspecies == s->cap_species) {
+    int cap = s->cap_species ? 2 * s->cap_species : 4;
+    if (!grow((void **)&s->sp, sizeof *s->sp, cap)) return rl_error(RL_ENOMEM, "out of memory");
+    s->cap_species = cap;
+  }
+  rl_species sp;
+  memset(&sp, 0, sizeof sp);
+  strncpy(sp.name, nm, sizeof sp.name - 1);
+  sp.kind = kind;
+  sp.mass = d->mass;
+  memcpy(sp.J, J, sizeof sp.J);
+  sp.perm[0] = 0; sp.perm[1] = 1; sp.perm[2] = 2;
+  if (kind == RL_KIND_SYMMETRIC) { /* unique axis u becomes Z of the cyclic relabelling */
+    int u = close_moments(J[0], J[1], mx) ? 2 : close_moments(J[1], J[2], mx) ? 0 : 1;
+    sp.perm[0] = (u + 1) % 3; sp.perm[1] = (u + 2) % 3; sp.perm[2] = u;
+  }
+  sp.nsites = d->nsites;
+  sp.first = s->n;
+  sp.count = count;
+  sp.site_off = s->nsites_total;
+  sp.rot_off = kind == RL_KIND_POINT ? -1 : s->nrot;
+  sp.mat_off = rl_kind_is_matrix(kind) ? s->nmat : -1;
+  sp.axis_off = rl_kind_is_axis(kind) ? s->naxis : -1;
+  if (d->nsites > 0) {
+    sp.sites = malloc(sizeof(double) * 3 * (size_t)d->nsites);
+    if (!sp.sites) return rl_error(RL_ENOMEM, "out of memory");
+    memcpy(sp.sites, d->sites, sizeof(double) * 3 * (size_t)d->nsites);
+  }
+
+  int n = s->n + count;
+  int nrot = s->nrot + (kind == RL_KIND_POINT ? 0 : count);
+  int nmat = s->nmat + (rl_kind_is_matrix(kind) ? count : 0);
+  int naxis = s->naxis + (rl_kind_is_axis(kind) ? count : 0);
+  if (!grow((void **)&s->r, sizeof *s->r, n) || !grow((void **)&s->v, sizeof *s->v, n) ||
+      !grow((void **)&s->species_of, sizeof *s->species_of, n) ||
+      !grow((void **)&s->l, sizeof *s->l, nrot) || !grow((void **)&s->A, sizeof *s->A, nmat) ||
+      !grow((void **)&s->rho, sizeof *s->rho, naxis)) {
+    free(sp.sites);
+    return rl_error(RL_ENOMEM, "rl_system_add_species: out of memory for %d bodies", n);
+  }
+  for (int i = s->n; i < n; i++) {
+    s->species_of[i] = s->nspecies;
+    memset(s->r[i], 0, sizeof s->r[i]);
+    memset(s->v[i], 0, sizeof s->v[i]);
+  }
+  for (int i = s->nrot; i < nrot; i++) memset(s->l[i], 0, sizeof s->l[i]);
+  for (int i = s->nmat; i < nmat; i++) {
+    static const double I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(s->A[i], I9, sizeof I9);
+  }
+  for (int i = s->naxis; i < naxis; i++) { s->rho[i][0] = 0; s->rho[i][1] = 0; s->rho[i][2] = 1; }
+  s->n = n; s->nrot = nrot; s->nmat = nmat; s->naxis = naxis;
+  s->nsites_total += count * d->nsites;
+  s->sp[s->nspecies] = sp;
+  if (species) *species = s->nspecies;
+  s->nspecies++;
+  return RL_OK;
+}
+
+int rl_system_count(const rl_system *s) { return s->n; }
+int rl_system_nspecies(const rl_system *s) { return s->nspecies; }
+int rl_system_species_of(const rl_system *s, int i) { return s->species_of[i]; }
+rl_kind rl_system_species_kind(const rl_system *s, int k) { return s->sp[k].kind; }
+int rl_system_nsites(const rl_system *s) { return s->nsites_total; }
+double rl_system_mass(const rl_system *s, int i) { return s->sp[s->species_of[i]].mass; }
+void rl_system_inertia(const rl_system *s, int i, double J[3])
+{
+  memcpy(J, s->sp[s->species_of[i]].J, 3 * sizeof(double));
+}
+rl_units rl_system_units(const rl_system *s) { return s->units; }
+double rl_system_kB(const rl_system *s) { return s->kB; }
+void rl_system_set_removed_dof(rl_system *s, int removed) { s->removed_dof = removed; }
+int rl_system_dof_translational(const rl_system *s) { return 3 * s->n - s->removed_dof; }
+int rl_system_dof_rotational(const rl_system *s)
+{
+  int g = 0;
+  for (int k = 0; k < s->nspecies; k++) g += s->sp[k].count * rl_kind_rotational_dof(s->sp[k].kind);
+  return g;
+}
+int rl_system_dof(const rl_system *s)
+{
+  return rl_system_dof_translational(s) + rl_system_dof_rotational(s);
+}
+
+int rl_system_rot_index(const rl_system *s, int i)
+{
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  return sp->rot_off < 0 ? -1 : sp->rot_off + (i - sp->first);
+}
+int rl_system_nrot(const rl_system *s) { return s->nrot; }
+double (*rl_system_r(rl_system *s))[3] { return s->r; }
+double (*rl_system_v(rl_system *s))[3] { return s->v; }
+
+static int check_body(const rl_system *s, int i, const char *who)
+{
+  if (i < 0 || i >= s->n)
+    return rl_error(RL_EINVAL, "%s: body %d out of range (system has %d)", who, i, s->n);
+  return RL_OK;
+}
+
+int rl_system_set_position(rl_system *s, int i, const double r[3])
+{
+  int st = check_body(s, i, "rl_system_set_position");
+  if (st) return st;
+  if (!finite3(r)) return rl_error(RL_ENONFINITE, "rl_system_set_position: body %d: non-finite", i);
+  memcpy(s->r[i], r, sizeof s->r[i]);
+  return RL_OK;
+}
+
+int rl_system_set_velocity(rl_system *s, int i, const double v[3])
+{
+  int st = check_body(s, i, "rl_system_set_velocity");
+  if (st) return st;
+  if (!finite3(v)) return rl_error(RL_ENONFINITE, "rl_system_set_velocity: body %d: non-finite", i);
+  memcpy(s->v[i], v, sizeof s->v[i]);
+  return RL_OK;
+}
+
+int rl_system_set_angmom(rl_system *s, int i, const double l[3])
+{
+  int st = check_body(s, i, "rl_system_set_angmom");
+  if (st) return st;
+  if (!finite3(l)) return rl_error(RL_ENONFINITE, "rl_system_set_angmom: body %d: non-finite", i);
+  int ri = rl_system_rot_index(s, i);
+  if (ri < 0) return rl_error(RL_EINVAL, "rl_system_set_angmom: body %d is a point particle", i);
+  memcpy(s->l[ri], l, sizeof s->l[ri]);
+  return RL_OK;
+}
+
+int rl_check_rotation(const double A[9], const char *who, int body)
+{
+  for (int k = 0; k < 9; k++)
+    if (!isfinite(A[k]))
+      return rl_error(RL_ENONFINITE, "%s: body %d: orientation has a non-finite element", who, body);
+  double e = rl_orthonormality_error(A);
+  if (!(e <= 1e-10))
+    return rl_error(RL_EORTHO, "%s: body %d: orientation matrix is not orthonormal "
+                    "(max |A^T A - I| = %.3g > 1e-10)", who, body, e);
+  double det = A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
+               A[2] * (A[3] * A[7] - A[4] * A[6]);
+  if (det < 0.0)
+    return rl_error(RL_EORTHO, "%s: body %d: orientation matrix is a reflection (det = %g)", who,
+                    body, det);
+  return RL_OK;
+}
+
+static int check_unit(const double rho[3], const char *who, int i)
+{
+  if (!finite3(rho)) return rl_error(RL_ENONFINITE, "%s: body %d: axis is not finite", who, i);
+  double n = sqrt(rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2]);
+  if (!(fabs(n - 1.0) <= 1e-10))
+    return rl_error(RL_EORTHO, "%s: body %d: axis is not a unit vector (|rho| - 1 = %.3g)", who, i,
+                    n - 1.0);
+  return RL_OK;
+}
+
+/* A right-handed orthonormal frame (row-major A) whose third row is the unit vector rho. */
+static void frame_from_axis(const double rho[3], double A[9])
+{
+  double ax[3] = {fabs(rho[0]) < 0.9 ? 1.0 : 0.0, fabs(rho[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+  double d = ax[0] * rho[0] + ax[1] * rho[1];
+  double x[3] = {ax[0] - d * rho[0], ax[1] - d * rho[1], -d * rho[2]};
+  double nx = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+  for (int k = 0; k < 3; k++) x[k] /= nx;
+  A[0] = x[0]; A[1] = x[1]; A[2] = x[2];
+  A[3] = rho[1] * x[2] - rho[2] * x[1];
+  A[4] = rho[2] * x[0] - rho[0] * x[2];
+  A[5] = rho[0] * x[1] - rho[1] * x[0];
+  A[6] = rho[0]; A[7] = rho[1]; A[8] = rho[2];
+}
+
+int rl_system_set_orientation(rl_system *s, int i, const double A[9])
+{
+  int st = check_body(s, i, "rl_system_set_orientation");
+  if (st) return st;
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  if (sp->kind == RL_KIND_POINT) return RL_OK; /* a point has no orientation: nothing to keep */
+  if ((st = rl_check_rotation(A, "rl_system_set_orientation", i))) return st;
+  if (sp->mat_off >= 0) memcpy(s->A[sp->mat_off + i - sp->first], A, 9 * sizeof(double));
+  else memcpy(s->rho[sp->axis_off + i - sp->first], A + 6, 3 * sizeof(double));
+  return RL_OK;
+}
+
+int rl_system_set_axis(rl_system *s, int i, const double rho[3])
+{
+  int st = check_body(s, i, "rl_system_set_axis");
+  if (st) return st;
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  if ((st = check_unit(rho, "rl_system_set_axis", i))) return st;
+  if (sp->axis_off >= 0) { memcpy(s->rho[sp->axis_off + i - sp->first], rho, 3 * sizeof(double)); return RL_OK; }
+  if (sp->kind == RL_KIND_POINT) return RL_OK;
+  frame_from_axis(rho, s->A[sp->mat_off + i - sp->first]); /* matrix kind: Z row is rho */
+  return RL_OK;
+}
+
+void rl_system_get_position(const rl_system *s, int i, double r[3]) { memcpy(r, s->r[i], sizeof s->r[i]); }
+void rl_system_get_velocity(const rl_system *s, int i, double v[3]) { memcpy(v, s->v[i], sizeof s->v[i]); }
+void rl_system_get_angmom(const rl_system *s, int i, double l[3])
+{
+  int ri = rl_system_rot_index(s, i);
+  if (ri < 0) { l[0] = l[1] = l[2] = 0.0; return; }
+  memcpy(l, s->l[ri], sizeof s->l[ri]);
+}
+
+void rl_system_get_axis(const rl_system *s, int i, double rho[3])
+{
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  if (sp->axis_off >= 0) memcpy(rho, s->rho[sp->axis_off + i - sp->first], 3 * sizeof(double));
+  else if (sp->mat_off >= 0) memcpy(rho, s->A[sp->mat_off + i - sp->first] + 6, 3 * sizeof(double));
+  else { rho[0] = 0; rho[1] = 0; rho[2] = 1; }
+}
+
+void rl_system_get_orientation(const rl_system *s, int i, double A[9])
+{
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  if (sp->mat_off >= 0) { memcpy(A, s->A[sp->mat_off + i - sp->first], 9 * sizeof(double)); return; }
+  static const double I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (sp->axis_off < 0) memcpy(A, I9, sizeof I9);
+  else frame_from_axis(s->rho[sp->axis_off + i - sp->first], A);
+}
+
+int rl_system_site_offset(const rl_system *s, int i)
+{
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  return sp->site_off + (i - sp->first) * sp->nsites;
+}
+
+void rl_system_site_positions(const rl_system *s, double (*out)[3])
+{
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b, o = sp->site_off + b * sp->nsites;
+      const double *r = s->r[i];
+      for (int a = 0; a < sp->nsites; a++) {
+        const double *d = sp->sites + 3 * a;
+        if (sp->mat_off >= 0) {
+          const double *A = s->A[sp->mat_off + b]; /* r + A^T d */
+          for (int c = 0; c < 3; c++) out[o + a][c] = r[c] + A[c] * d[0] + A[3 + c] * d[1] + A[6 + c] * d[2];
+        } else if (sp->axis_off >= 0) {
+          const double *rho = s->rho[sp->axis_off + b];
+          for (int c = 0; c < 3; c++) out[o + a][c] = r[c] + d[2] * rho[c];
+        } else {
+          for (int c = 0; c < 3; c++) out[o + a][c] = r[c];
+        }
+      }
+    }
+  }
+}
+
+void rl_system_add_site_forces(const rl_system *s, const double (*fs)[3], rl_forces *out)
+{
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b, o = sp->site_off + b * sp->nsites;
+      double *f = out->f[i];
+      double *t = sp->rot_off >= 0 ? out->k[sp->rot_off + b] : NULL;
+      for (int a = 0; a < sp->nsites; a++) {
+        const double *fa = fs[o + a], *d = sp->sites + 3 * a;
+        f[0] += fa[0]; f[1] += fa[1]; f[2] += fa[2];
+        if (!t) continue;
+        double x[3]; /* r_a - r in the lab */
+        if (sp->mat_off >= 0) {
+          const double *A = s->A[sp->mat_off + b];
+          for (int c = 0; c < 3; c++) x[c] = A[c] * d[0] + A[3 + c] * d[1] + A[6 + c] * d[2];
+        } else {
+          const double *rho = s->rho[sp->axis_off + b];
+          for (int c = 0; c < 3; c++) x[c] = d[2] * rho[c];
+        }
+        t[0] += x[1] * fa[2] - x[2] * fa[1];
+        t[1] += x[2] * fa[0] - x[0] * fa[2];
+        t[2] += x[0] * fa[1] - x[1] * fa[0];
+      }
+    }
+  }
+}

@@ -1,0 +1,116 @@
+/* rotleap — the leapfrog core: translation (eqs. 8-9) and the revised angular-momentum
+ * rotation (eqs. 19-36, section III.D), with the paper's isokinetic thermostat (eqs. 17-18).
+ *
+ * Staggering: positions and orientations live at whole steps t; v and l at half steps.  The
+ * state given to the system is on-step; rl_integrator_init computes the forces at t and moves v
+ * and l back half a step (v(t-h/2) = v(t) - h/2 f/m), so that the on-step interpolation (eqs. 9,
+ * 12) of the first step returns exactly what was given.
+ *
+ * One call of rl_integrator_step advances t -> t+h and reports the on-step quantities at the
+ * time t it started from (kinetic energy by eqs. 9/12, potential energy at t), which is when
+ * both half-step velocities that define them are known. */
+#ifndef ROTLEAP_INTEGRATOR_H
+#define ROTLEAP_INTEGRATOR_H
+
+#include "rotleap/system.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------------- force providers */
+
+typedef struct {
+  double (*f)[3];    /* out [n][3]    force on each body's centre of mass (lab)              */
+  double (*k)[3];    /* out [nrot][3] torque about the centre of mass (lab), rot-indexed      */
+  double energy;     /* out           potential energy                                        */
+  double virial[9];  /* out           sum r_ij (x) f_ij (molecular virial tensor), optional   */
+} rl_forces;
+
+/* Compute forces and torques for the current positions/orientations of sys.  `out` arrays are
+ * zeroed before the call.  Return RL_OK, or a status set with rl_error(). */
+typedef int (*rl_force_fn)(void *ctx, const rl_system *sys, rl_forces *out);
+
+typedef struct {
+  rl_force_fn compute;
+  void *ctx;
+} rl_force_provider;
+
+/* Accumulate site forces fs[nsites][3] (lab) into body forces and torques
+ * k += (r_a - r) x f_a.  For providers that work site by site. */
+void rl_system_add_site_forces(const rl_system *sys, const double (*fs)[3], rl_forces *out);
+
+/* ------------------------------------------------------------------------- integrator */
+
+typedef enum {
+  RL_ROT_CUBIC = 0,      /* revised leapfrog, matrix, guarded quasi-analytic cubic (default)   */
+  RL_ROT_EXACT = 1,      /* revised leapfrog, matrix, eq. 28 solved by 3-D Newton (checking)   */
+  RL_ROT_QUATERNION = 2  /* revised leapfrog, quaternions, eq. 23 iterated to quat_tol          */
+} rl_rot_method;
+
+typedef enum {
+  RL_THERMO_NONE = 0,       /* NVE                                                 */
+  RL_THERMO_ISOKINETIC = 1  /* the paper's isokinetic scaling (eqs. 17-18, III.B)   */
+} rl_thermostat;
+
+typedef struct {
+  double h;               /* time step (> 0), in the system's time unit                       */
+  rl_rot_method method;   /* default RL_ROT_CUBIC                                              */
+  double guard_tol;       /* eq. 28 relative residual triggering Newton (default 1e-13)        */
+  double quat_tol;        /* quaternion iteration relative tolerance (default 1e-12)           */
+  int quat_maxit;         /* default 100                                                       */
+  int force_general;      /* 1: every matrix body goes through the general asymmetric path    */
+  rl_thermostat thermostat;
+  double T0;              /* target temperature for the thermostat                             */
+} rl_integrator_params;
+
+void rl_integrator_params_default(rl_integrator_params *p);
+
+/* On-step report for the time t a step starts from. */
+typedef struct {
+  double t;              /* time of these on-step values                                   */
+  double ke_trans;       /* sum m v^2/2, v(t) by eq. 9                                      */
+  double ke_rot;         /* sum J Omega^2/2, Omega(t) = J^-1 A(t) l(t), l(t) by eq. 12      */
+  double potential;      /* U(t)                                                            */
+  double total;          /* ke_trans + ke_rot + potential                                   */
+  double temperature;    /* 2 KE / (dof kB)                                                 */
+  double t_trans, t_rot; /* translational / rotational temperatures                         */
+  double beta;           /* thermostat scaling factor applied at t (1 for NVE)              */
+  double max_h_omega;    /* max over bodies of h |Omega(t+h/2)|: > 1 means poorly resolved */
+  long fallbacks;        /* guarded solves that needed Newton in this step                  */
+  long quat_iterations;  /* quaternion iterations in this step (sum over bodies)            */
+  int quat_max_iterations;
+} rl_step_info;
+
+typedef struct rl_integrator rl_integrator;
+
+/* Validates h, thermostat and the system (moments, orientations).  The integrator keeps a
+ * pointer to sys and to the provider. */
+rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p,
+                                   rl_force_provider provider);
+void rl_integrator_free(rl_integrator *in); /* accepts NULL */
+
+/* Forces at the current time, and v, l staggered back half a step. */
+int rl_integrator_init(rl_integrator *in);
+/* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t. */
+int rl_integrator_step(rl_integrator *in, rl_step_info *info);
+/* Time reversal at the current time: on-step v and l are negated (mid-step values become
+ * -(v + h f/m), -(l + h k)); stepping N more times then retraces the trajectory. */
+int rl_integrator_reverse(rl_integrator *in);
+
+/* Cumulative counters since init. */
+long rl_integrator_fallbacks(const rl_integrator *in);
+long rl_integrator_quat_iterations(const rl_integrator *in);
+long rl_integrator_steps(const rl_integrator *in);
+double rl_integrator_time(const rl_integrator *in);
+/* Forces/torques/energy at the current time (valid after init). */
+const rl_forces *rl_integrator_forces(const rl_integrator *in);
+/* On-step velocity / angular momentum at the current time would need the next forces; these
+ * return the stored mid-step values v(t-h/2), l(t-h/2). */
+void rl_integrator_mid_velocity(const rl_integrator *in, int body, double v[3]);
+void rl_integrator_mid_angmom(const rl_integrator *in, int body, double l[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

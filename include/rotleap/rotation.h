@@ -1,0 +1,91 @@
+/* rotleap — the rotation kernels of the revised angular-momentum leapfrog (Omelyan 1998).
+ *
+ * Notation and equation numbers are the paper's (../shared/seed).  Body frame = principal
+ * axes; A maps lab to body (E = A e); dA/dt = W(Omega) A with W as in eq. 3; the mid-step
+ * principal angular velocity Omega = Omega(t+h/2) solves eq. 28,
+ *     Omega_X = theta_X + h rho_X Omega_Y Omega_Z   (and cyclic),
+ *     rho_X = (J_Y - J_Z)/(2 J_X),  theta = J^-1 A(t) l(t+h/2),
+ * and A(t+h) = D(Omega) A(t), D the Cayley matrix of eq. 24.
+ *
+ * These functions are pure (no allocation, no globals) and are what the integrators call per
+ * body; they are public so that tests and benchmarks can exercise them directly. */
+#ifndef ROTLEAP_ROTATION_H
+#define ROTLEAP_ROTATION_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* How the guarded solve reached its answer (rl_omega_info.path). */
+enum {
+  RL_OMEGA_PATH_LINEAR = 0, /* eq. 28 is linear (two equal moments): solved in closed form  */
+  RL_OMEGA_PATH_CUBIC = 1,  /* quasi-analytic cubic root (eqs. 30-36) passed the residual check */
+  RL_OMEGA_PATH_NEWTON = 2, /* cubic failed the check: polished by Newton on the exact eq. 28 */
+  RL_OMEGA_PATH_BRACKET = 3 /* Newton failed too: safeguarded bisection/Newton in a bracket  */
+};
+
+typedef struct {
+  int path;          /* RL_OMEGA_PATH_*                                         */
+  int iterations;    /* Newton / fixed-point iterations used (0 for the cubic)  */
+  double residual;   /* |eq. 28 residual| / |Omega| of the returned solution     */
+} rl_omega_info;
+
+/* Default relative residual of eq. 28 above which the cubic root is polished (a fallback).
+ * 1e-13: about 500 ulp, far above the round-off of evaluating the residual (a few ulp of the
+ * largest term) and far below the 1e-12 the solve promises. */
+#define RL_OMEGA_GUARD_TOL 1e-13
+
+/* Relative residual of eq. 28: |Omega - theta - h (rho_X Omega_Y Omega_Z, ...)|_2 / |Omega|_2
+ * (0 when Omega = theta = 0). */
+double rl_omega_residual(const double J[3], const double theta[3], double h,
+                         const double Omega[3]);
+
+/* Guarded quasi-analytic solve of eq. 28 (the default path for asymmetric bodies).
+ * in  J[3]      principal moments J_XX, J_YY, J_ZZ (> 0, any order; the solve takes the axis of
+ *               the largest moment as its Z, as the paper's J_XX < J_YY < J_ZZ)
+ * in  theta[3]  J^-1 A(t) l(t+h/2)
+ * in  h         time step (> 0)
+ * in  guard_tol relative residual that triggers Newton polishing (<= 0: RL_OMEGA_GUARD_TOL)
+ * out Omega[3]  mid-step principal angular velocity
+ * out info      how it was found (may be NULL)
+ * Never returns NaN or Inf for finite input.  Returns RL_OK, or RL_ENOCONV if even the bracketed
+ * solve could not meet 1e-12 (not observed; reported rather than hidden). */
+int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
+                     double Omega[3], rl_omega_info *info);
+
+/* Reference solve of eq. 28 by full 3-D Newton iteration from Omega = theta (damped), to
+ * relative change <= 1e-15.  Independent of the cubic reduction (eq. 29); for checking.
+ * Returns RL_ENOCONV if it does not converge in 100 iterations. */
+int rl_omega_exact(const double J[3], const double theta[3], double h, double Omega[3],
+                   rl_omega_info *info);
+
+/* Symmetric top, J_XX = J_YY (unique axis Z): Omega_Z = theta_Z and Omega_X, Omega_Y from
+ * eq. 29 with rho_Y = -rho_X.  Closed form, exact solution of eq. 28. */
+void rl_omega_symmetric(const double J[3], const double theta[3], double h, double Omega[3]);
+
+/* The Cayley / evolution matrix D of eq. 24 for the vector w (row-major 3x3):
+ *   D = [I (1 - h^2 w^2/4) + h W(w) + h^2/2 w w^T] / (1 + h^2 w^2/4),
+ * exactly orthogonal; it is the rotation exp[phi W(w)/|w|] with phi = 2 atan(h |w| / 2), which is
+ * the paper's arcsin form for h|w| <= 2 and continues it beyond. */
+void rl_cayley(const double w[3], double h, double D[9]);
+
+/* A <- D(Omega) A (eq. 24), A row-major 3x3. */
+void rl_rotate_matrix(double A[9], const double Omega[3], double h);
+
+/* rho <- rotation of the unit vector rho by d rho/dt = w x rho over h, Cayley form (section III.D;
+ * equal to exp[-phi W(w)/w] rho with the angle above). */
+void rl_rotate_axis(double rho[3], const double w[3], double h);
+
+/* Quaternions in the paper's convention q = (xi, eta, zeta, chi) (eqs. 4-5). */
+void rl_quat_to_matrix(const double q[4], double A[9]);     /* eq. 4 (no normalisation)   */
+int rl_matrix_to_quat(const double A[9], double q[4]);      /* inverse of eq. 4, chi >= 0 */
+/* q <- G(Omega) q, eq. 23. */
+void rl_quat_rotate(double q[4], const double Omega[3], double h);
+
+/* max |A^T A - I| (elementwise). */
+double rl_orthonormality_error(const double A[9]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,11 @@
+/* rotleap — molecular dynamics of rigid molecules with Omelyan's revised angular-momentum
+ * leapfrog.  Umbrella header. */
+#ifndef ROTLEAP_H
+#define ROTLEAP_H
+#define ROTLEAP_VERSION "0.1.0"
+#include "rotleap/error.h"
+#include "rotleap/units.h"
+#include "rotleap/rotation.h"
+#include "rotleap/system.h"
+#include "rotleap/integrator.h"
+#endif

@@ -1,0 +1,401 @@
+/* The shared leapfrog core: translation (eqs. 8-9), the revised angular-momentum rotation with
+ * one path per body kind, and the paper's isokinetic thermostat (eqs. 17-18, section III.B).
+ *
+ * A step from t to t+h, given forces and torques at t:
+ *   1. on-step v(t) = v(t-h/2) + h/2 f/m, l(t) = l(t-h/2) + h/2 k        (eqs. 9, 12)
+ *      -> kinetic energies and temperature at t, thermostat factor beta
+ *   2. v(t+h/2) = (2 beta - 1) v(t) + h/2 f/m, same for l                  (eqs. 10, 17-18;
+ *      beta = 1 is the plain kick)
+ *   3. r(t+h) = r(t) + h v(t+h/2)                                          (eq. 8)
+ *   4. rotation by kind, from l(t+h/2)                                     (eqs. 19-36, III.D)
+ *   5. forces at t+h from the provider. */
+#include "rotleap/integrator.h"
+#include "rotleap/error.h"
+#include "rotleap/rotation.h"
+#include "../core/system_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct rl_integrator {
+  rl_system *sys;
+  rl_integrator_params p;
+  rl_force_provider provider;
+  rl_forces F;
+  double (*q)[4]; /* [nmat] quaternions, only for RL_ROT_QUATERNION */
+  int initialized;
+  long steps, fallbacks, quat_iterations;
+  double t;
+};
+
+void rl_integrator_params_default(rl_integrator_params *p)
+{
+  memset(p, 0, sizeof *p);
+  p->h = 0.0;
+  p->method = RL_ROT_CUBIC;
+  p->guard_tol = RL_OMEGA_GUARD_TOL;
+  p->quat_tol = 1e-12;
+  p->quat_maxit = 100;
+  p->force_general = 0;
+  p->thermostat = RL_THERMO_NONE;
+  p->T0 = 0.0;
+}
+
+/* Does this species go through the general (asymmetric) path? */
+static int general_path(const rl_integrator *in, const rl_species *sp)
+{
+  return sp->kind == RL_KIND_ASYMMETRIC || (in->p.force_general && rl_kind_is_matrix(sp->kind));
+}
+
+static int validate(const rl_system *s, const rl_integrator_params *p)
+{
+  if (!(p->h > 0.0) || !isfinite(p->h))
+    return rl_error(RL_EINVAL, "time step h = %g must be positive and finite", p->h);
+  if (p->method != RL_ROT_CUBIC && p->method != RL_ROT_EXACT && p->method != RL_ROT_QUATERNION)
+    return rl_error(RL_EINVAL, "unknown rotation method %d", (int)p->method);
+  if (p->method == RL_ROT_QUATERNION && (!(p->quat_tol > 0.0) || p->quat_maxit < 1))
+    return rl_error(RL_EINVAL, "quaternion tolerance %g / max iterations %d must be positive",
+                    p->quat_tol, p->quat_maxit);
+  if (p->thermostat == RL_THERMO_ISOKINETIC && (!(p->T0 > 0.0) || !isfinite(p->T0)))
+    return rl_error(RL_EINVAL, "isokinetic thermostat needs a positive target temperature, got %g",
+                    p->T0);
+  if (p->thermostat != RL_THERMO_NONE && p->thermostat != RL_THERMO_ISOKINETIC)
+    return rl_error(RL_EINVAL, "unknown thermostat %d", (int)p->thermostat);
+  if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
+  if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
+    return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
+                    rl_system_dof(s));
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    for (int b = 0; b < sp->count; b++) {
+      int st;
+      if (sp->mat_off >= 0 && (st = rl_check_rotation(s->A[sp->mat_off + b], "integrator", sp->first + b)))
+        return st;
+      if (sp->axis_off >= 0) {
+        const double *r = s->rho[sp->axis_off + b];
+        double nr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        if (!(fabs(nr - 1.0) <= 1e-10))
+          return rl_error(RL_EORTHO, "integrator: body %d: axis is not a unit vector (|rho| - 1 = "
+                          "%.3g)", sp->first + b, nr - 1.0);
+      }
+    }
+  }
+  return RL_OK;
+}
+
+rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p,
+                                   rl_force_provider provider)
+{
+  if (!sys || !p) { rl_error(RL_EINVAL, "rl_integrator_alloc: NULL argument"); return NULL; }
+  if (!provider.compute) { rl_error(RL_EINVAL, "rl_integrator_alloc: no force provider"); return NULL; }
+  if (validate(sys, p)) return NULL;
+  rl_integrator *in = calloc(1, sizeof *in);
+  if (!in) { rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory"); return NULL; }
+  in->sys = sys;
+  in->p = *p;
+  if (in->p.guard_tol <= 0.0) in->p.guard_tol = RL_OMEGA_GUARD_TOL;
+  in->provider = provider;
+  in->F.f = calloc((size_t)sys->n, sizeof *in->F.f);
+  in->F.k = calloc((size_t)(sys->nrot > 0 ? sys->nrot : 1), sizeof *in->F.k);
+  if (p->method == RL_ROT_QUATERNION && sys->nmat > 0) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
+  if (!in->F.f || !in->F.k || (p->method == RL_ROT_QUATERNION && sys->nmat > 0 && !in->q)) {
+    rl_integrator_free(in);
+    rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
+    return NULL;
+  }
+  return in;
+}
+
+void rl_integrator_free(rl_integrator *in)
+{
+  if (!in) return;
+  free(in->F.f);
+  free(in->F.k);
+  free(in->q);
+  free(in);
+}
+
+static int compute_forces(rl_integrator *in)
+{
+  rl_system *s = in->sys;
+  memset(in->F.f, 0, sizeof(*in->F.f) * (size_t)s->n);
+  memset(in->F.k, 0, sizeof(*in->F.k) * (size_t)(s->nrot > 0 ? s->nrot : 1));
+  in->F.energy = 0.0;
+  memset(in->F.virial, 0, sizeof in->F.virial);
+  rl_error_clear();
+  int st = in->provider.compute(in->provider.ctx, s, &in->F);
+  if (st) {
+    const char *m = rl_last_error();
+    return rl_error(RL_EFORCE, "force provider failed at step %ld (t = %g): %s", in->steps, in->t,
+                    m[0] ? m : rl_strerror(st));
+  }
+  if (!isfinite(in->F.energy))
+    return rl_error(RL_ENONFINITE, "non-finite potential energy at step %ld (t = %g)", in->steps, in->t);
+  for (int i = 0; i < s->n; i++)
+    if (!isfinite(in->F.f[i][0] + in->F.f[i][1] + in->F.f[i][2]))
+      return rl_error(RL_ENONFINITE, "non-finite force on body %d at step %ld (t = %g)", i,
+                      in->steps, in->t);
+  for (int i = 0; i < s->nrot; i++)
+    if (!isfinite(in->F.k[i][0] + in->F.k[i][1] + in->F.k[i][2]))
+      return rl_error(RL_ENONFINITE, "non-finite torque (rotating body %d) at step %ld (t = %g)",
+                      i, in->steps, in->t);
+  return RL_OK;
+}
+
+static void project_out(double l[3], const double rho[3])
+{
+  double d = l[0] * rho[0] + l[1] * rho[1] + l[2] * rho[2];
+  l[0] -= d * rho[0]; l[1] -= d * rho[1]; l[2] -= d * rho[2];
+}
+
+int rl_integrator_init(rl_integrator *in)
+{
+  rl_system *s = in->sys;
+  int st = validate(s, &in->p);
+  if (st) return st;
+  /* dipoles and linear molecules carry no spin about their axis */
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    if (sp->axis_off >= 0)
+      for (int b = 0; b < sp->count; b++) project_out(s->l[sp->rot_off + b], s->rho[sp->axis_off + b]);
+  }
+  if (in->q)
+    for (int k = 0; k < s->nspecies; k++) {
+      const rl_species *sp = &s->sp[k];
+      if (sp->mat_off < 0) continue;
+      for (int b = 0; b < sp->count; b++)
+        if ((st = rl_matrix_to_quat(s->A[sp->mat_off + b], in->q[sp->mat_off + b]))) return st;
+    }
+  in->steps = 0;
+  in->fallbacks = 0;
+  in->quat_iterations = 0;
+  if ((st = compute_forces(in))) return st;
+  double h2 = 0.5 * in->p.h;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    double w = h2 / sp->mass;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int c = 0; c < 3; c++) s->v[i][c] -= w * in->F.f[i][c];
+      if (sp->rot_off >= 0)
+        for (int c = 0; c < 3; c++) s->l[sp->rot_off + b][c] -= h2 * in->F.k[sp->rot_off + b][c];
+    }
+  }
+  in->initialized = 1;
+  return RL_OK;
+}
+
+/* theta = J^-1 A l (body frame) */
+static inline void body_theta(const double A[9], const double J[3], const double l[3], double th[3])
+{
+  for (int a = 0; a < 3; a++) th[a] = (A[3 * a] * l[0] + A[3 * a + 1] * l[1] + A[3 * a + 2] * l[2]) / J[a];
+}
+
+/* On-step rotational kinetic energy of one body from l(t) (eq. 12) and its orientation. */
+static double ke_rot_body(const rl_integrator *in, const rl_species *sp, int b, const double lt[3])
+{
+  const rl_system *s = in->sys;
+  if (sp->axis_off >= 0) {
+    double lp[3] = {lt[0], lt[1], lt[2]};
+    project_out(lp, s->rho[sp->axis_off + b]);
+    return 0.5 * (lp[0] * lp[0] + lp[1] * lp[1] + lp[2] * lp[2]) / sp->J[0];
+  }
+  double th[3];
+  body_theta(s->A[sp->mat_off + b], sp->J, lt, th);
+  return 0.5 * (sp->J[0] * th[0] * th[0] + sp->J[1] * th[1] * th[1] + sp->J[2] * th[2] * th[2]);
+}
+
+/* Quaternion variant (eq. 23 with eqs. 19-20 in quaternion space), iterated to quat_tol. */
+static int rotate_quaternion(rl_integrator *in, const rl_species *sp, int b, const double l[3],
+                             double *hw, rl_step_info *info)
+{
+  double *q = in->q[sp->mat_off + b], qn[4] = {q[0], q[1], q[2], q[3]}, Om[3];
+  double h = in->p.h;
+  int it;
+  for (it = 1; it <= in->p.quat_maxit; it++) {
+    double qm[4], Am[9], qt[4] = {q[0], q[1], q[2], q[3]};
+    for (int c = 0; c < 4; c++) qm[c] = 0.5 * (q[c] + qn[c]);
+    rl_quat_to_matrix(qm, Am); /* A(t+h/2) = A[q(t+h/2)], eq. 4 */
+    body_theta(Am, sp->J, l, Om);   /* eq. 19 */
+    rl_quat_rotate(qt, Om, h);      /* eq. 23 */
+    double d = 0.0;
+    for (int c = 0; c < 4; c++) { d = fmax(d, fabs(qt[c] - qn[c])); qn[c] = qt[c]; }
+    if (d <= in->p.quat_tol) break;
+  }
+  if (it > in->p.quat_maxit)
+    return rl_error(RL_ENOCONV, "quaternion iteration (eq. 23) did not converge to %g in %d "
+                    "iterations for body %d at step %ld (h|Omega| = %.3g)", in->p.quat_tol,
+                    in->p.quat_maxit, sp->first + b, in->steps,
+                    h * sqrt(Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]));
+  memcpy(q, qn, sizeof qn);
+  rl_quat_to_matrix(q, in->sys->A[sp->mat_off + b]);
+  *hw = h * sqrt(Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]);
+  info->quat_iterations += it;
+  if (it > info->quat_max_iterations) info->quat_max_iterations = it;
+  return RL_OK;
+}
+
+/* Rotate body b of species sp from l(t+h/2); *hw receives h |Omega(t+h/2)|. */
+static int rotate_body(rl_integrator *in, const rl_species *sp, int b, double *hw,
+                       rl_step_info *info)
+{
+  rl_system *s = in->sys;
+  double h = in->p.h;
+  const double *l = s->l[sp->rot_off + b];
+  double Om[3];
+  if (sp->axis_off >= 0) {
+    /* III.D: dipole omega = l / I; linear Omega_X,Y = theta_X,Y, Omega_Z = 0, i.e. the part of
+     * l/J perpendicular to rho.  Both rotate rho about omega. */
+    double *rho = s->rho[sp->axis_off + b], w[3];
+    for (int c = 0; c < 3; c++) w[c] = l[c] / sp->J[0];
+    if (sp->kind == RL_KIND_LINEAR) project_out(w, rho);
+    rl_rotate_axis(rho, w, h);
+    *hw = h * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    return RL_OK;
+  }
+  double *A = s->A[sp->mat_off + b];
+  if (general_path(in, sp)) {
+    if (in->p.method == RL_ROT_QUATERNION) return rotate_quaternion(in, sp, b, l, hw, info);
+    double th[3];
+    rl_omega_info oi;
+    body_theta(A, sp->J, l, th);
+    int st = in->p.method == RL_ROT_EXACT ? rl_omega_exact(sp->J, th, h, Om, &oi)
+                                          : rl_omega_guarded(sp->J, th, h, in->p.guard_tol, Om, &oi);
+    if (st) return rl_error(st, "body %d at step %ld: %s", sp->first + b, in->steps, rl_last_error());
+    if (in->p.method == RL_ROT_CUBIC && oi.path >= RL_OMEGA_PATH_NEWTON) info->fallbacks++;
+    rl_rotate_matrix(A, Om, h);
+  } else if (sp->kind == RL_KIND_SPHERICAL) {
+    /* A(t+h) = A(t) exp[phi W(omega)/omega], omega = l/J in the lab: no solve */
+    double w[3] = {l[0] / sp->J[0], l[1] / sp->J[0], l[2] / sp->J[0]}, D[9], B[9];
+    rl_cayley(w, h, D);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        B[3 * i + j] = A[3 * i] * D[j] + A[3 * i + 1] * D[3 + j] + A[3 * i + 2] * D[6 + j];
+    memcpy(A, B, sizeof B);
+    Om[0] = w[0]; Om[1] = w[1]; Om[2] = w[2];
+  } else { /* symmetric top: closed form in the relabelled frame whose Z is the unique axis */
+    double th[3], tp[3], Jp[3], Op[3];
+    body_theta(A, sp->J, l, th);
+    for (int a = 0; a < 3; a++) { tp[a] = th[sp->perm[a]]; Jp[a] = sp->J[sp->perm[a]]; }
+    rl_omega_symmetric(Jp, tp, h, Op);
+    for (int a = 0; a < 3; a++) Om[sp->perm[a]] = Op[a];
+    rl_rotate_matrix(A, Om, h);
+  }
+  *hw = h * sqrt(Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]);
+  return RL_OK;
+}
+
+int rl_integrator_step(rl_integrator *in, rl_step_info *out)
+{
+  if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_step: call rl_integrator_init first");
+  rl_system *s = in->sys;
+  const double h = in->p.h, h2 = 0.5 * h;
+  rl_step_info info;
+  memset(&info, 0, sizeof info);
+  info.t = in->t;
+  info.potential = in->F.energy;
+
+  /* 1. on-step kinetic energies (eqs. 9, 12) */
+  double ket = 0.0, ker = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    double w = h2 / sp->mass, kt = 0.0;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int c = 0; c < 3; c++) {
+        double vt = s->v[i][c] + w * in->F.f[i][c];
+        kt += vt * vt;
+      }
+      if (sp->rot_off >= 0) {
+        const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
+        double lt[3] = {l[0] + h2 * kk[0], l[1] + h2 * kk[1], l[2] + h2 * kk[2]};
+        ker += ke_rot_body(in, sp, b, lt);
+      }
+    }
+    ket += 0.5 * sp->mass * kt;
+  }
+  int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s), g = gt + gr;
+  info.ke_trans = ket;
+  info.ke_rot = ker;
+  info.total = ket + ker + info.potential;
+  info.temperature = g > 0 ? 2.0 * (ket + ker) / (g * s->kB) : 0.0;
+  info.t_trans = gt > 0 ? 2.0 * ket / (gt * s->kB) : 0.0;
+  info.t_rot = gr > 0 ? 2.0 * ker / (gr * s->kB) : 0.0;
+  double beta = 1.0;
+  if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0)
+    beta = sqrt(in->p.T0 / info.temperature);
+  info.beta = beta;
+
+  /* 2-4. kick, drift, rotate */
+  const double c2 = 2.0 * beta - 1.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    double w = h2 / sp->mass;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      double *v = s->v[i];
+      const double *f = in->F.f[i];
+      for (int c = 0; c < 3; c++) {
+        if (beta == 1.0) v[c] += 2.0 * w * f[c];
+        else v[c] = c2 * (v[c] + w * f[c]) + w * f[c]; /* eq. 17 */
+        s->r[i][c] += h * v[c];
+      }
+      if (sp->rot_off < 0) continue;
+      double *l = s->l[sp->rot_off + b];
+      const double *kk = in->F.k[sp->rot_off + b];
+      for (int c = 0; c < 3; c++) {
+        if (beta == 1.0) l[c] += h * kk[c];
+        else l[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c]; /* eq. 18 */
+      }
+      double hw = 0.0;
+      int st = rotate_body(in, sp, b, &hw, &info);
+      if (st) return st;
+      if (hw > info.max_h_omega) info.max_h_omega = hw;
+    }
+  }
+  in->t += h;
+  in->steps++;
+  in->fallbacks += info.fallbacks;
+  in->quat_iterations += info.quat_iterations;
+
+  /* 5. forces at t + h */
+  int st = compute_forces(in);
+  if (out) *out = info;
+  return st;
+}
+
+int rl_integrator_reverse(rl_integrator *in)
+{
+  if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_reverse: not initialised");
+  rl_system *s = in->sys;
+  double h = in->p.h;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    double w = h / sp->mass;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int c = 0; c < 3; c++) s->v[i][c] = -(s->v[i][c] + w * in->F.f[i][c]);
+      if (sp->rot_off >= 0)
+        for (int c = 0; c < 3; c++)
+          s->l[sp->rot_off + b][c] = -(s->l[sp->rot_off + b][c] + h * in->F.k[sp->rot_off + b][c]);
+    }
+  }
+  return RL_OK;
+}
+
+long rl_integrator_fallbacks(const rl_integrator *in) { return in->fallbacks; }
+long rl_integrator_quat_iterations(const rl_integrator *in) { return in->quat_iterations; }
+long rl_integrator_steps(const rl_integrator *in) { return in->steps; }
+double rl_integrator_time(const rl_integrator *in) { return in->t; }
+const rl_forces *rl_integrator_forces(const rl_integrator *in) { return &in->F; }
+
+void rl_integrator_mid_velocity(const rl_integrator *in, int i, double v[3])
+{
+  memcpy(v, in->sys->v[i], 3 * sizeof(double));
+}
+
+void rl_integrator_mid_angmom(const rl_integrator *in, int i, double l[3])
+{
+  rl_system_get_angmom(in->sys, i, l);
+}

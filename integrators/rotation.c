@@ -1,0 +1,396 @@
+/* The rotation kernels of the revised angular-momentum leapfrog: the mid-step angular velocity
+ * (eq. 28) by the guarded quasi-analytic cubic, by closed forms for symmetric tops, and by a
+ * reference 3-D Newton iteration; the Cayley evolution (eqs. 23-24); quaternion helpers.
+ * See include/rotleap/rotation.h for the contracts. */
+#include "rotleap/rotation.h"
+#include "rotleap/error.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+/* ---------------------------------------------------------------- eq. 28 and its residual */
+
+static void rho_coeffs(const double J[3], double r[3])
+{
+  r[0] = (J[1] - J[2]) / (2.0 * J[0]);
+  r[1] = (J[2] - J[0]) / (2.0 * J[1]);
+  r[2] = (J[0] - J[1]) / (2.0 * J[2]);
+}
+
+static double norm3(const double a[3]) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+double rl_omega_residual(const double J[3], const double theta[3], double h, const double Om[3])
+{
+  double r[3], res[3];
+  rho_coeffs(J, r);
+  res[0] = Om[0] - theta[0] - h * r[0] * Om[1] * Om[2];
+  res[1] = Om[1] - theta[1] - h * r[1] * Om[2] * Om[0];
+  res[2] = Om[2] - theta[2] - h * r[2] * Om[0] * Om[1];
+  double n = norm3(Om), rn = norm3(res);
+  if (n == 0.0) return rn == 0.0 ? 0.0 : INFINITY;
+  return rn / n;
+}
+
+/* ------------------------------------------------------- the reduced scalar equation (29) */
+
+/* The solve works in a cyclic relabelling (X, Y, Z) of the body axes in which Z carries the
+ * largest moment, so that nu^2 = -rho_X rho_Y >= 0 and 1 + h^2 nu^2 Omega_Z^2 never vanishes.
+ * Cyclic relabelling leaves eq. 28 unchanged in form. */
+typedef struct {
+  double h, tx, ty, tz; /* h and theta in the solve frame      */
+  double rx, ry, rz;    /* rho_X, rho_Y, rho_Z                  */
+  double nu2;           /* -rho_X rho_Y                         */
+} reduced;
+
+/* Omega_X, Omega_Y as functions of Omega_Z = z (eq. 29). */
+static inline void eq29(const reduced *s, double z, double *ox, double *oy)
+{
+  double d = 1.0 + s->h * s->h * s->nu2 * z * z;
+  *ox = (s->tx + s->h * s->rx * s->ty * z) / d;
+  *oy = (s->ty + s->h * s->ry * s->tx * z) / d;
+}
+
+/* F(z) = z - theta_Z - h rho_Z Omega_X(z) Omega_Y(z): the third of eqs. 28 after eq. 29.  Its
+ * roots are exactly the solutions of eq. 28.  Returns F and F'(z). */
+static double reduced_f(const reduced *s, double z, double *fp)
+{
+  double h = s->h, d = 1.0 + h * h * s->nu2 * z * z, ox, oy;
+  eq29(s, z, &ox, &oy);
+  double dox = (h * s->rx * s->ty - 2.0 * h * h * s->nu2 * z * ox) / d;
+  double doy = (h * s->ry * s->tx - 2.0 * h * h * s->nu2 * z * oy) / d;
+  if (fp) *fp = 1.0 - h * s->rz * (dox * oy + ox * doy);
+  return z - s->tz - h * s->rz * ox * oy;
+}
+
+/* Real root of a3 d^3 + a2 d^2 + a1 d + a0 = 0 that tends to 0 as h -> 0 (delta_1 of eq. 34).
+ * Cardano's c - b/c is evaluated in its hyperbolic form 2 sqrt(b) sinh(asinh(p/b^1.5)/3), which
+ * is the same number without the cancellation between c and b/c (both ~ 1/h) that costs
+ * Cardano's literal form most of its digits at small h.  With three real roots (negative
+ * discriminant) the one nearest 0 is taken.  Returns NaN if the cubic degenerates (a3 -> 0). */
+static double cubic_small_root(double a0, double a1, double a2, double a3)
+{
+  if (!(a3 != 0.0)) return NAN;
+  double sh = a2 / (3.0 * a3);
+  double b = (3.0 * a1 * a3 - a2 * a2) / (9.0 * a3 * a3);
+  double p = (9.0 * a1 * a2 * a3 - 27.0 * a0 * a3 * a3 - 2.0 * a2 * a2 * a2) / (54.0 * a3 * a3 * a3);
+  double y;
+  if (b > 0.0) {
+    double sb = sqrt(b);
+    y = 2.0 * sb * sinh(asinh(p / (b * sb)) / 3.0);
+  } else if (b < 0.0) {
+    double sb = sqrt(-b), arg = p / (sb * sb * sb);
+    if (fabs(arg) <= 1.0) { /* three real roots: take the smallest |delta| */
+      double phi = acos(arg) / 3.0, best = NAN;
+      for (int k = 0; k < 3; k++) {
+        double yk = 2.0 * sb * cos(phi - 2.0 * M_PI * k / 3.0);
+        if (isnan(best) || fabs(yk - sh) < fabs(best - sh)) best = yk;
+      }
+      y = best;
+    } else {
+      y = copysign(2.0 * sb * cosh(acosh(fabs(arg)) / 3.0), p);
+    }
+  } else {
+    y = cbrt(2.0 * p);
+  }
+  return y - sh;
+}
+
+/* Newton on F from z, at most `maxit` steps; returns 1 on convergence (step below round-off). */
+static int newton_reduced(const reduced *s, double *z, int maxit, int *iters)
+{
+  double x = *z;
+  for (int it = 0; it < maxit; it++) {
+    double fp, f = reduced_f(s, x, &fp);
+    (*iters)++;
+    if (f == 0.0) { *z = x; return 1; }
+    if (!(fp != 0.0) || !isfinite(fp)) return 0;
+    double dx = -f / fp;
+    if (!isfinite(dx)) return 0;
+    x += dx;
+    if (fabs(dx) <= 4.0 * DBL_EPSILON * (fabs(x) + fabs(s->tz) + DBL_MIN)) { *z = x; return 1; }
+  }
+  *z = x;
+  return 0;
+}
+
+/* Safeguarded solve: find the sign change of F nearest to z0 on the side F(z0) points to (F(z)
+ * ~ z for |z| -> inf, and F - z is bounded, so the search ends), then Newton-bisection in it. */
+static double bracketed_reduced(const reduced *s, double z0, int *iters)
+{
+  double f0 = reduced_f(s, z0, NULL);
+  if (f0 == 0.0) return z0;
+  double dir = f0 > 0.0 ? -1.0 : 1.0;
+  double scale = fabs(z0) + fabs(s->tx) + fabs(s->ty) + fabs(s->tz);
+  double step = 1e-8 * (scale > 0.0 ? scale : 1.0);
+  double a = z0, fa = f0, b = z0, fb = f0;
+  for (int k = 0; k < 2100 && (fb > 0.0) == (f0 > 0.0); k++) {
+    a = b;
+    fa = fb;
+    b = z0 + dir * step;
+    fb = reduced_f(s, b, NULL);
+    step *= 2.0;
+    (*iters)++;
+  }
+  /* a, b bracket a root: fa and fb have opposite signs. */
+  double x = 0.5 * (a + b);
+  for (int it = 0; it < 200; it++) {
+    double fp, f = reduced_f(s, x, &fp);
+    (*iters)++;
+    if (f == 0.0) return x;
+    if ((f > 0.0) == (fa > 0.0)) { a = x; fa = f; } else { b = x; fb = f; }
+    double xn = x - f / fp;
+    int inside = isfinite(xn) && (xn - a) * (xn - b) < 0.0;
+    if (!inside) xn = 0.5 * (a + b);
+    if (fabs(xn - x) <= 2.0 * DBL_EPSILON * fabs(xn) || a == b) return xn;
+    x = xn;
+  }
+  return x;
+}
+
+int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
+                     double Omega[3], rl_omega_info *info)
+{
+  rl_omega_info loc = {RL_OMEGA_PATH_CUBIC, 0, 0.0};
+  if (guard_tol <= 0.0) guard_tol = RL_OMEGA_GUARD_TOL;
+
+  /* cyclic relabelling: the largest moment becomes Z */
+  int kz = 2;
+  if (J[0] > J[kz]) kz = 0;
+  if (J[1] > J[kz]) kz = 1;
+  int kx = (kz + 1) % 3, ky = (kz + 2) % 3;
+  double Jp[3] = {J[kx], J[ky], J[kz]}, r[3];
+  rho_coeffs(Jp, r);
+  reduced s = {h, theta[kx], theta[ky], theta[kz], r[0], r[1], r[2], -r[0] * r[1]};
+  if (s.nu2 < 0.0) s.nu2 = 0.0; /* -0 or round-off when two largest moments coincide */
+
+  double ox, oy, oz;
+  if (s.nu2 == 0.0) {
+    /* J_Z equals J_X or J_Y: eq. 28 is linear, solve it exactly. */
+    loc.path = RL_OMEGA_PATH_LINEAR;
+    if (s.rx == 0.0) { /* Omega_X = theta_X; Omega_Z (1 - h^2 rho_Z rho_Y theta_X^2) = ... */
+      ox = s.tx;
+      oz = (s.tz + h * s.rz * s.tx * s.ty) / (1.0 - h * h * s.rz * s.ry * s.tx * s.tx);
+      oy = s.ty + h * s.ry * s.tx * oz;
+    } else { /* rho_Y = 0: Omega_Y = theta_Y */
+      oy = s.ty;
+      oz = (s.tz + h * s.rz * s.tx * s.ty) / (1.0 - h * h * s.rz * s.rx * s.ty * s.ty);
+      ox = s.tx + h * s.rx * s.ty * oz;
+    }
+  } else {
+    /* eqs. 31-36 */
+    double tx = s.tx, ty = s.ty, tz = s.tz, rx = s.rx, ry = s.ry, rz = s.rz, nu2 = s.nu2;
+    double s0 = tz + h * rz * tx * ty; /* eq. 32 */
+    double hn = h * h * nu2;
+    double tp = 1.0 + hn * s0 * s0, tm = 1.0 - hn * s0 * s0;
+    double g = ry * tx * tx + rx * ty * ty;
+    double a0 = (s0 - tz) * tp * tp - h * rz * (tx * ty * tm + h * g * s0);
+    double a1 = tp - h * h * (g * rz - nu2 * s0 * ((5.0 * s0 - 4.0 * tz) * tp + 2.0 * h * tx * ty * rz));
+    double a2 = hn * (6.0 * s0 - 2.0 * tz + h * rz * tx * ty + hn * s0 * s0 * (10.0 * s0 - 6.0 * tz));
+    double a3 = 2.0 * hn * (1.0 + hn * s0 * (5.0 * s0 - 2.0 * tz));
+    double delta = cubic_small_root(a0, a1, a2, a3);
+    oz = s0 + delta;
+    if (!isfinite(oz)) oz = s0; /* degenerate cubic: let the guard polish from s0 */
+    eq29(&s, oz, &ox, &oy);
+  }
+
+  double Om[3];
+  Om[kx] = ox; Om[ky] = oy; Om[kz] = oz;
+  loc.residual = rl_omega_residual(J, theta, h, Om);
+  if (!(loc.residual <= guard_tol)) {
+    /* guard: Newton on the exact reduced equation, keeping the branch continued from the cubic */
+    double z = isfinite(oz) ? oz : s.tz;
+    loc.path = RL_OMEGA_PATH_NEWTON;
+    int ok = newton_reduced(&s, &z, 30, &loc.iterations);
+    if (ok) {
+      eq29(&s, z, &ox, &oy);
+      Om[kx] = ox; Om[ky] = oy; Om[kz] = z;
+      loc.residual = rl_omega_residual(J, theta, h, Om);
+    }
+    if (!ok || !(loc.residual <= guard_tol)) {
+      loc.path = RL_OMEGA_PATH_BRACKET;
+      z = bracketed_reduced(&s, isfinite(oz) ? oz : s.tz, &loc.iterations);
+      eq29(&s, z, &ox, &oy);
+      Om[kx] = ox; Om[ky] = oy; Om[kz] = z;
+      loc.residual = rl_omega_residual(J, theta, h, Om);
+    }
+  }
+  Omega[0] = Om[0]; Omega[1] = Om[1]; Omega[2] = Om[2];
+  if (info) *info = loc;
+  if (!(loc.residual <= 1e-12))
+    return rl_error(RL_ENOCONV, "rl_omega_guarded: eq. 28 residual %.3g after fallback "
+                    "(h = %g, theta = %g %g %g)", loc.residual, h, theta[0], theta[1], theta[2]);
+  return RL_OK;
+}
+
+/* ------------------------------------------------------------------- reference 3-D Newton */
+
+static int solve3(const double M[9], const double b[3], double x[3])
+{
+  double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+               M[2] * (M[3] * M[7] - M[4] * M[6]);
+  if (!(fabs(det) > 0.0) || !isfinite(det)) return 0;
+  double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
+                   M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
+                   M[3] * M[7] - M[4] * M[6], M[1] * M[6] - M[0] * M[7], M[0] * M[4] - M[1] * M[3]};
+  for (int i = 0; i < 3; i++)
+    x[i] = (inv[3 * i] * b[0] + inv[3 * i + 1] * b[1] + inv[3 * i + 2] * b[2]) / det;
+  return 1;
+}
+
+int rl_omega_exact(const double J[3], const double theta[3], double h, double Omega[3],
+                   rl_omega_info *info)
+{
+  double r[3], x[3] = {theta[0], theta[1], theta[2]};
+  rho_coeffs(J, r);
+  int it;
+  for (it = 1; it <= 100; it++) {
+    double g[3] = {x[0] - theta[0] - h * r[0] * x[1] * x[2], x[1] - theta[1] - h * r[1] * x[2] * x[0],
+                   x[2] - theta[2] - h * r[2] * x[0] * x[1]};
+    double M[9] = {1.0, -h * r[0] * x[2], -h * r[0] * x[1], -h * r[1] * x[2], 1.0,
+                   -h * r[1] * x[0], -h * r[2] * x[1], -h * r[2] * x[0], 1.0};
+    double dx[3];
+    if (!solve3(M, g, dx)) break;
+    /* damping: halve the step while it does not reduce |g| (keeps the branch near theta) */
+    double g0 = norm3(g), lam = 1.0, xn[3];
+    for (int k = 0; k < 30; k++) {
+      for (int i = 0; i < 3; i++) xn[i] = x[i] - lam * dx[i];
+      double gn[3] = {xn[0] - theta[0] - h * r[0] * xn[1] * xn[2],
+                      xn[1] - theta[1] - h * r[1] * xn[2] * xn[0],
+                      xn[2] - theta[2] - h * r[2] * xn[0] * xn[1]};
+      if (norm3(gn) <= g0 || lam < 1e-6) break;
+      lam *= 0.5;
+    }
+    double change = lam * norm3(dx), size = norm3(xn);
+    for (int i = 0; i < 3; i++) x[i] = xn[i];
+    if (change <= 1e-15 * size || size == 0.0) break;
+  }
+  Omega[0] = x[0]; Omega[1] = x[1]; Omega[2] = x[2];
+  double res = rl_omega_residual(J, theta, h, Omega);
+  if (info) { info->path = RL_OMEGA_PATH_NEWTON; info->iterations = it; info->residual = res; }
+  if (!(res <= 1e-13) && !(norm3(x) == 0.0))
+    return rl_error(RL_ENOCONV, "rl_omega_exact: Newton on eq. 28 did not converge "
+                    "(residual %.3g after %d iterations)", res, it);
+  return RL_OK;
+}
+
+/* ---------------------------------------------------------------------- symmetric top */
+
+void rl_omega_symmetric(const double J[3], const double theta[3], double h, double Omega[3])
+{
+  /* J_X = J_Y: rho_Z = 0, so Omega_Z = theta_Z; rho_Y = -rho_X, nu^2 = rho_X^2 (eq. 29). */
+  double rx = (J[1] - J[2]) / (2.0 * J[0]);
+  double ry = (J[2] - J[0]) / (2.0 * J[1]);
+  double oz = theta[2];
+  double d = 1.0 - h * h * rx * ry * oz * oz;
+  Omega[0] = (theta[0] + h * rx * theta[1] * oz) / d;
+  Omega[1] = (theta[1] + h * ry * theta[0] * oz) / d;
+  Omega[2] = oz;
+}
+
+/* ---------------------------------------------------------------------- Cayley evolution */
+
+void rl_cayley(const double w[3], double h, double D[9])
+{
+  double x2 = 0.25 * h * h * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, hs = h * inv, p = 0.5 * h * h * inv;
+  /* W(w) of eq. 3: [[0, wz, -wy], [-wz, 0, wx], [wy, -wx, 0]] */
+  D[0] = c + p * w[0] * w[0];
+  D[1] = hs * w[2] + p * w[0] * w[1];
+  D[2] = -hs * w[1] + p * w[0] * w[2];
+  D[3] = -hs * w[2] + p * w[1] * w[0];
+  D[4] = c + p * w[1] * w[1];
+  D[5] = hs * w[0] + p * w[1] * w[2];
+  D[6] = hs * w[1] + p * w[2] * w[0];
+  D[7] = -hs * w[0] + p * w[2] * w[1];
+  D[8] = c + p * w[2] * w[2];
+}
+
+void rl_rotate_matrix(double A[9], const double Omega[3], double h)
+{
+  double D[9], B[9];
+  rl_cayley(Omega, h, D);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      B[3 * i + j] = D[3 * i] * A[j] + D[3 * i + 1] * A[3 + j] + D[3 * i + 2] * A[6 + j];
+  for (int i = 0; i < 9; i++) A[i] = B[i];
+}
+
+void rl_rotate_axis(double rho[3], const double w[3], double h)
+{
+  /* d rho/dt = w x rho = W^T(w) rho; Cayley: rho' = [(1-x^2) rho + h w x rho + h^2/2 (w.rho) w]/(1+x^2) */
+  double x2 = 0.25 * h * h * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, hs = h * inv;
+  double wr = 0.5 * h * h * inv * (w[0] * rho[0] + w[1] * rho[1] + w[2] * rho[2]);
+  double cx = w[1] * rho[2] - w[2] * rho[1], cy = w[2] * rho[0] - w[0] * rho[2],
+         cz = w[0] * rho[1] - w[1] * rho[0];
+  double n0 = c * rho[0] + hs * cx + wr * w[0];
+  double n1 = c * rho[1] + hs * cy + wr * w[1];
+  double n2 = c * rho[2] + hs * cz + wr * w[2];
+  rho[0] = n0; rho[1] = n1; rho[2] = n2;
+}
+
+/* --------------------------------------------------------------------------- quaternions */
+
+void rl_quat_to_matrix(const double q[4], double A[9])
+{
+  double x = q[0], e = q[1], z = q[2], c = q[3]; /* xi, eta, zeta, chi */
+  A[0] = -x * x + e * e - z * z + c * c;
+  A[1] = 2.0 * (z * c - x * e);
+  A[2] = 2.0 * (e * z + x * c);
+  A[3] = -2.0 * (x * e + z * c);
+  A[4] = x * x - e * e - z * z + c * c;
+  A[5] = 2.0 * (e * c - x * z);
+  A[6] = 2.0 * (e * z - x * c);
+  A[7] = -2.0 * (x * z + e * c);
+  A[8] = -x * x - e * e + z * z + c * c;
+}
+
+int rl_matrix_to_quat(const double A[9], double q[4])
+{
+  /* From eq. 4: 4 chi^2 = 1 + tr A, 4 eta^2 = 1 + A11 - A22 - A33, 4 xi^2 = 1 - A11 + A22 - A33,
+   * 4 zeta^2 = 1 - A11 - A22 + A33; A12 - A21 = 4 zeta chi, A13 - A31 = 4 xi chi,
+   * A23 - A32 = 4 eta chi, A12 + A21 = -4 xi eta, A13 + A31 = 4 eta zeta, A23 + A32 = -4 xi zeta.
+   * Take the largest square first (Shepperd), for accuracy. */
+  double s[4] = {1.0 - A[0] + A[4] - A[8], 1.0 + A[0] - A[4] - A[8], 1.0 - A[0] - A[4] + A[8],
+                 1.0 + A[0] + A[4] + A[8]};
+  int k = 0;
+  for (int i = 1; i < 4; i++)
+    if (s[i] > s[k]) k = i;
+  if (!(s[k] > 0.0)) return rl_error(RL_EORTHO, "rl_matrix_to_quat: not a rotation matrix");
+  double v = 0.5 * sqrt(s[k]), f = 0.25 / v; /* f = 1/(4 v) */
+  double x, e, z, c;
+  switch (k) {
+  case 0: x = v; e = -(A[1] + A[3]) * f; z = -(A[5] + A[7]) * f; c = (A[2] - A[6]) * f; break;
+  case 1: e = v; x = -(A[1] + A[3]) * f; z = (A[2] + A[6]) * f; c = (A[5] - A[7]) * f; break;
+  case 2: z = v; x = -(A[5] + A[7]) * f; e = (A[2] + A[6]) * f; c = (A[1] - A[3]) * f; break;
+  default: c = v; x = (A[2] - A[6]) * f; e = (A[5] - A[7]) * f; z = (A[1] - A[3]) * f; break;
+  }
+  if (c < 0.0) { x = -x; e = -e; z = -z; c = -c; }
+  q[0] = x; q[1] = e; q[2] = z; q[3] = c;
+  return RL_OK;
+}
+
+void rl_quat_rotate(double q[4], const double Om[3], double h)
+{
+  /* eq. 23: q' = [I (1 - h^2 Omega^2/16) + h Q(Omega)] q / (1 + h^2 Omega^2/16), Q of eq. 5 */
+  double x2 = h * h * (Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]) / 16.0;
+  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, g = 0.5 * h * inv;
+  double X = Om[0], Y = Om[1], Z = Om[2];
+  double n0 = c * q[0] + g * (Z * q[1] - X * q[2] - Y * q[3]);
+  double n1 = c * q[1] + g * (-Z * q[0] - Y * q[2] + X * q[3]);
+  double n2 = c * q[2] + g * (X * q[0] + Y * q[1] + Z * q[3]);
+  double n3 = c * q[3] + g * (Y * q[0] - X * q[1] - Z * q[2]);
+  q[0] = n0; q[1] = n1; q[2] = n2; q[3] = n3;
+}
+
+double rl_orthonormality_error(const double A[9])
+{
+  double m = 0.0;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double s = A[i] * A[j] + A[3 + i] * A[3 + j] + A[6 + i] * A[6 + j] - (i == j ? 1.0 : 0.0);
+      if (fabs(s) > m) m = fabs(s);
+    }
+  return m;
+}
