@@ -3,6 +3,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 static _Thread_local char last_message[1024];
 
@@ -16,6 +17,18 @@ int rl_error(int status, const char *fmt, ...)
   va_start(ap, fmt);
   vsnprintf(last_message, sizeof last_message, fmt, ap);
   va_end(ap);
+  return status;
+}
+
+int rl_error_wrap(int status, const char *fmt, ...)
+{
+  char prev[sizeof last_message], ctx[sizeof last_message];
+  memcpy(prev, last_message, sizeof prev);
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(ctx, sizeof ctx, fmt, ap);
+  va_end(ap);
+  snprintf(last_message, sizeof last_message, "%.400s: %.600s", ctx, prev[0] ? prev : rl_strerror(status));
   return status;
 }
 

@@ -68,8 +68,9 @@ static double reduced_f(const reduced *s, double z, double *fp)
  * is the same number without the cancellation between c and b/c (both ~ 1/h) that costs
  * Cardano's literal form most of its digits at small h.  With three real roots (negative
  * discriminant) the one nearest 0 is taken.  Returns NaN if the cubic degenerates (a3 -> 0). */
-static double cubic_small_root(double a0, double a1, double a2, double a3)
+double rl_cubic_small_root(double a0, double a1, double a2, double a3, int *three_real)
 {
+  if (three_real) *three_real = 0;
   if (!(a3 != 0.0)) return NAN;
   double sh = a2 / (3.0 * a3);
   double b = (3.0 * a1 * a3 - a2 * a2) / (9.0 * a3 * a3);
@@ -81,6 +82,7 @@ static double cubic_small_root(double a0, double a1, double a2, double a3)
   } else if (b < 0.0) {
     double sb = sqrt(-b), arg = p / (sb * sb * sb);
     if (fabs(arg) <= 1.0) { /* three real roots: take the smallest |delta| */
+      if (three_real) *three_real = 1;
       double phi = acos(arg) / 3.0, best = NAN;
       for (int k = 0; k < 3; k++) {
         double yk = 2.0 * sb * cos(phi - 2.0 * M_PI * k / 3.0);
@@ -151,7 +153,7 @@ static double bracketed_reduced(const reduced *s, double z0, int *iters)
 int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
                      double Omega[3], rl_omega_info *info)
 {
-  rl_omega_info loc = {RL_OMEGA_PATH_CUBIC, 0, 0.0};
+  rl_omega_info loc = {RL_OMEGA_PATH_CUBIC, 0, 0.0, 0};
   if (guard_tol <= 0.0) guard_tol = RL_OMEGA_GUARD_TOL;
 
   /* cyclic relabelling: the largest moment becomes Z */
@@ -188,7 +190,7 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
     double a1 = tp - h * h * (g * rz - nu2 * s0 * ((5.0 * s0 - 4.0 * tz) * tp + 2.0 * h * tx * ty * rz));
     double a2 = hn * (6.0 * s0 - 2.0 * tz + h * rz * tx * ty + hn * s0 * s0 * (10.0 * s0 - 6.0 * tz));
     double a3 = 2.0 * hn * (1.0 + hn * s0 * (5.0 * s0 - 2.0 * tz));
-    double delta = cubic_small_root(a0, a1, a2, a3);
+    double delta = rl_cubic_small_root(a0, a1, a2, a3, &loc.three_real);
     oz = s0 + delta;
     if (!isfinite(oz)) oz = s0; /* degenerate cubic: let the guard polish from s0 */
     eq29(&s, oz, &ox, &oy);
@@ -267,7 +269,7 @@ int rl_omega_exact(const double J[3], const double theta[3], double h, double Om
   }
   Omega[0] = x[0]; Omega[1] = x[1]; Omega[2] = x[2];
   double res = rl_omega_residual(J, theta, h, Omega);
-  if (info) { info->path = RL_OMEGA_PATH_NEWTON; info->iterations = it; info->residual = res; }
+  if (info) { info->path = RL_OMEGA_PATH_NEWTON; info->iterations = it; info->residual = res; info->three_real = 0; }
   if (!(res <= 1e-13) && !(norm3(x) == 0.0))
     return rl_error(RL_ENOCONV, "rl_omega_exact: Newton on eq. 28 did not converge "
                     "(residual %.3g after %d iterations)", res, it);

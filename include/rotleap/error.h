@@ -32,6 +32,12 @@ int rl_error(int status, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* Prefix the current message with a formatted context: "<context>: <previous message>". */
+int rl_error_wrap(int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 void rl_error_clear(void);
 
 #ifdef __cplusplus

@@ -109,6 +109,8 @@ const rl_forces *rl_integrator_forces(const rl_integrator *in);
  * return the stored mid-step values v(t-h/2), l(t-h/2). */
 void rl_integrator_mid_velocity(const rl_integrator *in, int body, double v[3]);
 void rl_integrator_mid_angmom(const rl_integrator *in, int body, double l[3]);
+/* Quaternion of a matrix body under RL_ROT_QUATERNION (returns RL_ESTATE otherwise). */
+int rl_integrator_quaternion(const rl_integrator *in, int body, double q[4]);
 
 #ifdef __cplusplus
 }

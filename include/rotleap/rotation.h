@@ -28,6 +28,7 @@ typedef struct {
   int path;          /* RL_OMEGA_PATH_*                                         */
   int iterations;    /* Newton / fixed-point iterations used (0 for the cubic)  */
   double residual;   /* |eq. 28 residual| / |Omega| of the returned solution     */
+  int three_real;    /* 1 if the cubic had three real roots (negative discriminant) */
 } rl_omega_info;
 
 /* Default relative residual of eq. 28 above which the cubic root is polished (a fallback).
@@ -52,6 +53,11 @@ double rl_omega_residual(const double J[3], const double theta[3], double h,
  * solve could not meet 1e-12 (not observed; reported rather than hidden). */
 int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
                      double Omega[3], rl_omega_info *info);
+
+/* Real root of a3 d^3 + a2 d^2 + a1 d + a0 = 0 nearest the one that tends to 0 as h -> 0 (the
+ * delta_1 of eq. 34), by Cardano's formula in a cancellation-free form; with three real roots
+ * the one of smallest |d|.  *three_real (may be NULL) tells which case.  NaN if a3 = 0. */
+double rl_cubic_small_root(double a0, double a1, double a2, double a3, int *three_real);
 
 /* Reference solve of eq. 28 by full 3-D Newton iteration from Omega = theta (damped), to
  * relative change <= 1e-15.  Independent of the cubic reduction (eq. 29); for checking.

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Install the Debian 12 packages rotleap needs (as root; uses sudo otherwise).  Skips apt when
+# everything is already installed.  Usage: scripts/deps.sh [build|test|validate]
+set -euo pipefail
+build=(build-essential cmake pkg-config libgsl-dev)          # compiler, CMake, GSL
+testdeps=(libcmocka-dev)                                      # unit-test framework
+validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
+want=("${build[@]}")
+case "${1:-build}" in
+  build) ;;
+  test) want+=("${testdeps[@]}") ;;
+  validate) want+=("${testdeps[@]}" "${validate[@]}") ;;
+  *) echo "usage: $0 [build|test|validate]" >&2; exit 2 ;;
+esac
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "installing: ${missing[*]}" >&2
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
