@@ -12,7 +12,7 @@
 #include "rotleap/integrator.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
-#include "../core/system_impl.h"
+#include "../models/family.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -48,12 +48,6 @@ void rl_integrator_params_default(rl_integrator_params *p)
   p->force_general = 0;
   p->thermostat = RL_THERMO_NONE;
   p->T0 = 0.0;
-}
-
-/* Does this species go through the general (asymmetric) path? */
-static int general_path(const rl_integrator *in, const rl_species *sp)
-{
-  return sp->kind == RL_KIND_ASYMMETRIC || (in->p.force_general && rl_kind_is_matrix(sp->kind));
 }
 
 static int validate(const rl_system *s, const rl_integrator_params *p)
@@ -147,12 +141,6 @@ static int compute_forces(rl_integrator *in)
   return RL_OK;
 }
 
-static void project_out(double l[3], const double rho[3])
-{
-  double d = l[0] * rho[0] + l[1] * rho[1] + l[2] * rho[2];
-  l[0] -= d * rho[0]; l[1] -= d * rho[1]; l[2] -= d * rho[2];
-}
-
 int rl_integrator_init(rl_integrator *in)
 {
   rl_system *s = in->sys;
@@ -162,7 +150,7 @@ int rl_integrator_init(rl_integrator *in)
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     if (sp->axis_off >= 0)
-      for (int b = 0; b < sp->count; b++) project_out(s->l[sp->rot_off + b], s->rho[sp->axis_off + b]);
+      for (int b = 0; b < sp->count; b++) rl_project_out(s->l[sp->rot_off + b], s->rho[sp->axis_off + b]);
   }
   if (in->q)
     for (int k = 0; k < s->nspecies; k++) {
@@ -187,106 +175,6 @@ int rl_integrator_init(rl_integrator *in)
     }
   }
   in->initialized = 1;
-  return RL_OK;
-}
-
-/* theta = J^-1 A l (body frame) */
-static inline void body_theta(const double A[9], const double J[3], const double l[3], double th[3])
-{
-  for (int a = 0; a < 3; a++) th[a] = (A[3 * a] * l[0] + A[3 * a + 1] * l[1] + A[3 * a + 2] * l[2]) / J[a];
-}
-
-/* On-step rotational kinetic energy of one body from l(t) (eq. 12) and its orientation. */
-static double ke_rot_body(const rl_integrator *in, const rl_species *sp, int b, const double lt[3])
-{
-  const rl_system *s = in->sys;
-  if (sp->axis_off >= 0) {
-    double lp[3] = {lt[0], lt[1], lt[2]};
-    project_out(lp, s->rho[sp->axis_off + b]);
-    return 0.5 * (lp[0] * lp[0] + lp[1] * lp[1] + lp[2] * lp[2]) / sp->J[0];
-  }
-  double th[3];
-  body_theta(s->A[sp->mat_off + b], sp->J, lt, th);
-  return 0.5 * (sp->J[0] * th[0] * th[0] + sp->J[1] * th[1] * th[1] + sp->J[2] * th[2] * th[2]);
-}
-
-/* Quaternion variant (eq. 23 with eqs. 19-20 in quaternion space), iterated to quat_tol. */
-static int rotate_quaternion(rl_integrator *in, const rl_species *sp, int b, const double l[3],
-                             double *hw, rl_step_info *info)
-{
-  double *q = in->q[sp->mat_off + b], qn[4] = {q[0], q[1], q[2], q[3]}, Om[3];
-  double h = in->p.h;
-  int it;
-  for (it = 1; it <= in->p.quat_maxit; it++) {
-    double qm[4], Am[9], qt[4] = {q[0], q[1], q[2], q[3]};
-    for (int c = 0; c < 4; c++) qm[c] = 0.5 * (q[c] + qn[c]);
-    rl_quat_to_matrix(qm, Am); /* A(t+h/2) = A[q(t+h/2)], eq. 4 */
-    body_theta(Am, sp->J, l, Om);   /* eq. 19 */
-    rl_quat_rotate(qt, Om, h);      /* eq. 23 */
-    double d = 0.0;
-    for (int c = 0; c < 4; c++) { d = fmax(d, fabs(qt[c] - qn[c])); qn[c] = qt[c]; }
-    if (d <= in->p.quat_tol) break;
-  }
-  if (it > in->p.quat_maxit)
-    return rl_error(RL_ENOCONV, "quaternion iteration (eq. 23) did not converge to %g in %d "
-                    "iterations for body %d at step %ld (h|Omega| = %.3g)", in->p.quat_tol,
-                    in->p.quat_maxit, sp->first + b, in->steps,
-                    h * sqrt(Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]));
-  memcpy(q, qn, sizeof qn);
-  rl_quat_to_matrix(q, in->sys->A[sp->mat_off + b]);
-  *hw = h * sqrt(Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]);
-  info->quat_iterations += it;
-  if (it > info->quat_max_iterations) info->quat_max_iterations = it;
-  return RL_OK;
-}
-
-/* Rotate body b of species sp from l(t+h/2); *hw receives h |Omega(t+h/2)|. */
-static int rotate_body(rl_integrator *in, const rl_species *sp, int b, double *hw,
-                       rl_step_info *info)
-{
-  rl_system *s = in->sys;
-  double h = in->p.h;
-  const double *l = s->l[sp->rot_off + b];
-  double Om[3];
-  if (sp->axis_off >= 0) {
-    /* III.D: dipole omega = l / I; linear Omega_X,Y = theta_X,Y, Omega_Z = 0, i.e. the part of
-     * l/J perpendicular to rho.  Both rotate rho about omega. */
-    double *rho = s->rho[sp->axis_off + b], w[3];
-    for (int c = 0; c < 3; c++) w[c] = l[c] / sp->J[0];
-    if (sp->kind == RL_KIND_LINEAR) project_out(w, rho);
-    rl_rotate_axis(rho, w, h);
-    *hw = h * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    return RL_OK;
-  }
-  double *A = s->A[sp->mat_off + b];
-  if (general_path(in, sp)) {
-    if (in->p.method == RL_ROT_QUATERNION) return rotate_quaternion(in, sp, b, l, hw, info);
-    double th[3];
-    rl_omega_info oi;
-    body_theta(A, sp->J, l, th);
-    int st = in->p.method == RL_ROT_EXACT ? rl_omega_exact(sp->J, th, h, Om, &oi)
-                                          : rl_omega_guarded(sp->J, th, h, in->p.guard_tol, Om, &oi);
-    if (st) return rl_error_wrap(st, "body %d at step %ld", sp->first + b, in->steps);
-    if (in->p.method == RL_ROT_CUBIC && oi.path >= RL_OMEGA_PATH_NEWTON) info->fallbacks++;
-    rl_rotate_matrix(A, Om, h);
-  } else if (sp->kind == RL_KIND_SPHERICAL) {
-    /* A(t+h) = A(t) exp[phi W(omega)/omega], omega = l/J in the lab: no solve */
-    double w[3] = {l[0] / sp->J[0], l[1] / sp->J[0], l[2] / sp->J[0]}, D[9], B[9];
-    rl_cayley(w, h, D);
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++)
-        B[3 * i + j] = A[3 * i] * D[j] + A[3 * i + 1] * D[3 + j] + A[3 * i + 2] * D[6 + j];
-    memcpy(A, B, sizeof B);
-    Om[0] = w[0]; Om[1] = w[1]; Om[2] = w[2];
-  } else { /* symmetric top: closed form in the relabelled frame whose Z is the unique axis */
-    double th[3], tp[3], Jp[3], Op[3];
-    body_theta(A, sp->J, l, th);
-    for (int a = 0; a < 3; a++) { tp[a] = th[sp->perm[a]]; Jp[a] = sp->J[sp->perm[a]]; }
-    rl_omega_symmetric(Jp, tp, h, Op);
-    for (int a = 0; a < 3; a++) Om[sp->perm[a]] = Op[a];
-    rl_rotate_matrix(A, Om, h);
-  }
-  *hw = h * sqrt(Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]);
   return RL_OK;
 }
 
@@ -329,6 +217,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   double ket = 0.0, ker = 0.0;
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
     double w = h2 / sp->mass, kt = 0.0;
     for (int b = 0; b < sp->count; b++) {
       int i = sp->first + b;
@@ -339,7 +228,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
       if (sp->rot_off >= 0) {
         const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
         double lt[3] = {l[0] + h2 * kk[0], l[1] + h2 * kk[1], l[2] + h2 * kk[2]};
-        ker += ke_rot_body(in, sp, b, lt);
+        ker += fam->ke_rot(sp, s, b, lt);
       }
     }
     ket += 0.5 * sp->mass * kt;
@@ -356,7 +245,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     beta = sqrt(in->p.T0 / info.temperature);
   info.beta = beta;
 
-  /* 2-4. kick, drift, rotate */
+  /* 2-3. kick and drift */
   const double c2 = 2.0 * beta - 1.0;
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
@@ -377,12 +266,20 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         if (beta == 1.0) l[c] += h * kk[c];
         else l[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c]; /* eq. 18 */
       }
-      double hw = 0.0;
-      int st = rotate_body(in, sp, b, &hw, &info);
-      if (st) return st;
-      if (hw > info.max_h_omega) info.max_h_omega = hw;
     }
   }
+  /* 4. rotation, one family at a time */
+  rl_rotation_work rw = {h, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
+                         in->q, in->steps, 0, 0, 0, 0.0};
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    int st = rl_family_for(sp->kind, in->p.force_general)->rotate(sp, s, &rw);
+    if (st) return st;
+  }
+  info.fallbacks = rw.fallbacks;
+  info.quat_iterations = rw.quat_iterations;
+  info.quat_max_iterations = rw.quat_max_iterations;
+  info.max_h_omega = rw.max_h_omega;
   in->t += h;
   in->steps++;
   if (in->steps % RL_POLISH_INTERVAL == 0) polish_orientations(in);

@@ -1,0 +1,66 @@
+/* Asymmetric body, the general path: theta = J^-1 A(t) l(t+h/2); Omega(t+h/2) from eq. 28 by
+ * the guarded quasi-analytic cubic (default), the exact 3-D Newton solve, or the quaternion
+ * variant (eq. 23 iterated with eqs. 19-20 in quaternion space); A(t+h) = D(Omega) A(t). */
+#include "family.h"
+#include "rotleap/error.h"
+#include "rotleap/rotation.h"
+
+#include <math.h>
+#include <string.h>
+
+static int rotate_quaternion(const rl_species *sp, int b, const double l[3], double A[9],
+                             rl_rotation_work *w, double *hw)
+{
+  double *q = w->q[sp->mat_off + b], qn[4] = {q[0], q[1], q[2], q[3]}, Om[3] = {0, 0, 0};
+  const double h = w->h;
+  int it;
+  for (it = 1; it <= w->quat_maxit; it++) {
+    double qm[4], Am[9], qt[4] = {q[0], q[1], q[2], q[3]};
+    for (int c = 0; c < 4; c++) qm[c] = 0.5 * (q[c] + qn[c]);
+    rl_quat_to_matrix(qm, Am); /* A(t+h/2) = A[q(t+h/2)], eqs. 4, 20 */
+    rl_body_theta(Am, sp->J, l, Om); /* eq. 19 */
+    rl_quat_rotate(qt, Om, h);       /* eq. 23 */
+    double d = 0.0;
+    for (int c = 0; c < 4; c++) { d = fmax(d, fabs(qt[c] - qn[c])); qn[c] = qt[c]; }
+    if (d <= w->quat_tol) break;
+  }
+  if (it > w->quat_maxit)
+    return rl_error(RL_ENOCONV, "quaternion iteration (eq. 23) did not converge to %g in %d "
+                    "iterations for body %d at step %ld (h|Omega| = %.3g)", w->quat_tol,
+                    w->quat_maxit, sp->first + b, w->step, h * rl_norm3(Om));
+  memcpy(q, qn, sizeof qn);
+  rl_quat_to_matrix(q, A);
+  *hw = h * rl_norm3(Om);
+  w->quat_iterations += it;
+  if (it > w->quat_max_iterations) w->quat_max_iterations = it;
+  return RL_OK;
+}
+
+static int rotate_asymmetric(const rl_species *sp, rl_system *s, rl_rotation_work *w)
+{
+  const double h = w->h;
+  double (*l)[3] = s->l + sp->rot_off, (*A)[9] = s->A + sp->mat_off;
+  for (int b = 0; b < sp->count; b++) {
+    double hw = 0.0;
+    if (w->method == RL_ROT_QUATERNION) {
+      int st = rotate_quaternion(sp, b, l[b], A[b], w, &hw);
+      if (st) return st;
+    } else {
+      double th[3], Om[3];
+      rl_omega_info oi;
+      rl_body_theta(A[b], sp->J, l[b], th);
+      int st = w->method == RL_ROT_EXACT ? rl_omega_exact(sp->J, th, h, Om, &oi)
+                                         : rl_omega_guarded(sp->J, th, h, w->guard_tol, Om, &oi);
+      if (st) return rl_error_wrap(st, "body %d at step %ld", sp->first + b, w->step);
+      if (w->method == RL_ROT_CUBIC && oi.path >= RL_OMEGA_PATH_NEWTON) w->fallbacks++;
+      rl_rotate_matrix(A[b], Om, h);
+      hw = h * rl_norm3(Om);
+    }
+    if (hw > w->max_h_omega) w->max_h_omega = hw;
+  }
+  return RL_OK;
+}
+
+const rl_family rl_family_asymmetric = {RL_KIND_ASYMMETRIC, "asymmetric",
+                                        "guarded quasi-analytic cubic (eqs. 28-36)", 3,
+                                        rotate_asymmetric, rl_ke_rot_matrix};

@@ -1,0 +1,30 @@
+/* Spherical top (J_XX = J_YY = J_ZZ = J): A(t+h) = A(t) exp[phi W(omega)/omega] with the lab
+ * omega = l(t+h/2)/J (section III.D) -- the exponential map in its Rodrigues/Cayley form, no
+ * solve. */
+#include "family.h"
+#include "rotleap/rotation.h"
+
+#include <string.h>
+
+static int rotate_spherical(const rl_species *sp, rl_system *s, rl_rotation_work *w)
+{
+  const double h = w->h, inv = 1.0 / sp->J[0];
+  double (*l)[3] = s->l + sp->rot_off, (*A)[9] = s->A + sp->mat_off, hw = w->max_h_omega;
+  for (int b = 0; b < sp->count; b++) {
+    double om[3] = {l[b][0] * inv, l[b][1] * inv, l[b][2] * inv}, D[9], B[9];
+    rl_cayley(om, h, D);
+    const double *a = A[b];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        B[3 * i + j] = a[3 * i] * D[j] + a[3 * i + 1] * D[3 + j] + a[3 * i + 2] * D[6 + j];
+    memcpy(A[b], B, sizeof B);
+    double x = h * rl_norm3(om);
+    if (x > hw) hw = x;
+  }
+  w->max_h_omega = hw;
+  return RL_OK;
+}
+
+const rl_family rl_family_spherical = {RL_KIND_SPHERICAL, "spherical",
+                                       "A exp[phi W(omega)/omega], omega = l/J (III.D)", 3,
+                                       rotate_spherical, rl_ke_rot_matrix};
