@@ -226,6 +226,16 @@ int rl_system_dof(const rl_system *s)
   return rl_system_dof_translational(s) + rl_system_dof_rotational(s);
 }
 
+int rl_system_state_bytes(const rl_system *s, int k)
+{
+  const rl_species *sp = &s->sp[k];
+  int b = (int)(sizeof s->r[0] + sizeof s->v[0]);
+  if (sp->rot_off >= 0) b += (int)sizeof s->l[0];
+  if (sp->mat_off >= 0) b += (int)sizeof s->A[0];
+  if (sp->axis_off >= 0) b += (int)sizeof s->rho[0];
+  return b;
+}
+
 int rl_system_rot_index(const rl_system *s, int i)
 {
   const rl_species *sp = &s->sp[s->species_of[i]];

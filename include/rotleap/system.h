@@ -99,6 +99,9 @@ void rl_system_get_orientation(const rl_system *sys, int body, double A[9]);
 /* Body Z axis in the lab (rho for axis kinds, the third row of A otherwise). */
 void rl_system_get_axis(const rl_system *sys, int body, double rho[3]);
 
+/* Bytes of dynamical state one body of `species` carries (r, v and, by kind, l, A or rho). */
+int rl_system_state_bytes(const rl_system *sys, int species);
+
 /* Lab positions of every site, [nsites][3], bodies in order, sites in species order. */
 void rl_system_site_positions(const rl_system *sys, double (*out)[3]);
 /* First site of `body` in the site arrays. */
