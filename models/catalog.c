@@ -177,7 +177,7 @@ static int def_nh3(const rl_model *s, const double *p, int fg, rl_molecule *m)
 
 static const rl_model catalog[] = {
     {"stockmayer", "Stockmayer fluid: LJ + point dipole (reduced units)",
-     "W. H. Stockmayer, J. Chem. Phys. 9, 398 (1941); I* = 0.025 as in e.g. Kusalik, Mol. Phys. 81, 199 (1994)",
+     "W. H. Stockmayer, J. Chem. Phys. 9, 398 (1941); I* = 0.025 is a conventional choice, adjustable",
      RL_UNITS_LJ, RL_KIND_DIPOLE, 0, 2, {"mu", "inertia"}, {"sqrt(eps sigma^3)", "m sigma^2"},
      {1.7320508075688772, 0.025}, def_stockmayer},
     {"2clj", "two-centre Lennard-Jones (reduced units)",

@@ -29,3 +29,8 @@ const rl_family *rl_family_for(rl_kind kind, int force_general)
   default: return &rl_family_asymmetric;
   }
 }
+
+const char *rl_kind_rotation_path(rl_kind kind)
+{
+  return kind == RL_KIND_AUTO ? "(classified)" : rl_family_for(kind, 0)->path;
+}

@@ -63,6 +63,8 @@ int rl_system_add_species(rl_system *sys, const rl_species_desc *desc, int count
  * zero, SPHERICAL, SYMMETRIC, or ASYMMETRIC), with RL_INERTIA_RTOL. */
 rl_kind rl_classify_inertia(const double J[3]);
 const char *rl_kind_name(rl_kind kind);
+/* The rotation path that integrates a kind (its fast path), for listings. */
+const char *rl_kind_rotation_path(rl_kind kind);
 int rl_kind_rotational_dof(rl_kind kind); /* 0, 2 or 3 */
 
 int rl_system_count(const rl_system *sys);          /* bodies                             */
