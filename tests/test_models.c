@@ -17,8 +17,14 @@
 
 typedef struct {
   double L, rc, e0;
-  const rl_molecule *mol;
+  const rl_molecule *mol;   /* species 0 */
+  const rl_molecule *mol2;  /* species 1 (mixed scenes) or NULL */
 } field;
+
+static const rl_molecule *mol_of(const field *F, const rl_system *sys, int i)
+{
+  return rl_system_species_of(sys, i) == 0 ? F->mol : F->mol2;
+}
 
 static void min_image(double d[3], double L)
 {
@@ -28,14 +34,17 @@ static void min_image(double d[3], double L)
 static int test_field(void *ctx, const rl_system *sys, rl_forces *out)
 {
   const field *F = ctx;
-  int n = rl_system_count(sys), ns = F->mol->nsites;
+  int n = rl_system_count(sys), ns = rl_system_nsites(sys);
   static double pos[MAXS][3], fs[MAXS][3];
-  memset(fs, 0, sizeof(double) * 3 * (size_t)(n * ns));
+  static int owner[MAXS];
+  memset(fs, 0, sizeof(double) * 3 * (size_t)ns);
   rl_system_site_positions(sys, pos);
+  for (int i = 0; i < n; i++)
+    for (int a = 0; a < mol_of(F, sys, i)->nsites; a++) owner[rl_system_site_offset(sys, i) + a] = i;
   double U = 0.0, rc2 = F->rc * F->rc;
-  for (int a = 0; a < n * ns; a++)
-    for (int b = a + 1; b < n * ns; b++) {
-      if (a / ns == b / ns) continue;
+  for (int a = 0; a < ns; a++)
+    for (int b = a + 1; b < ns; b++) {
+      if (owner[a] == owner[b]) continue;
       double d[3] = {pos[a][0] - pos[b][0], pos[a][1] - pos[b][1], pos[a][2] - pos[b][2]};
       min_image(d, F->L);
       double x2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / rc2;
@@ -48,33 +57,30 @@ static int test_field(void *ctx, const rl_system *sys, rl_forces *out)
       for (int c = 0; c < 3; c++) { fs[a][c] += fr * d[c]; fs[b][c] -= fr * d[c]; }
     }
   rl_system_add_site_forces(sys, (const double (*)[3])fs, out);
-  double mu = 0.0;
-  for (int a = 0; a < ns; a++) mu += F->mol->dipole[a];
-  if (mu != 0.0) {
-    double (*r)[3] = rl_system_r((rl_system *)sys);
-    for (int i = 0; i < n; i++)
-      for (int j = i + 1; j < n; j++) {
-        double d[3] = {r[i][0] - r[j][0], r[i][1] - r[j][1], r[i][2] - r[j][2]}, ri[3], rj[3];
-        min_image(d, F->L);
-        double x2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / rc2;
-        if (x2 >= 1.0) continue;
-        rl_system_get_axis(sys, i, ri);
-        rl_system_get_axis(sys, j, rj);
-        double g = 1.0 - x2, g3 = g * g * g, c = ri[0] * rj[0] + ri[1] * rj[1] + ri[2] * rj[2];
-        double k = F->e0 * mu * mu;
-        U += -k * c * g3;
-        double fr = -2.0 * (k * c * 3.0 * g * g) / rc2; /* -d/dr of -k c g^3 */
-        for (int q = 0; q < 3; q++) { out->f[i][q] += fr * d[q]; out->f[j][q] -= fr * d[q]; }
-        /* torque on i: -rho_i x dU/drho_i = rho_i x (k g3 rho_j) */
-        double *ti = out->k[rl_system_rot_index(sys, i)], *tj = out->k[rl_system_rot_index(sys, j)];
-        ti[0] += k * g3 * (ri[1] * rj[2] - ri[2] * rj[1]);
-        ti[1] += k * g3 * (ri[2] * rj[0] - ri[0] * rj[2]);
-        ti[2] += k * g3 * (ri[0] * rj[1] - ri[1] * rj[0]);
-        tj[0] -= k * g3 * (ri[1] * rj[2] - ri[2] * rj[1]);
-        tj[1] -= k * g3 * (ri[2] * rj[0] - ri[0] * rj[2]);
-        tj[2] -= k * g3 * (ri[0] * rj[1] - ri[1] * rj[0]);
-      }
-  }
+  double (*r)[3] = rl_system_r((rl_system *)sys);
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      double mi = 0.0, mj = 0.0;
+      for (int a = 0; a < mol_of(F, sys, i)->nsites; a++) mi += mol_of(F, sys, i)->dipole[a];
+      for (int a = 0; a < mol_of(F, sys, j)->nsites; a++) mj += mol_of(F, sys, j)->dipole[a];
+      if (mi == 0.0 || mj == 0.0) continue;
+      double d[3] = {r[i][0] - r[j][0], r[i][1] - r[j][1], r[i][2] - r[j][2]}, ri[3], rj[3];
+      min_image(d, F->L);
+      double x2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / rc2;
+      if (x2 >= 1.0) continue;
+      rl_system_get_axis(sys, i, ri);
+      rl_system_get_axis(sys, j, rj);
+      double g = 1.0 - x2, g3 = g * g * g, c = ri[0] * rj[0] + ri[1] * rj[1] + ri[2] * rj[2];
+      double k = F->e0 * mi * mj;
+      U += -k * c * g3;
+      double fr = -2.0 * (k * c * 3.0 * g * g) / rc2; /* -d/dr of -k c g^3 */
+      for (int q = 0; q < 3; q++) { out->f[i][q] += fr * d[q]; out->f[j][q] -= fr * d[q]; }
+      /* torque on i: -rho_i x dU/drho_i = rho_i x (k g3 rho_j) */
+      double *ti = out->k[rl_system_rot_index(sys, i)], *tj = out->k[rl_system_rot_index(sys, j)];
+      double t[3] = {k * g3 * (ri[1] * rj[2] - ri[2] * rj[1]), k * g3 * (ri[2] * rj[0] - ri[0] * rj[2]),
+                     k * g3 * (ri[0] * rj[1] - ri[1] * rj[0])};
+      for (int q = 0; q < 3; q++) { ti[q] += t[q]; tj[q] -= t[q]; }
+    }
   out->energy = U;
   return RL_OK;
 }
@@ -97,7 +103,7 @@ static void make_liquid(liquid *q, const char *model, int force_general, double 
   int lj = md->units == RL_UNITS_LJ;
   double s = lj ? 1.0 : 0.35, kT = lj ? 1.0 : 2.5;
   q->kT = kT;
-  q->F = (field){3.0 * s, 1.2 * s, lj ? 1.0 : 1.0, &q->mol};
+  q->F = (field){3.0 * s, 1.2 * s, 1.0, &q->mol, NULL};
   q->sys = rl_system_alloc(md->units);
   rl_species_desc d;
   rl_molecule_species(&q->mol, &d);
@@ -319,9 +325,77 @@ static void conservation_per_family(void **state)
   conservation("tip4p", 0.002);
 }
 
+/* A mixed scene: 18 Stockmayer molecules (rho only) and 9 LJ atoms (r, v only) in one box:
+ * both species integrate together, momentum is conserved and the energy error is O(h^2). */
+static void mixed_species(void **state)
+{
+  (void)state;
+  const rl_model *md = rl_catalog_find("stockmayer");
+  rl_molecule dip, atom;
+  assert_int_equal(rl_model_build(md, NULL, 0, &dip), RL_OK);
+  const double p0[3] = {0, 0, 0}, m1 = 1.0;
+  rl_molecule_def ad = {.name = "Ar", .nsites = 1, .pos = p0, .mass = &m1};
+  assert_int_equal(rl_molecule_build(&ad, 0, &atom), RL_OK);
+  assert_int_equal(atom.kind, RL_KIND_POINT);
+  double sd[2], dP = 0.0;
+  for (int k = 0; k < 2; k++) {
+    double h = 0.004 / (1 << k);
+    field F = {3.0, 1.2, 1.0, &dip, &atom};
+    rl_system *sys = rl_system_alloc(RL_UNITS_LJ);
+    rl_species_desc d1, d2;
+    rl_molecule_species(&dip, &d1);
+    rl_molecule_species(&atom, &d2);
+    assert_int_equal(rl_system_add_species(sys, &d1, 18, NULL), RL_OK);
+    assert_int_equal(rl_system_add_species(sys, &d2, 9, NULL), RL_OK);
+    assert_int_equal(rl_system_nrot(sys), 18);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 3);
+    for (int i = 0; i < NMOL; i++) {
+      double x[3] = {i % 3 + 0.5, i / 3 % 3 + 0.5, i / 9 + 0.5}, A[9], v[3], l[3];
+      random_rotation(r, A);
+      for (int c = 0; c < 3; c++) { v[c] = gsl_ran_gaussian(r, 1.0); l[c] = gsl_ran_gaussian(r, sqrt(0.025)); }
+      double dd = l[0] * A[6] + l[1] * A[7] + l[2] * A[8];
+      for (int c = 0; c < 3; c++) l[c] -= dd * A[6 + c];
+      rl_system_set_position(sys, i, x);
+      rl_system_set_velocity(sys, i, v);
+      if (i < 18) { rl_system_set_orientation(sys, i, A); rl_system_set_angmom(sys, i, l); }
+    }
+    gsl_rng_free(r);
+    rl_integrator_params p;
+    rl_integrator_params_default(&p);
+    p.h = h;
+    rl_integrator *in = rl_integrator_alloc(sys, &p, (rl_force_provider){test_field, &F});
+    assert_int_equal(rl_integrator_init(in), RL_OK);
+    long n = 300L << k;
+    double *E = malloc(sizeof(double) * (size_t)n), P0[3] = {0, 0, 0};
+    for (long s = 0; s < n; s++) {
+      rl_step_info info;
+      assert_int_equal(rl_integrator_step(in, &info), RL_OK);
+      E[s] = info.total;
+      double P[3] = {0, 0, 0};
+      for (int i = 0; i < NMOL; i++) {
+        double v[3];
+        rl_system_get_velocity(sys, i, v);
+        for (int c = 0; c < 3; c++) P[c] += v[c];
+      }
+      if (s == 0) memcpy(P0, P, sizeof P);
+      double dd[3] = {P[0] - P0[0], P[1] - P0[1], P[2] - P0[2]};
+      dP = fmax(dP, norm3d(dd));
+    }
+    sd[k] = gsl_stats_sd(E, 1, (size_t)n);
+    assert_int_equal(rl_system_dof(sys), 27 * 3 - 3 + 18 * 2);
+    free(E);
+    rl_integrator_free(in);
+    rl_system_free(sys);
+  }
+  CHECK_NEAR("mixed stockmayer + LJ atoms: energy fluctuation order", log2(sd[0] / sd[1]), 2.0, 0.2);
+  CHECK_LE("mixed stockmayer + LJ atoms: |P - P0|", dP, 1e-12);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(catalogue_families), cmocka_unit_test(near_degenerate),
-                                     cmocka_unit_test(fast_paths), cmocka_unit_test(conservation_per_family)};
+                                     cmocka_unit_test(fast_paths), cmocka_unit_test(conservation_per_family),
+                                     cmocka_unit_test(mixed_species)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
