@@ -205,6 +205,9 @@ int rl_system_count(const rl_system *s) { return s->n; }
 int rl_system_nspecies(const rl_system *s) { return s->nspecies; }
 int rl_system_species_of(const rl_system *s, int i) { return s->species_of[i]; }
 rl_kind rl_system_species_kind(const rl_system *s, int k) { return s->sp[k].kind; }
+const char *rl_system_species_name(const rl_system *s, int k) { return s->sp[k].name; }
+int rl_system_species_nsites(const rl_system *s, int k) { return s->sp[k].nsites; }
+int rl_system_species_count(const rl_system *s, int k) { return s->sp[k].count; }
 int rl_system_nsites(const rl_system *s) { return s->nsites_total; }
 double rl_system_mass(const rl_system *s, int i) { return s->sp[s->species_of[i]].mass; }
 void rl_system_inertia(const rl_system *s, int i, double J[3])

@@ -8,4 +8,7 @@
 #include "rotleap/rotation.h"
 #include "rotleap/system.h"
 #include "rotleap/integrator.h"
+#include "rotleap/molecule.h"
+#include "rotleap/catalog.h"
+#include "rotleap/forcefield.h"
 #endif

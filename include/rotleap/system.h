@@ -71,6 +71,9 @@ int rl_system_count(const rl_system *sys);          /* bodies                   
 int rl_system_nspecies(const rl_system *sys);
 int rl_system_species_of(const rl_system *sys, int body);
 rl_kind rl_system_species_kind(const rl_system *sys, int species);
+const char *rl_system_species_name(const rl_system *sys, int species);
+int rl_system_species_nsites(const rl_system *sys, int species);
+int rl_system_species_count(const rl_system *sys, int species); /* bodies of that species */
 int rl_system_nsites(const rl_system *sys);         /* all sites, all bodies              */
 double rl_system_mass(const rl_system *sys, int body);
 void rl_system_inertia(const rl_system *sys, int body, double J[3]);

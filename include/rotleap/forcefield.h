@@ -1,0 +1,135 @@
+/* rotleap — interactions: a force field over an rl_system in an orthorhombic periodic box.
+ *
+ * Kernels (models/): Lennard-Jones (Lorentz-Berthelot with per-pair overrides; plain, shifted,
+ * shifted-force or OpenMM-switched truncation; optional long-range dispersion correction),
+ * reaction-field Coulomb exactly as OpenMM 7.7 NonbondedForce.CutoffPeriodic (intramolecular pairs
+ * excluded: they contribute nothing, as in OpenMM), point dipoles along body Z
+ * (dipole-dipole and charge-dipole, reaction field a la Barker-Watts or shifted force as LAMMPS
+ * lj/sf/dipole/sf) and linear point quadrupoles along body Z (2CLJQ).  Formulas, units and the
+ * OpenMM finding: docs/interactions.md.
+ *
+ * Units: those of the system.  real: nm, kJ/mol, e; dipole e nm; quadrupole e nm^2; Coulomb
+ * constant RL_COULOMB_KJMOL_NM.  lj: reduced, Coulomb constant 1.
+ *
+ * A force field becomes an rl_force_provider (integrator.h) for the system it was made for. */
+#ifndef ROTLEAP_FORCEFIELD_H
+#define ROTLEAP_FORCEFIELD_H
+
+#include "rotleap/integrator.h"
+#include "rotleap/system.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Interaction sites of one species.  Site a sits where the system puts site a of the species. */
+typedef struct {
+  int nsites;                /* must equal the species' nsites in the rl_system              */
+  const double *sigma;       /* [nsites] LJ sigma (>= 0)                                      */
+  const double *epsilon;     /* [nsites] LJ epsilon (>= 0; 0 = no LJ on that site)            */
+  const double *charge;      /* [nsites] charge                                               */
+  const double *dipole;      /* [nsites] or NULL: point dipole moment along body Z at the site */
+  const double *quadrupole;  /* [nsites] or NULL: linear quadrupole Q = sum q z^2 along body Z */
+} rl_species_ff;
+
+typedef enum {
+  RL_CUTOFF_SITE = 0,    /* every site pair cut by its own (minimum-image) distance (OpenMM)  */
+  RL_CUTOFF_MOLECULE = 1 /* all site pairs of two molecules whose centres are within cutoff   */
+} rl_cutoff_scheme;
+
+typedef enum {
+  RL_LJ_PLAIN = 0,         /* u(r)                                                         */
+  RL_LJ_SHIFTED = 1,       /* u(r) - u(rc)                                                 */
+  RL_LJ_SHIFTED_FORCE = 2, /* u(r) - u(rc) - (r - rc) u'(rc)                               */
+  RL_LJ_SWITCHED = 3       /* u(r) S(r), OpenMM's switching function from r_switch to rc   */
+} rl_lj_truncation;
+
+typedef enum {
+  RL_DIPOLE_RF = 0, /* reaction field (Barker-Watts) with eps_rf; eps_rf = 1 is plain truncation */
+  RL_DIPOLE_SF = 1  /* shifted force (Allen & Germano 2006, LAMMPS lj/sf/dipole/sf)             */
+} rl_dipole_method;
+
+typedef struct {
+  double box[3];                  /* orthorhombic edges Lx, Ly, Lz (> 0)                        */
+  double cutoff;                  /* rc (> 0, <= half the shortest edge)                        */
+  rl_cutoff_scheme scheme;        /* default RL_CUTOFF_SITE                                     */
+  rl_lj_truncation lj_truncation; /* default RL_LJ_PLAIN                                        */
+  double r_switch;                /* switched: 0 <= r_switch < cutoff                           */
+  int dispersion_correction;      /* 1: add the LJ long-range energy and pressure (default 0)   */
+  double eps_rf;                  /* reaction-field dielectric >= 1, INFINITY allowed (default
+                                     78.3, OpenMM's default)                                    */
+  rl_dipole_method dipole_method; /* default RL_DIPOLE_RF                                       */
+  int intramolecular_rf;          /* 0 (default): pairs within a molecule contribute nothing, as
+                                     OpenMM 7.7 does for excluded pairs (validate/
+                                     openmm_rf_intramolecular.py); 1: add the GROMACS-style
+                                     excluded-pair term kc q_a q_b (krf r^2 - crf) (a constant
+                                     for rigid bodies; central forces, no net force/torque)     */
+  double coulomb_constant;        /* kc; 0 (default): RL_COULOMB_KJMOL_NM (real) or 1 (lj).
+                                     OpenMM 7.7 uses 138.93545764438198 (see docs)             */
+  int neighbor_list;              /* 1 (default): Verlet list of molecule pairs; 0: O(N^2) sum  */
+  double skin;                    /* Verlet skin (>= 0); < 0 (default): 0.1 cutoff              */
+  double min_distance;            /* site pairs closer than this are an error (overlap);
+                                     < 0 (default): 1e-3 cutoff                                 */
+} rl_ff_params;
+
+/* Energies of the last compute, split by term.  Sum = total = the energy added to rl_forces. */
+typedef struct {
+  double lj;          /* Lennard-Jones (truncated as chosen)                                  */
+  double coulomb;     /* reaction-field Coulomb between charges, intermolecular + intramolecular */
+  double coulomb_intra; /* intramolecular reaction-field part of `coulomb` (0 unless
+                           intramolecular_rf = 1)                                             */
+  double dipolar;     /* dipole-dipole and charge-dipole                                      */
+  double quadrupolar; /* quadrupole-quadrupole                                                */
+  double dispersion;  /* LJ long-range correction (0 unless enabled)                          */
+  double total;
+  double pressure_dispersion; /* LJ long-range pressure correction (already in the virial)   */
+} rl_ff_energies;
+
+typedef struct rl_forcefield rl_forcefield;
+
+void rl_ff_params_default(rl_ff_params *p);
+
+/* Validate and build a force field for `sys` (its species table as it is now).
+ * in  sys, p, species[nspecies] (nspecies = rl_system_nspecies(sys)); the arrays are copied.
+ * Returns NULL with rl_last_error() naming the problem (cutoff too long for the box, nsites
+ * mismatch, missing arrays, negative or non-finite sigma/epsilon, dipoles on point bodies, ...). */
+rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
+                                   const rl_species_ff *species, int nspecies);
+void rl_forcefield_free(rl_forcefield *ff); /* accepts NULL */
+
+/* Override the Lorentz-Berthelot LJ parameters of one site pair (species_a, site_a) -
+ * (species_b, site_b) (symmetric).  sigma, epsilon >= 0. */
+int rl_forcefield_set_lj_pair(rl_forcefield *ff, int species_a, int site_a, int species_b,
+                              int site_b, double sigma, double epsilon);
+
+/* Change the box (e.g. for a barostat); checks the cutoff and invalidates the neighbour list. */
+int rl_forcefield_set_box(rl_forcefield *ff, const double L[3]);
+void rl_forcefield_get_box(const rl_forcefield *ff, double L[3]);
+
+/* Add forces, torques, energy and molecular virial of the current configuration to `out`
+ * (f [n][3], k [nrot][3]; the caller zeroes them, as the provider contract says).  The virial
+ * is sum over molecule pairs of r_ij (x) f_ij with r_ij the centre-centre vector (minimum
+ * image consistent with the site pair) and includes the isotropic dispersion correction.
+ * Errors: RL_ESTATE if sys no longer matches (counts), RL_ENONFINITE for non-finite positions
+ * or orientations (body named), RL_EINVAL for overlapping sites (bodies and sites named). */
+int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *out);
+
+/* The force field as a provider for rl_integrator_alloc (ctx = ff). */
+rl_force_provider rl_forcefield_provider(rl_forcefield *ff);
+
+/* Energies of the last successful compute. */
+void rl_forcefield_energies(const rl_forcefield *ff, rl_ff_energies *e);
+
+/* Molecular pressure P = (2 ke_trans + tr virial) / (3 V), with ke_trans the centre-of-mass
+ * kinetic energy and `f` the result of a compute (virial incl. dispersion correction).
+ * Units: energy / volume (real: kJ mol^-1 nm^-3 = 16.6054 bar). */
+double rl_forcefield_pressure(const rl_forcefield *ff, const rl_forces *f, double ke_trans);
+
+/* Neighbour-list builds so far (0 with neighbor_list = 0), and the list radius in use. */
+long rl_forcefield_rebuilds(const rl_forcefield *ff);
+double rl_forcefield_list_radius(const rl_forcefield *ff);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,644 @@
+/* The force field object: parameter tables, cutoff schemes, pair loops (neighbour list or
+ * brute force), site forces -> molecular forces and torques, energies and virial. */
+#include "rotleap/forcefield.h"
+#include "rotleap/error.h"
+
+#include "../core/box.h"
+#include "../core/neighbor.h"
+#include "coulomb_rf.h"
+#include "dipole.h"
+#include "lj.h"
+#include "quadrupole.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct rl_forcefield {
+  rl_ff_params p;
+  rl_box box;
+  double kc;               /* Coulomb constant of the unit system                          */
+  int n, nspecies, nsites; /* system sizes at alloc                                        */
+  int ntypes;              /* one type per (species, site)                                */
+  int *type_off;           /* [nspecies] first type of each species                        */
+  int *sp_nsites;          /* [nspecies]                                                   */
+  int *sp_count;           /* [nspecies] bodies                                            */
+  double *sig, *eps, *q, *mu, *Q; /* [ntypes]                                             */
+  int *type_species, *type_site;  /* [ntypes]                                              */
+  rl_lj_coef *lj;          /* [ntypes * ntypes]                                            */
+  rl_rf_coef rf;
+  int any_dipole, any_quad;
+  double extent;           /* max |site - centre| over species (for the site scheme's list) */
+  double rlist, skin, min_distance;
+  double disp_e, disp_w;   /* sum over type pairs of npairs * tail integrals                */
+  /* per-body / per-site workspace */
+  int *body_species;       /* [n]                                                          */
+  int *body_site_off;      /* [n]                                                          */
+  int *body_rot;           /* [n] rot index or -1                                          */
+  int *site_type;          /* [nsites]                                                     */
+  double (*centre)[3];     /* [n]                                                          */
+  double (*axis)[3];       /* [n] body Z in the lab                                        */
+  double (*site)[3];       /* [nsites] lab positions                                       */
+  double (*dsite)[3];      /* [nsites] site - centre (lab)                                 */
+  double (*fs)[3];         /* [nsites] site forces                                         */
+  double (*tq)[3];         /* [n] direct (dipole/quadrupole) torques                       */
+  rl_nlist *nl;
+  rl_ff_energies e;
+};
+
+typedef struct {
+  double lj, coul, dip, quad;
+  double vir[9];
+} rl_acc;
+
+void rl_ff_params_default(rl_ff_params *p)
+{
+  memset(p, 0, sizeof *p);
+  p->box[0] = p->box[1] = p->box[2] = 0.0;
+  p->cutoff = 0.0;
+  p->scheme = RL_CUTOFF_SITE;
+  p->lj_truncation = RL_LJ_PLAIN;
+  p->r_switch = 0.0;
+  p->dispersion_correction = 0;
+  p->eps_rf = 78.3;
+  p->dipole_method = RL_DIPOLE_RF;
+  p->intramolecular_rf = 0;
+  p->coulomb_constant = 0.0;
+  p->neighbor_list = 1;
+  p->skin = -1.0;
+  p->min_distance = -1.0;
+}
+
+void rl_forcefield_free(rl_forcefield *ff)
+{
+  if (!ff) return;
+  free(ff->type_off);
+  free(ff->sp_nsites);
+  free(ff->sp_count);
+  free(ff->sig);
+  free(ff->eps);
+  free(ff->q);
+  free(ff->mu);
+  free(ff->Q);
+  free(ff->type_species);
+  free(ff->type_site);
+  free(ff->lj);
+  free(ff->body_species);
+  free(ff->body_site_off);
+  free(ff->body_rot);
+  free(ff->site_type);
+  free(ff->centre);
+  free(ff->axis);
+  free(ff->site);
+  free(ff->dsite);
+  free(ff->fs);
+  free(ff->tq);
+  rl_nlist_free(ff->nl);
+  free(ff);
+}
+
+static void *xcalloc(size_t n, size_t size) { return calloc(n > 0 ? n : 1, size); }
+
+static int check_cutoff(const rl_box *box, double rc)
+{
+  static const char ax[3] = {'x', 'y', 'z'};
+  int m = 0;
+  for (int c = 1; c < 3; c++)
+    if (box->L[c] < box->L[m]) m = c;
+  if (rc > 0.5 * box->L[m])
+    return rl_error(RL_EINVAL, "forcefield: cutoff %g is larger than half the shortest box edge "
+                    "(L%c = %g, half = %g)", rc, ax[m], box->L[m], 0.5 * box->L[m]);
+  return RL_OK;
+}
+
+static void lj_mix(rl_forcefield *ff, int ta, int tb, double sigma, double epsilon)
+{
+  rl_lj_coef *c = &ff->lj[ta * ff->ntypes + tb];
+  rl_lj_coef_init(c, sigma, epsilon, ff->p.lj_truncation, ff->p.cutoff, ff->p.r_switch);
+  ff->lj[tb * ff->ntypes + ta] = *c;
+}
+
+static void update_dispersion(rl_forcefield *ff)
+{
+  ff->disp_e = ff->disp_w = 0.0;
+  if (!ff->p.dispersion_correction) return;
+  for (int a = 0; a < ff->ntypes; a++)
+    for (int b = 0; b < ff->ntypes; b++) {
+      const rl_lj_coef *c = &ff->lj[a * ff->ntypes + b];
+      if (c->epsilon == 0.0) continue;
+      int ka = ff->type_species[a], kb = ff->type_species[b];
+      double np = ka == kb ? (double)ff->sp_count[ka] * (ff->sp_count[ka] - 1)
+                           : (double)ff->sp_count[ka] * ff->sp_count[kb];
+      double e, w;
+      rl_lj_tail(c, &e, &w);
+      ff->disp_e += np * e;
+      ff->disp_w += np * w;
+    }
+}
+
+static double species_extent(const rl_system *sys, int body, int nsites)
+{
+  /* largest |site - centre| of one body, from its lab sites (orientation independent) */
+  double ext = 0.0, r[3];
+  rl_system_get_position(sys, body, r);
+  int off = rl_system_site_offset(sys, body), ns = rl_system_nsites(sys);
+  double(*s)[3] = malloc(sizeof *s * (size_t)(ns > 0 ? ns : 1));
+  if (!s) return -1.0;
+  rl_system_site_positions(sys, s);
+  for (int a = 0; a < nsites; a++) {
+    double d[3] = {s[off + a][0] - r[0], s[off + a][1] - r[1], s[off + a][2] - r[2]};
+    ext = fmax(ext, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+  }
+  free(s);
+  return ext;
+}
+
+static int check_array(const double *x, int k, int ns, const char *name, int nonneg)
+{
+  for (int a = 0; a < ns; a++) {
+    if (!isfinite(x[a]))
+      return rl_error(RL_EINVAL, "forcefield: species %d: %s[%d] = %g is not finite", k, name, a,
+                      x[a]);
+    if (nonneg && x[a] < 0.0)
+      return rl_error(RL_EINVAL, "forcefield: species %d: %s[%d] = %g is negative", k, name, a,
+                      x[a]);
+  }
+  return RL_OK;
+}
+
+rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
+                                   const rl_species_ff *species, int nspecies)
+{
+  if (!sys || !p || (!species && nspecies > 0)) {
+    rl_error(RL_EINVAL, "rl_forcefield_alloc: NULL argument");
+    return NULL;
+  }
+  int n = rl_system_count(sys), nsp = rl_system_nspecies(sys), nsites = rl_system_nsites(sys);
+  if (nspecies != nsp) {
+    rl_error(RL_EINVAL, "forcefield: %d species parameter sets given, the system has %d species",
+             nspecies, nsp);
+    return NULL;
+  }
+  /* ---- scalar parameters */
+  if (!(p->cutoff > 0.0) || !isfinite(p->cutoff)) {
+    rl_error(RL_EINVAL, "forcefield: cutoff %g must be positive and finite", p->cutoff);
+    return NULL;
+  }
+  rl_box box;
+  if (rl_box_set(&box, p->box)) return NULL;
+  if (check_cutoff(&box, p->cutoff)) return NULL;
+  if (p->scheme != RL_CUTOFF_SITE && p->scheme != RL_CUTOFF_MOLECULE) {
+    rl_error(RL_EINVAL, "forcefield: unknown cutoff scheme %d", (int)p->scheme);
+    return NULL;
+  }
+  if ((int)p->lj_truncation < 0 || (int)p->lj_truncation > RL_LJ_SWITCHED) {
+    rl_error(RL_EINVAL, "forcefield: unknown LJ truncation %d", (int)p->lj_truncation);
+    return NULL;
+  }
+  if (p->lj_truncation == RL_LJ_SWITCHED && !(p->r_switch >= 0.0 && p->r_switch < p->cutoff)) {
+    rl_error(RL_EINVAL, "forcefield: r_switch %g must satisfy 0 <= r_switch < cutoff %g",
+             p->r_switch, p->cutoff);
+    return NULL;
+  }
+  if (!(p->eps_rf >= 1.0)) {
+    rl_error(RL_EINVAL, "forcefield: eps_rf %g must be >= 1 (INFINITY allowed)", p->eps_rf);
+    return NULL;
+  }
+  if (p->dipole_method != RL_DIPOLE_RF && p->dipole_method != RL_DIPOLE_SF) {
+    rl_error(RL_EINVAL, "forcefield: unknown dipole method %d", (int)p->dipole_method);
+    return NULL;
+  }
+  if (!isfinite(p->coulomb_constant) || p->coulomb_constant < 0.0) {
+    rl_error(RL_EINVAL, "forcefield: coulomb_constant %g must be finite and >= 0 (0: default)",
+             p->coulomb_constant);
+    return NULL;
+  }
+  if (isnan(p->skin) || isinf(p->skin) || isnan(p->min_distance) || isinf(p->min_distance)) {
+    rl_error(RL_EINVAL, "forcefield: skin %g and min_distance %g must be finite", p->skin,
+             p->min_distance);
+    return NULL;
+  }
+
+  /* ---- species tables */
+  int *first_body = xcalloc((size_t)nsp, sizeof *first_body);
+  int *count = xcalloc((size_t)nsp, sizeof *count);
+  if (!first_body || !count) {
+    free(first_body); free(count);
+    rl_error(RL_ENOMEM, "forcefield: out of memory");
+    return NULL;
+  }
+  for (int k = 0; k < nsp; k++) first_body[k] = -1;
+  for (int i = n - 1; i >= 0; i--) {
+    int k = rl_system_species_of(sys, i);
+    first_body[k] = i;
+    count[k]++;
+  }
+  int ntypes = 0;
+  for (int k = 0; k < nsp; k++) {
+    const rl_species_ff *s = &species[k];
+    int st = RL_OK;
+    if (first_body[k] >= 0) {
+      int b = first_body[k];
+      int ns_sys = (b + 1 < n ? rl_system_site_offset(sys, b + 1) : nsites) -
+                   rl_system_site_offset(sys, b);
+      if (s->nsites != ns_sys)
+        st = rl_error(RL_EINVAL, "forcefield: species %d: nsites = %d but the system's species "
+                      "has %d sites", k, s->nsites, ns_sys);
+    }
+    if (!st && s->nsites < 0)
+      st = rl_error(RL_EINVAL, "forcefield: species %d: nsites = %d is negative", k, s->nsites);
+    if (!st && s->nsites > 0) {
+      const char *missing = !s->sigma ? "sigma" : !s->epsilon ? "epsilon"
+                            : !s->charge ? "charge" : NULL;
+      if (missing)
+        st = rl_error(RL_EINVAL, "forcefield: species %d: missing array %s (nsites = %d)", k,
+                      missing, s->nsites);
+    }
+    if (!st && s->nsites > 0) st = check_array(s->sigma, k, s->nsites, "sigma", 1);
+    if (!st && s->nsites > 0) st = check_array(s->epsilon, k, s->nsites, "epsilon", 1);
+    if (!st && s->nsites > 0) st = check_array(s->charge, k, s->nsites, "charge", 0);
+    if (!st && s->dipole) st = check_array(s->dipole, k, s->nsites, "dipole", 0);
+    if (!st && s->quadrupole) st = check_array(s->quadrupole, k, s->nsites, "quadrupole", 0);
+    if (!st && rl_system_species_kind(sys, k) == RL_KIND_POINT) {
+      for (int a = 0; a < s->nsites && !st; a++)
+        if ((s->dipole && s->dipole[a] != 0.0) || (s->quadrupole && s->quadrupole[a] != 0.0))
+          st = rl_error(RL_EINVAL, "forcefield: species %d is a point species but site %d "
+                        "carries a %s: a point body has no orientation", k, a,
+                        s->dipole && s->dipole[a] != 0.0 ? "dipole" : "quadrupole");
+    }
+    if (st) { free(first_body); free(count); return NULL; }
+    ntypes += s->nsites;
+  }
+  /* quadrupoles interact only with quadrupoles (and LJ): reject scenes that mix them */
+  {
+    int kq = -1, aq = -1, kp = -1, ap = -1;
+    for (int k = 0; k < nsp; k++)
+      for (int a = 0; a < species[k].nsites; a++) {
+        if (species[k].quadrupole && species[k].quadrupole[a] != 0.0 && kq < 0) { kq = k; aq = a; }
+        if ((species[k].charge[a] != 0.0 || (species[k].dipole && species[k].dipole[a] != 0.0)) &&
+            kp < 0) { kp = k; ap = a; }
+      }
+    if (kq >= 0 && kp >= 0) {
+      free(first_body); free(count);
+      rl_error(RL_EINVAL, "forcefield: species %d site %d carries a quadrupole and species %d "
+               "site %d a charge or dipole: charge-quadrupole and dipole-quadrupole "
+               "interactions are not implemented", kq, aq, kp, ap);
+      return NULL;
+    }
+  }
+
+  rl_forcefield *ff = calloc(1, sizeof *ff);
+  if (!ff) { free(first_body); free(count); rl_error(RL_ENOMEM, "forcefield: out of memory"); return NULL; }
+  ff->p = *p;
+  ff->box = box;
+  ff->kc = p->coulomb_constant != 0.0 ? p->coulomb_constant
+           : rl_system_units(sys) == RL_UNITS_LJ ? 1.0 : RL_COULOMB_KJMOL_NM;
+  ff->n = n; ff->nspecies = nsp; ff->nsites = nsites; ff->ntypes = ntypes;
+  ff->sp_count = count;
+  size_t nt = (size_t)ntypes;
+  ff->type_off = xcalloc((size_t)nsp, sizeof(int));
+  ff->sp_nsites = xcalloc((size_t)nsp, sizeof(int));
+  ff->sig = xcalloc(nt, sizeof(double)); ff->eps = xcalloc(nt, sizeof(double));
+  ff->q = xcalloc(nt, sizeof(double)); ff->mu = xcalloc(nt, sizeof(double));
+  ff->Q = xcalloc(nt, sizeof(double));
+  ff->type_species = xcalloc(nt, sizeof(int)); ff->type_site = xcalloc(nt, sizeof(int));
+  ff->lj = xcalloc(nt * nt, sizeof(rl_lj_coef));
+  ff->body_species = xcalloc((size_t)n, sizeof(int));
+  ff->body_site_off = xcalloc((size_t)n, sizeof(int));
+  ff->body_rot = xcalloc((size_t)n, sizeof(int));
+  ff->site_type = xcalloc((size_t)nsites, sizeof(int));
+  ff->centre = xcalloc((size_t)n, sizeof *ff->centre);
+  ff->axis = xcalloc((size_t)n, sizeof *ff->axis);
+  ff->tq = xcalloc((size_t)n, sizeof *ff->tq);
+  ff->site = xcalloc((size_t)nsites, sizeof *ff->site);
+  ff->dsite = xcalloc((size_t)nsites, sizeof *ff->dsite);
+  ff->fs = xcalloc((size_t)nsites, sizeof *ff->fs);
+  if (!ff->type_off || !ff->sp_nsites || !ff->sig || !ff->eps || !ff->q || !ff->mu || !ff->Q ||
+      !ff->type_species || !ff->type_site || !ff->lj || !ff->body_species ||
+      !ff->body_site_off || !ff->body_rot || !ff->site_type || !ff->centre || !ff->axis ||
+      !ff->tq || !ff->site || !ff->dsite || !ff->fs) {
+    free(first_body);
+    rl_forcefield_free(ff);
+    rl_error(RL_ENOMEM, "forcefield: out of memory for %d types, %d bodies", ntypes, n);
+    return NULL;
+  }
+  int t = 0;
+  for (int k = 0; k < nsp; k++) {
+    const rl_species_ff *s = &species[k];
+    ff->type_off[k] = t;
+    ff->sp_nsites[k] = s->nsites;
+    for (int a = 0; a < s->nsites; a++, t++) {
+      ff->sig[t] = s->sigma[a];
+      ff->eps[t] = s->epsilon[a];
+      ff->q[t] = s->charge[a];
+      ff->mu[t] = s->dipole ? s->dipole[a] : 0.0;
+      ff->Q[t] = s->quadrupole ? s->quadrupole[a] : 0.0;
+      ff->type_species[t] = k;
+      ff->type_site[t] = a;
+      if (ff->mu[t] != 0.0) ff->any_dipole = 1;
+      if (ff->Q[t] != 0.0) ff->any_quad = 1;
+    }
+    if (first_body[k] >= 0) {
+      double ext = species_extent(sys, first_body[k], s->nsites);
+      if (ext < 0.0) {
+        free(first_body);
+        rl_forcefield_free(ff);
+        rl_error(RL_ENOMEM, "forcefield: out of memory");
+        return NULL;
+      }
+      ff->extent = fmax(ff->extent, ext);
+    }
+  }
+  free(first_body);
+  for (int a = 0; a < ntypes; a++)
+    for (int b = a; b < ntypes; b++)
+      lj_mix(ff, a, b, 0.5 * (ff->sig[a] + ff->sig[b]), sqrt(ff->eps[a] * ff->eps[b]));
+  rl_rf_coef_init(&ff->rf, p->eps_rf, p->cutoff);
+  for (int i = 0; i < n; i++) {
+    int k = rl_system_species_of(sys, i);
+    ff->body_species[i] = k;
+    ff->body_site_off[i] = rl_system_site_offset(sys, i);
+    ff->body_rot[i] = rl_system_rot_index(sys, i);
+    for (int a = 0; a < ff->sp_nsites[k]; a++)
+      ff->site_type[ff->body_site_off[i] + a] = ff->type_off[k] + a;
+  }
+  ff->skin = p->skin < 0.0 ? 0.1 * p->cutoff : p->skin;
+  ff->min_distance = p->min_distance < 0.0 ? 1e-3 * p->cutoff : p->min_distance;
+  ff->rlist = p->cutoff + ff->skin + (p->scheme == RL_CUTOFF_SITE ? 2.0 * ff->extent : 0.0);
+  if (p->neighbor_list) {
+    ff->nl = rl_nlist_alloc(ff->skin);
+    if (!ff->nl) { rl_forcefield_free(ff); return NULL; }
+  }
+  update_dispersion(ff);
+  return ff;
+}
+
+int rl_forcefield_set_lj_pair(rl_forcefield *ff, int ka, int a, int kb, int b, double sigma,
+                              double epsilon)
+{
+  if (!ff) return rl_error(RL_EINVAL, "rl_forcefield_set_lj_pair: NULL force field");
+  if (ka < 0 || ka >= ff->nspecies || kb < 0 || kb >= ff->nspecies)
+    return rl_error(RL_EINVAL, "forcefield: LJ pair override for species %d - %d: no such "
+                    "species (%d species)", ka, kb, ff->nspecies);
+  if (a < 0 || a >= ff->sp_nsites[ka] || b < 0 || b >= ff->sp_nsites[kb])
+    return rl_error(RL_EINVAL, "forcefield: LJ pair override species %d site %d - species %d "
+                    "site %d: no such site", ka, a, kb, b);
+  if (!(sigma >= 0.0) || !(epsilon >= 0.0) || !isfinite(sigma) || !isfinite(epsilon))
+    return rl_error(RL_EINVAL, "forcefield: LJ pair override species %d site %d - species %d "
+                    "site %d: sigma %g and epsilon %g must be finite and >= 0", ka, a, kb, b,
+                    sigma, epsilon);
+  lj_mix(ff, ff->type_off[ka] + a, ff->type_off[kb] + b, sigma, epsilon);
+  update_dispersion(ff);
+  return RL_OK;
+}
+
+int rl_forcefield_set_box(rl_forcefield *ff, const double L[3])
+{
+  rl_box box;
+  int st = rl_box_set(&box, L);
+  if (st) return st;
+  st = check_cutoff(&box, ff->p.cutoff);
+  if (st) return st;
+  ff->box = box;
+  memcpy(ff->p.box, L, sizeof ff->p.box);
+  if (ff->nl) rl_nlist_invalidate(ff->nl);
+  return RL_OK;
+}
+
+void rl_forcefield_get_box(const rl_forcefield *ff, double L[3])
+{
+  memcpy(L, ff->box.L, sizeof ff->box.L);
+}
+
+long rl_forcefield_rebuilds(const rl_forcefield *ff) { return ff->nl ? ff->nl->builds : 0; }
+double rl_forcefield_list_radius(const rl_forcefield *ff) { return ff->rlist; }
+
+void rl_forcefield_energies(const rl_forcefield *ff, rl_ff_energies *e) { *e = ff->e; }
+
+double rl_forcefield_pressure(const rl_forcefield *ff, const rl_forces *f, double ke_trans)
+{
+  double V = rl_box_volume(&ff->box);
+  return (2.0 * ke_trans + f->virial[0] + f->virial[4] + f->virial[8]) / (3.0 * V);
+}
+
+static int ff_compute_cb(void *ctx, const rl_system *sys, rl_forces *out)
+{
+  return rl_forcefield_compute((rl_forcefield *)ctx, sys, out);
+}
+
+rl_force_provider rl_forcefield_provider(rl_forcefield *ff)
+{
+  rl_force_provider pr = {ff_compute_cb, ff};
+  return pr;
+}
+
+/* ------------------------------------------------------------------------- pair loop */
+
+static inline void cross_add(double t[3], const double a[3], const double b[3], double s)
+{
+  t[0] += s * (a[1] * b[2] - a[2] * b[1]);
+  t[1] += s * (a[2] * b[0] - a[0] * b[2]);
+  t[2] += s * (a[0] * b[1] - a[1] * b[0]);
+}
+
+/* All interactions of site sa (body i) with site sb (body j), separation r = r_sa - r_sb,
+ * centre vector R = r_i - r_j consistent with it. */
+static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const double r[3],
+                     const double R[3], rl_acc *acc)
+{
+  double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+  if (r2 < ff->min_distance * ff->min_distance)
+    return rl_error(RL_EINVAL, "forcefield: overlapping sites: site %d of body %d and site %d of "
+                    "body %d are %g apart (minimum %g)", sa - ff->body_site_off[i], i,
+                    sb - ff->body_site_off[j], j, sqrt(r2), ff->min_distance);
+  int ta = ff->site_type[sa], tb = ff->site_type[sb];
+  double f[3] = {0.0, 0.0, 0.0};
+  const rl_lj_coef *lj = &ff->lj[ta * ff->ntypes + tb];
+  if (lj->epsilon != 0.0) {
+    double fs;
+    acc->lj += rl_lj_pair(lj, r2, &fs);
+    for (int c = 0; c < 3; c++) f[c] += fs * r[c];
+  }
+  double qa = ff->q[ta], qb = ff->q[tb];
+  if (qa != 0.0 && qb != 0.0) {
+    double fs;
+    acc->coul += rl_coulomb_rf_pair(&ff->rf, ff->kc * qa * qb, r2, &fs);
+    for (int c = 0; c < 3; c++) f[c] += fs * r[c];
+  }
+  double ma = ff->mu[ta], mb = ff->mu[tb];
+  if (ma != 0.0 || mb != 0.0) {
+    double mua[3], mub[3], fp[3], ga[3], gb[3];
+    for (int c = 0; c < 3; c++) { mua[c] = ma * ff->axis[i][c]; mub[c] = mb * ff->axis[j][c]; }
+    int sf = ff->p.dipole_method == RL_DIPOLE_SF;
+    if (ma != 0.0 && mb != 0.0) {
+      acc->dip += sf ? rl_dipole_dipole_sf(ff->kc, ff->p.cutoff, r, mua, mub, fp, ga, gb)
+                     : rl_dipole_dipole_rf(ff->kc, ff->rf.krf, r, mua, mub, fp, ga, gb);
+      for (int c = 0; c < 3; c++) f[c] += fp[c];
+      cross_add(ff->tq[i], mua, ga, -1.0);
+      cross_add(ff->tq[j], mub, gb, -1.0);
+    }
+    if (qa != 0.0 && mb != 0.0) { /* charge at a, dipole at b */
+      acc->dip += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, r, qa, mub, fp, gb)
+                     : rl_charge_dipole_rf(ff->kc, ff->rf.krf, r, qa, mub, fp, gb);
+      for (int c = 0; c < 3; c++) f[c] += fp[c];
+      cross_add(ff->tq[j], mub, gb, -1.0);
+    }
+    if (ma != 0.0 && qb != 0.0) { /* dipole at a, charge at b: r_charge - r_dipole = -r */
+      double rm[3] = {-r[0], -r[1], -r[2]};
+      acc->dip += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, rm, qb, mua, fp, ga)
+                     : rl_charge_dipole_rf(ff->kc, ff->rf.krf, rm, qb, mua, fp, ga);
+      for (int c = 0; c < 3; c++) f[c] -= fp[c]; /* fp is the force on the charge (b) */
+      cross_add(ff->tq[i], mua, ga, -1.0);
+    }
+  }
+  double Qa = ff->Q[ta], Qb = ff->Q[tb];
+  if (Qa != 0.0 && Qb != 0.0) {
+    double fp[3], ga[3], gb[3];
+    acc->quad += rl_quadrupole_quadrupole(ff->kc, r, Qa, ff->axis[i], Qb, ff->axis[j], fp, ga, gb);
+    for (int c = 0; c < 3; c++) f[c] += fp[c];
+    cross_add(ff->tq[i], ff->axis[i], ga, -1.0);
+    cross_add(ff->tq[j], ff->axis[j], gb, -1.0);
+  }
+  for (int c = 0; c < 3; c++) {
+    ff->fs[sa][c] += f[c];
+    ff->fs[sb][c] -= f[c];
+  }
+  for (int x = 0; x < 3; x++)
+    for (int y = 0; y < 3; y++) acc->vir[3 * x + y] += R[x] * f[y];
+  return RL_OK;
+}
+
+static int body_pair(rl_forcefield *ff, int i, int j, rl_acc *acc)
+{
+  int ki = ff->body_species[i], kj = ff->body_species[j];
+  int ni = ff->sp_nsites[ki], nj = ff->sp_nsites[kj];
+  if (ni == 0 || nj == 0) return RL_OK;
+  int oi = ff->body_site_off[i], oj = ff->body_site_off[j];
+  double rc2 = ff->p.cutoff * ff->p.cutoff;
+  double R[3] = {ff->centre[i][0] - ff->centre[j][0], ff->centre[i][1] - ff->centre[j][1],
+                 ff->centre[i][2] - ff->centre[j][2]};
+  rl_box_minimum_image(&ff->box, R);
+  if (ff->p.scheme == RL_CUTOFF_MOLECULE) {
+    if (R[0] * R[0] + R[1] * R[1] + R[2] * R[2] >= rc2) return RL_OK;
+    for (int a = 0; a < ni; a++)
+      for (int b = 0; b < nj; b++) {
+        const double *da = ff->dsite[oi + a], *db = ff->dsite[oj + b];
+        double r[3] = {R[0] + da[0] - db[0], R[1] + da[1] - db[1], R[2] + da[2] - db[2]};
+        int st = site_pair(ff, i, j, oi + a, oj + b, r, R, acc);
+        if (st) return st;
+      }
+  } else {
+    for (int a = 0; a < ni; a++)
+      for (int b = 0; b < nj; b++) {
+        const double *sa = ff->site[oi + a], *sb = ff->site[oj + b];
+        double r[3] = {sa[0] - sb[0], sa[1] - sb[1], sa[2] - sb[2]};
+        rl_box_minimum_image(&ff->box, r);
+        if (r[0] * r[0] + r[1] * r[1] + r[2] * r[2] >= rc2) continue;
+        const double *da = ff->dsite[oi + a], *db = ff->dsite[oj + b];
+        double Rs[3] = {r[0] - da[0] + db[0], r[1] - da[1] + db[1], r[2] - da[2] + db[2]};
+        int st = site_pair(ff, i, j, oi + a, oj + b, r, Rs, acc);
+        if (st) return st;
+      }
+  }
+  return RL_OK;
+}
+
+/* Optional (intramolecular_rf = 1, GROMACS's convention; OpenMM 7.7 adds nothing): kc q_a q_b
+ * (krf r^2 - crf) for every charge pair within one molecule, whatever its distance.  Central forces: no net force or torque on a
+ * rigid body, but they are added to the site forces all the same. */
+static double intramolecular_rf(rl_forcefield *ff)
+{
+  double e = 0.0;
+  for (int i = 0; i < ff->n; i++) {
+    int ns = ff->sp_nsites[ff->body_species[i]], o = ff->body_site_off[i];
+    for (int a = 0; a < ns; a++)
+      for (int b = a + 1; b < ns; b++) {
+        double qa = ff->q[ff->site_type[o + a]], qb = ff->q[ff->site_type[o + b]];
+        if (qa == 0.0 || qb == 0.0) continue;
+        double r[3], fs;
+        for (int c = 0; c < 3; c++) r[c] = ff->site[o + a][c] - ff->site[o + b][c];
+        e += rl_coulomb_rf_excluded(&ff->rf, ff->kc * qa * qb,
+                                    r[0] * r[0] + r[1] * r[1] + r[2] * r[2], &fs);
+        for (int c = 0; c < 3; c++) {
+          ff->fs[o + a][c] += fs * r[c];
+          ff->fs[o + b][c] -= fs * r[c];
+        }
+      }
+  }
+  return e;
+}
+
+int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *out)
+{
+  if (!ff || !sys || !out) return rl_error(RL_EINVAL, "rl_forcefield_compute: NULL argument");
+  if (rl_system_count(sys) != ff->n || rl_system_nsites(sys) != ff->nsites ||
+      rl_system_nspecies(sys) != ff->nspecies)
+    return rl_error(RL_ESTATE, "forcefield: the system changed since the force field was made "
+                    "(%d bodies, %d sites, %d species; now %d, %d, %d)", ff->n, ff->nsites,
+                    ff->nspecies, rl_system_count(sys), rl_system_nsites(sys),
+                    rl_system_nspecies(sys));
+  int n = ff->n;
+  rl_system_site_positions(sys, ff->site);
+  for (int i = 0; i < n; i++) {
+    rl_system_get_position(sys, i, ff->centre[i]);
+    rl_system_get_axis(sys, i, ff->axis[i]);
+    const double *r = ff->centre[i], *u = ff->axis[i];
+    if (!isfinite(r[0]) || !isfinite(r[1]) || !isfinite(r[2]))
+      return rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) has a non-finite "
+                      "position (%g, %g, %g)", i, ff->body_species[i], r[0], r[1], r[2]);
+    if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]))
+      return rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) has a non-finite "
+                      "orientation", i, ff->body_species[i]);
+    int ns = ff->sp_nsites[ff->body_species[i]], o = ff->body_site_off[i];
+    for (int a = 0; a < ns; a++) {
+      const double *s = ff->site[o + a];
+      if (!isfinite(s[0]) || !isfinite(s[1]) || !isfinite(s[2]))
+        return rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) site %d has a "
+                        "non-finite position (%g, %g, %g)", i, ff->body_species[i], a, s[0],
+                        s[1], s[2]);
+      for (int c = 0; c < 3; c++) ff->dsite[o + a][c] = s[c] - r[c];
+    }
+  }
+  memset(ff->fs, 0, sizeof *ff->fs * (size_t)ff->nsites);
+  memset(ff->tq, 0, sizeof *ff->tq * (size_t)n);
+  rl_acc acc;
+  memset(&acc, 0, sizeof acc);
+  int st = RL_OK;
+  if (ff->nl) {
+    if (rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre, ff->nsites,
+                               (const double(*)[3])ff->site, NULL)) {
+      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre,
+                          ff->nsites, (const double(*)[3])ff->site);
+      if (st) return st;
+    }
+    for (long p = 0; p < ff->nl->npairs && !st; p++)
+      st = body_pair(ff, ff->nl->pairs[p][0], ff->nl->pairs[p][1], &acc);
+  } else {
+    for (int i = 0; i < n && !st; i++)
+      for (int j = i + 1; j < n && !st; j++) st = body_pair(ff, i, j, &acc);
+  }
+  if (st) return st;
+  double e_intra = ff->p.intramolecular_rf ? intramolecular_rf(ff) : 0.0;
+  double V = rl_box_volume(&ff->box);
+  double e_disp = 2.0 * M_PI / V * ff->disp_e;
+  double p_disp = -2.0 * M_PI / (3.0 * V * V) * ff->disp_w;
+
+  rl_system_add_site_forces(sys, (const double(*)[3])ff->fs, out);
+  for (int i = 0; i < n; i++) {
+    int ri = ff->body_rot[i];
+    if (ri < 0) continue;
+    for (int c = 0; c < 3; c++) out->k[ri][c] += ff->tq[i][c];
+  }
+  ff->e.lj = acc.lj;
+  ff->e.coulomb = acc.coul + e_intra;
+  ff->e.coulomb_intra = e_intra;
+  ff->e.dipolar = acc.dip;
+  ff->e.quadrupolar = acc.quad;
+  ff->e.dispersion = e_disp;
+  ff->e.pressure_dispersion = p_disp;
+  ff->e.total = acc.lj + acc.coul + e_intra + acc.dip + acc.quad + e_disp;
+  out->energy += ff->e.total;
+  for (int c = 0; c < 9; c++) out->virial[c] += acc.vir[c];
+  for (int c = 0; c < 3; c++) out->virial[4 * c] += p_disp * V; /* tr = 3 V P_disp */
+  return RL_OK;
+}
