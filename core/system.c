@@ -4,6 +4,8 @@
 #include "rotleap/integrator.h"
 #include "rotleap/rotation.h"
 
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -431,4 +433,93 @@ void rl_system_add_site_forces(const rl_system *s, const double (*fs)[3], rl_for
       }
     }
   }
+}
+
+rl_system *rl_system_clone(const rl_system *s)
+{
+  rl_system *c = rl_system_alloc(s->units);
+  if (!c) return NULL;
+  c->removed_dof = s->removed_dof;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    rl_species_desc d = {sp->name, sp->kind, sp->mass, {sp->J[0], sp->J[1], sp->J[2]}, sp->nsites, sp->sites};
+    if (rl_system_add_species(c, &d, sp->count, NULL)) { rl_system_free(c); return NULL; }
+  }
+  memcpy(c->r, s->r, sizeof *s->r * (size_t)s->n);
+  memcpy(c->v, s->v, sizeof *s->v * (size_t)s->n);
+  if (s->nrot) memcpy(c->l, s->l, sizeof *s->l * (size_t)s->nrot);
+  if (s->nmat) memcpy(c->A, s->A, sizeof *s->A * (size_t)s->nmat);
+  if (s->naxis) memcpy(c->rho, s->rho, sizeof *s->rho * (size_t)s->naxis);
+  return c;
+}
+
+static void random_rotation(gsl_rng *r, double A[9])
+{
+  double q[4], n = 0.0;
+  for (int k = 0; k < 4; k++) { q[k] = gsl_ran_gaussian(r, 1.0); n += q[k] * q[k]; }
+  n = sqrt(n);
+  for (int k = 0; k < 4; k++) q[k] /= n;
+  rl_quat_to_matrix(q, A);
+}
+
+int rl_system_lattice(rl_system *s, const double L[3], rl_lattice lat, int random, unsigned long seed)
+{
+  if (!(L[0] > 0 && L[1] > 0 && L[2] > 0) || !finite3(L))
+    return rl_error(RL_EINVAL, "lattice: box %g %g %g must be positive and finite", L[0], L[1], L[2]);
+  if (lat != RL_LATTICE_SC && lat != RL_LATTICE_FCC) return rl_error(RL_EINVAL, "lattice: unknown type %d", (int)lat);
+  int per = lat == RL_LATTICE_FCC ? 4 : 1;
+  /* cells per edge: smallest n with per n^3 >= N (cubic cells in a cubic box) */
+  int nc = 1;
+  while (per * nc * nc * nc < s->n) nc++;
+  static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  if (!r) return rl_error(RL_ENOMEM, "out of memory");
+  gsl_rng_set(r, seed);
+  for (int i = 0; i < s->n; i++) {
+    int cell = i / per, b = i % per, cx = cell % nc, cy = cell / nc % nc, cz = cell / (nc * nc);
+    double x[3] = {(cx + basis[b][0] + 0.25) * L[0] / nc, (cy + basis[b][1] + 0.25) * L[1] / nc,
+                   (cz + basis[b][2] + 0.25) * L[2] / nc};
+    memcpy(s->r[i], x, sizeof x);
+    double A[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (random) random_rotation(r, A);
+    const rl_species *sp = &s->sp[s->species_of[i]];
+    if (sp->mat_off >= 0) memcpy(s->A[sp->mat_off + i - sp->first], A, sizeof A);
+    else if (sp->axis_off >= 0) memcpy(s->rho[sp->axis_off + i - sp->first], A + 6, 3 * sizeof(double));
+  }
+  gsl_rng_free(r);
+  return RL_OK;
+}
+
+int rl_system_maxwell_boltzmann(rl_system *s, double T, unsigned long seed)
+{
+  if (!(T >= 0.0) || !isfinite(T)) return rl_error(RL_EINVAL, "Maxwell-Boltzmann: temperature %g must be >= 0", T);
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  if (!r) return rl_error(RL_ENOMEM, "out of memory");
+  gsl_rng_set(r, seed);
+  double kT = s->kB * T, P[3] = {0, 0, 0}, M = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int c = 0; c < 3; c++) { s->v[i][c] = gsl_ran_gaussian(r, sqrt(kT / sp->mass)); P[c] += sp->mass * s->v[i][c]; }
+      M += sp->mass;
+      if (sp->rot_off < 0) continue;
+      double *l = s->l[sp->rot_off + b];
+      if (sp->axis_off >= 0) { /* l = sqrt(kT J) (g1 e1 + g2 e2), e1, e2 perpendicular to rho */
+        double A[9];
+        rl_system_get_orientation(s, i, A);
+        double g1 = gsl_ran_gaussian(r, sqrt(kT * sp->J[0])), g2 = gsl_ran_gaussian(r, sqrt(kT * sp->J[0]));
+        for (int c = 0; c < 3; c++) l[c] = g1 * A[c] + g2 * A[3 + c];
+      } else { /* body components L_a ~ N(0, kT J_a), l = A^T L */
+        const double *A = s->A[sp->mat_off + b];
+        double Lb[3];
+        for (int a = 0; a < 3; a++) Lb[a] = gsl_ran_gaussian(r, sqrt(kT * sp->J[a]));
+        for (int c = 0; c < 3; c++) l[c] = A[c] * Lb[0] + A[3 + c] * Lb[1] + A[6 + c] * Lb[2];
+      }
+    }
+  }
+  for (int i = 0; i < s->n && M > 0.0; i++)
+    for (int c = 0; c < 3; c++) s->v[i][c] -= P[c] / M;
+  gsl_rng_free(r);
+  return RL_OK;
 }

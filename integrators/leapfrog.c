@@ -311,6 +311,25 @@ int rl_integrator_reverse(rl_integrator *in)
   return RL_OK;
 }
 
+int rl_integrator_finish(rl_integrator *in)
+{
+  if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_finish: not initialised");
+  rl_system *s = in->sys;
+  double h2 = 0.5 * in->p.h;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    double w = h2 / sp->mass;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int c = 0; c < 3; c++) s->v[i][c] += w * in->F.f[i][c];
+      if (sp->rot_off >= 0)
+        for (int c = 0; c < 3; c++) s->l[sp->rot_off + b][c] += h2 * in->F.k[sp->rot_off + b][c];
+    }
+  }
+  in->initialized = 0;
+  return RL_OK;
+}
+
 long rl_integrator_fallbacks(const rl_integrator *in) { return in->fallbacks; }
 long rl_integrator_quat_iterations(const rl_integrator *in) { return in->quat_iterations; }
 long rl_integrator_steps(const rl_integrator *in) { return in->steps; }

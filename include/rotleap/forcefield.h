@@ -17,6 +17,7 @@
 
 #include "rotleap/integrator.h"
 #include "rotleap/system.h"
+#include "rotleap/molecule.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,6 +32,9 @@ typedef struct {
   const double *dipole;      /* [nsites] or NULL: point dipole moment along body Z at the site */
   const double *quadrupole;  /* [nsites] or NULL: linear quadrupole Q = sum q z^2 along body Z */
 } rl_species_ff;
+
+/* The interaction sites of a molecule type (pointers into m: keep m alive). */
+rl_species_ff rl_molecule_ff(const rl_molecule *m);
 
 typedef enum {
   RL_CUTOFF_SITE = 0,    /* every site pair cut by its own (minimum-image) distance (OpenMM)  */

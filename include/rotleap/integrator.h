@@ -98,6 +98,11 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *info);
  * -(v + h f/m), -(l + h k)); stepping N more times then retraces the trajectory. */
 int rl_integrator_reverse(rl_integrator *in);
 
+/* Finish at the current time: put on-step v(t) = v(t-h/2) + h/2 f/m and l(t) back into the
+ * system (so it can be cloned, written or handed to another integrator) and require a new
+ * rl_integrator_init before stepping again. */
+int rl_integrator_finish(rl_integrator *in);
+
 /* Cumulative counters since init. */
 long rl_integrator_fallbacks(const rl_integrator *in);
 long rl_integrator_quat_iterations(const rl_integrator *in);

@@ -104,6 +104,19 @@ void rl_system_get_orientation(const rl_system *sys, int body, double A[9]);
 /* Body Z axis in the lab (rho for axis kinds, the third row of A otherwise). */
 void rl_system_get_axis(const rl_system *sys, int body, double rho[3]);
 
+/* A deep copy (species and state), or NULL with a message. */
+rl_system *rl_system_clone(const rl_system *sys);
+
+/* Starting states.  Centres on a simple-cubic (sc) or face-centred-cubic (fcc) lattice filling
+ * the orthorhombic box L (cells as close to cubic as the body count allows; bodies in order),
+ * orientations uniformly random (random = 1, from a GSL mt19937 seeded with `seed`) or all equal
+ * to the identity. */
+typedef enum { RL_LATTICE_SC = 0, RL_LATTICE_FCC = 1 } rl_lattice;
+int rl_system_lattice(rl_system *sys, const double L[3], rl_lattice lattice, int random, unsigned long seed);
+/* Velocities and angular momenta from Maxwell-Boltzmann at T (on-step values), total momentum
+ * removed; for dipoles and linear molecules only the two components perpendicular to the axis. */
+int rl_system_maxwell_boltzmann(rl_system *sys, double T, unsigned long seed);
+
 /* Bytes of dynamical state one body of `species` carries (r, v and, by kind, l, A or rho). */
 int rl_system_state_bytes(const rl_system *sys, int species);
 
