@@ -141,6 +141,24 @@ static int compute_forces(rl_integrator *in)
   return RL_OK;
 }
 
+/* v <- sign (v + dt f/m), l <- sign (l + dt k) for every body, with the current forces: the
+ * half-step stagger of init, the completion of finish and the reversal of reverse. */
+static void kick(rl_integrator *in, double dt, double sign)
+{
+  rl_system *s = in->sys;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    double w = dt / sp->mass;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int c = 0; c < 3; c++) s->v[i][c] = sign * (s->v[i][c] + w * in->F.f[i][c]);
+      if (sp->rot_off >= 0)
+        for (int c = 0; c < 3; c++)
+          s->l[sp->rot_off + b][c] = sign * (s->l[sp->rot_off + b][c] + dt * in->F.k[sp->rot_off + b][c]);
+    }
+  }
+}
+
 int rl_integrator_init(rl_integrator *in)
 {
   rl_system *s = in->sys;
@@ -163,17 +181,7 @@ int rl_integrator_init(rl_integrator *in)
   in->fallbacks = 0;
   in->quat_iterations = 0;
   if ((st = compute_forces(in))) return st;
-  double h2 = 0.5 * in->p.h;
-  for (int k = 0; k < s->nspecies; k++) {
-    const rl_species *sp = &s->sp[k];
-    double w = h2 / sp->mass;
-    for (int b = 0; b < sp->count; b++) {
-      int i = sp->first + b;
-      for (int c = 0; c < 3; c++) s->v[i][c] -= w * in->F.f[i][c];
-      if (sp->rot_off >= 0)
-        for (int c = 0; c < 3; c++) s->l[sp->rot_off + b][c] -= h2 * in->F.k[sp->rot_off + b][c];
-    }
-  }
+  kick(in, -0.5 * in->p.h, 1.0); /* v(t - h/2) = v(t) - h/2 f/m */
   in->initialized = 1;
   return RL_OK;
 }
@@ -295,37 +303,14 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
 int rl_integrator_reverse(rl_integrator *in)
 {
   if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_reverse: not initialised");
-  rl_system *s = in->sys;
-  double h = in->p.h;
-  for (int k = 0; k < s->nspecies; k++) {
-    const rl_species *sp = &s->sp[k];
-    double w = h / sp->mass;
-    for (int b = 0; b < sp->count; b++) {
-      int i = sp->first + b;
-      for (int c = 0; c < 3; c++) s->v[i][c] = -(s->v[i][c] + w * in->F.f[i][c]);
-      if (sp->rot_off >= 0)
-        for (int c = 0; c < 3; c++)
-          s->l[sp->rot_off + b][c] = -(s->l[sp->rot_off + b][c] + h * in->F.k[sp->rot_off + b][c]);
-    }
-  }
+  kick(in, in->p.h, -1.0); /* -(v(t-h/2) + h f/m) = -v(t+h/2) */
   return RL_OK;
 }
 
 int rl_integrator_finish(rl_integrator *in)
 {
   if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_finish: not initialised");
-  rl_system *s = in->sys;
-  double h2 = 0.5 * in->p.h;
-  for (int k = 0; k < s->nspecies; k++) {
-    const rl_species *sp = &s->sp[k];
-    double w = h2 / sp->mass;
-    for (int b = 0; b < sp->count; b++) {
-      int i = sp->first + b;
-      for (int c = 0; c < 3; c++) s->v[i][c] += w * in->F.f[i][c];
-      if (sp->rot_off >= 0)
-        for (int c = 0; c < 3; c++) s->l[sp->rot_off + b][c] += h2 * in->F.k[sp->rot_off + b][c];
-    }
-  }
+  kick(in, 0.5 * in->p.h, 1.0); /* v(t) = v(t-h/2) + h/2 f/m */
   in->initialized = 0;
   return RL_OK;
 }

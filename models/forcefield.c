@@ -282,7 +282,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
       free(first_body); free(count);
       rl_error(RL_EINVAL, "forcefield: species %d site %d carries a quadrupole and species %d "
                "site %d a charge or dipole: charge-quadrupole and dipole-quadrupole "
-               "interactions are not implemented", kq, aq, kp, ap);
+               "interactions are not supported (quadrupoles interact with quadrupoles only)", kq, aq, kp, ap);
       return NULL;
     }
   }

@@ -142,7 +142,7 @@ static void test_species_tables(void **state)
   double quad[4] = {0, 0, 0, 0.01};
   u.sff[0].quadrupole = quad;
   expect("quadrupole mixed with charges", alloc_status(&u), RL_EINVAL,
-         "species 0 site 3 carries a quadrupole", "not implemented", NULL);
+         "species 0 site 3 carries a quadrupole", "not supported", NULL);
   u.sff[0].quadrupole = NULL;
   rl_system_free(u.sys);
 
