@@ -14,6 +14,8 @@
 #include "rotleap/rotation.h"
 #include "../models/family.h"
 
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +37,8 @@ struct rl_integrator {
   int initialized;
   long steps, fallbacks, quat_iterations;
   double t;
+  gsl_rng *rng;       /* Bussi thermostat only */
+  double thermo_work; /* kinetic energy removed by the thermostat so far */
 };
 
 void rl_integrator_params_default(rl_integrator_params *p)
@@ -59,11 +63,14 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
   if (p->method == RL_ROT_QUATERNION && (!(p->quat_tol > 0.0) || p->quat_maxit < 1))
     return rl_error(RL_EINVAL, "quaternion tolerance %g / max iterations %d must be positive",
                     p->quat_tol, p->quat_maxit);
-  if (p->thermostat == RL_THERMO_ISOKINETIC && (!(p->T0 > 0.0) || !isfinite(p->T0)))
-    return rl_error(RL_EINVAL, "isokinetic thermostat needs a positive target temperature, got %g",
-                    p->T0);
-  if (p->thermostat != RL_THERMO_NONE && p->thermostat != RL_THERMO_ISOKINETIC)
+  if (p->thermostat != RL_THERMO_NONE && p->thermostat != RL_THERMO_ISOKINETIC &&
+      p->thermostat != RL_THERMO_BUSSI)
     return rl_error(RL_EINVAL, "unknown thermostat %d", (int)p->thermostat);
+  if (p->thermostat != RL_THERMO_NONE && (!(p->T0 > 0.0) || !isfinite(p->T0)))
+    return rl_error(RL_EINVAL, "%s thermostat needs a positive target temperature, got %g",
+                    p->thermostat == RL_THERMO_BUSSI ? "Bussi" : "isokinetic", p->T0);
+  if (p->thermostat == RL_THERMO_BUSSI && (!(p->tau > 0.0) || !isfinite(p->tau)))
+    return rl_error(RL_EINVAL, "Bussi thermostat needs a positive relaxation time tau, got %g", p->tau);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
   if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
     return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
@@ -101,7 +108,12 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   in->F.f = calloc((size_t)sys->n, sizeof *in->F.f);
   in->F.k = calloc((size_t)(sys->nrot > 0 ? sys->nrot : 1), sizeof *in->F.k);
   if (p->method == RL_ROT_QUATERNION && sys->nmat > 0) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
-  if (!in->F.f || !in->F.k || (p->method == RL_ROT_QUATERNION && sys->nmat > 0 && !in->q)) {
+  if (p->thermostat == RL_THERMO_BUSSI) {
+    in->rng = gsl_rng_alloc(gsl_rng_mt19937);
+    if (in->rng) gsl_rng_set(in->rng, p->seed);
+  }
+  if (!in->F.f || !in->F.k || (p->method == RL_ROT_QUATERNION && sys->nmat > 0 && !in->q) ||
+      (p->thermostat == RL_THERMO_BUSSI && !in->rng)) {
     rl_integrator_free(in);
     rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
     return NULL;
@@ -115,6 +127,7 @@ void rl_integrator_free(rl_integrator *in)
   free(in->F.f);
   free(in->F.k);
   free(in->q);
+  gsl_rng_free(in->rng);
   free(in);
 }
 
@@ -178,6 +191,7 @@ int rl_integrator_init(rl_integrator *in)
         if ((st = rl_matrix_to_quat(s->A[sp->mat_off + b], in->q[sp->mat_off + b]))) return st;
     }
   in->steps = 0;
+  in->thermo_work = 0.0;
   in->fallbacks = 0;
   in->quat_iterations = 0;
   if ((st = compute_forces(in))) return st;
@@ -209,6 +223,48 @@ static void polish_orientations(rl_integrator *in)
       for (int c = 0; c < 4; c++) q[c] *= f;
       rl_quat_to_matrix(q, s->A[i]);
     }
+}
+
+/* Bussi et al. 2007, eq. (A7): the ratio K'/K of the new to the current kinetic energy for a
+ * relaxation over dt/tau = x towards Kbar = g kT/2 with g degrees of freedom.  The sum of g - 1
+ * squared normals is drawn as one chi-squared variate. */
+static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
+{
+  double c = exp(-x), r1 = gsl_ran_gaussian(r, 1.0);
+  double sum = g > 1 ? gsl_ran_chisq(r, g - 1.0) : 0.0;
+  double f = Kbar / (g * K);
+  double a2 = c + (1.0 - c) * (r1 * r1 + sum) * f + 2.0 * r1 * sqrt(c * (1.0 - c) * f);
+  return a2 > 0.0 ? a2 : 0.0;
+}
+
+/* Bussi rescaling of the new mid-step velocities and angular momenta: v(t+h/2) and l(t+h/2)
+ * are multiplied by alpha, alpha^2 drawn for their kinetic energy K (rotational part from
+ * l(t+h/2) with A(t)), as leapfrog codes apply it.  Scaling the propagated half-step values -- not
+ * the interpolated on-step ones through eqs. 17-18, which would scale what is carried forward by
+ * 2 alpha - 1 and double the energy fluctuation -- keeps the stationary law canonical.  The
+ * energy taken out, (1 - alpha^2) K, is added to the thermostat's account. */
+static double bussi_rescale(rl_integrator *in, int g)
+{
+  rl_system *s = in->sys;
+  double K = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
+    for (int b = 0; b < sp->count; b++) {
+      const double *v = s->v[sp->first + b];
+      K += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (sp->rot_off >= 0) K += fam->ke_rot(sp, s, b, s->l[sp->rot_off + b]);
+    }
+  }
+  if (!(K > 0.0) || g <= 0) return 1.0;
+  double a2 = bussi_ratio(in->rng, K, 0.5 * g * s->kB * in->p.T0, g, in->p.h / in->p.tau);
+  double a = sqrt(a2);
+  for (int i = 0; i < s->n; i++)
+    for (int c = 0; c < 3; c++) s->v[i][c] *= a;
+  for (int i = 0; i < s->nrot; i++)
+    for (int c = 0; c < 3; c++) s->l[i][c] *= a;
+  in->thermo_work += (1.0 - a2) * K;
+  return a;
 }
 
 int rl_integrator_step(rl_integrator *in, rl_step_info *out)
@@ -248,10 +304,13 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   info.temperature = g > 0 ? 2.0 * (ket + ker) / (g * s->kB) : 0.0;
   info.t_trans = gt > 0 ? 2.0 * ket / (gt * s->kB) : 0.0;
   info.t_rot = gr > 0 ? 2.0 * ker / (gr * s->kB) : 0.0;
-  double beta = 1.0;
+  double beta = 1.0, ke = ket + ker;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0)
     beta = sqrt(in->p.T0 / info.temperature);
   info.beta = beta;
+  info.conserved = info.total + in->thermo_work;
+  if (in->p.thermostat == RL_THERMO_ISOKINETIC) in->thermo_work += (1.0 - beta * beta) * ke;
+  const int bussi = in->p.thermostat == RL_THERMO_BUSSI;
 
   /* 2-3. kick and drift */
   const double c2 = 2.0 * beta - 1.0;
@@ -265,7 +324,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
       for (int c = 0; c < 3; c++) {
         if (beta == 1.0) v[c] += 2.0 * w * f[c];
         else v[c] = c2 * (v[c] + w * f[c]) + w * f[c]; /* eq. 17 */
-        s->r[i][c] += h * v[c];
+        if (!bussi) s->r[i][c] += h * v[c];
       }
       if (sp->rot_off < 0) continue;
       double *l = s->l[sp->rot_off + b];
@@ -275,6 +334,12 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         else l[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c]; /* eq. 18 */
       }
     }
+  }
+  if (bussi) {
+    double a = bussi_rescale(in, g);
+    info.beta = a;
+    for (int i = 0; i < s->n; i++)
+      for (int c = 0; c < 3; c++) s->r[i][c] += h * s->v[i][c];
   }
   /* 4. rotation, one family at a time */
   rl_rotation_work rw = {h, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
@@ -314,6 +379,11 @@ int rl_integrator_finish(rl_integrator *in)
   in->initialized = 0;
   return RL_OK;
 }
+
+double rl_integrator_thermostat_work(const rl_integrator *in) { return in->thermo_work; }
+void rl_integrator_set_thermostat_work(rl_integrator *in, double w) { in->thermo_work = w; }
+size_t rl_integrator_rng_size(const rl_integrator *in) { return in->rng ? gsl_rng_size(in->rng) : 0; }
+void *rl_integrator_rng_state(rl_integrator *in) { return in->rng ? gsl_rng_state(in->rng) : NULL; }
 
 long rl_integrator_fallbacks(const rl_integrator *in) { return in->fallbacks; }
 long rl_integrator_quat_iterations(const rl_integrator *in) { return in->quat_iterations; }

@@ -56,6 +56,11 @@ static void bad_time_step(void **state)
   p.T0 = -5;
   assert_null(rl_integrator_alloc(s, &p, (rl_force_provider){zero_forces, NULL}));
   EXPECT_ERROR(RL_EINVAL, RL_EINVAL, "positive target temperature");
+  p.thermostat = RL_THERMO_BUSSI;
+  p.T0 = 300;
+  p.tau = 0.0;
+  assert_null(rl_integrator_alloc(s, &p, (rl_force_provider){zero_forces, NULL}));
+  EXPECT_ERROR(RL_EINVAL, RL_EINVAL, "positive relaxation time tau");
   rl_system_free(s);
 }
 

@@ -14,6 +14,8 @@
 
 #include "rotleap/system.h"
 
+#include <stddef.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -49,8 +51,13 @@ typedef enum {
 } rl_rot_method;
 
 typedef enum {
-  RL_THERMO_NONE = 0,       /* NVE                                                 */
-  RL_THERMO_ISOKINETIC = 1  /* the paper's isokinetic scaling (eqs. 17-18, III.B)   */
+  RL_THERMO_NONE = 0,       /* NVE                                                          */
+  RL_THERMO_ISOKINETIC = 1, /* the paper's isokinetic scaling (eqs. 17-18, III.B)            */
+  RL_THERMO_BUSSI = 2       /* canonical stochastic velocity rescaling, Bussi, Donadio &
+                               Parrinello, J. Chem. Phys. 126, 014101 (2007): the on-step
+                               mid-step v and l are rescaled after the kick by alpha, alpha^2
+                               drawn from the canonical relaxation of their kinetic energy
+                               over tau                                                        */
 } rl_thermostat;
 
 typedef struct {
@@ -62,6 +69,8 @@ typedef struct {
   int force_general;      /* 1: every matrix body goes through the general asymmetric path    */
   rl_thermostat thermostat;
   double T0;              /* target temperature for the thermostat                             */
+  double tau;             /* Bussi relaxation time (> 0)                                       */
+  unsigned long seed;     /* Bussi random stream (GSL mt19937)                                 */
 } rl_integrator_params;
 
 void rl_integrator_params_default(rl_integrator_params *p);
@@ -75,7 +84,12 @@ typedef struct {
   double total;          /* ke_trans + ke_rot + potential                                   */
   double temperature;    /* 2 KE / (dof kB)                                                 */
   double t_trans, t_rot; /* translational / rotational temperatures                         */
-  double beta;           /* thermostat scaling factor applied at t (1 for NVE)              */
+  double beta;           /* thermostat scaling factor applied at t (1 for NVE): isokinetic
+                            beta of eqs. 17-18; Bussi alpha applied to v(t+h/2), l(t+h/2)   */
+  double conserved;      /* total + energy taken out by the thermostat before t: the total
+                            energy (NVE), Bussi's conserved quantity (Bussi); for the
+                            isokinetic scheme the same sum with (1 - beta^2) KE(t), a
+                            diagnostic that is not conserved                                */
   double max_h_omega;    /* max over bodies of h |Omega(t+h/2)|: > 1 means poorly resolved */
   long fallbacks;        /* guarded solves that needed Newton in this step                  */
   long quat_iterations;  /* quaternion iterations in this step (sum over bodies)            */
@@ -102,6 +116,13 @@ int rl_integrator_reverse(rl_integrator *in);
  * system (so it can be cloned, written or handed to another integrator) and require a new
  * rl_integrator_init before stepping again. */
 int rl_integrator_finish(rl_integrator *in);
+
+/* Thermostat bookkeeping, for checkpoints: the energy removed so far and the Bussi RNG state
+ * (rl_integrator_rng_size bytes; 0 if the thermostat draws no random numbers). */
+double rl_integrator_thermostat_work(const rl_integrator *in);
+void rl_integrator_set_thermostat_work(rl_integrator *in, double w);
+size_t rl_integrator_rng_size(const rl_integrator *in);
+void *rl_integrator_rng_state(rl_integrator *in);
 
 /* Cumulative counters since init. */
 long rl_integrator_fallbacks(const rl_integrator *in);

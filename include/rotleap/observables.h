@@ -1,0 +1,244 @@
+/* rotleap — observables: averages with error bars, fluctuation formulas, radial distribution
+ * functions, time correlation functions, diffusion and the static dielectric constant.
+ *
+ * The module computes; it never prints and never exits.  Accumulators are caller-owned objects
+ * (`_alloc` / `_free`, free accepts NULL); kernels take plain arrays plus counts and never see the
+ * integrator.  Functions that can fail return RL_OK or an error code with rl_last_error() set.
+ * Definitions, formulas, units and references: docs/observables.md.
+ *
+ * Units are those of the caller's data (for an rl_system: its unit system, system.h / units.h). */
+#ifndef ROTLEAP_OBSERVABLES_H
+#define ROTLEAP_OBSERVABLES_H
+
+#include <stddef.h>
+
+#include "rotleap/forcefield.h"
+#include "rotleap/system.h"
+#include "rotleap/units.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ====================================================================== scalar series
+ * An on-line accumulator for one scalar time series (U per molecule, T, P, E, ...): mean,
+ * population standard deviation sd = <(x - <x>)^2>^(1/2) (the paper's convention, 1/n), and
+ * Flyvbjerg-Petersen blocking (J. Chem. Phys. 91, 461 (1989)) done on the fly in O(log n)
+ * memory: level k holds the series averaged over blocks of 2^k consecutive samples (a trailing
+ * odd sample of a level waits for its partner and is not counted).  The series itself is not
+ * stored.  All moments use Welford updates (no cancellation for E ~ 1e4 with sd ~ 1e-2). */
+
+#define RL_BLOCK_MAX_LEVELS 48
+
+typedef struct rl_series rl_series;
+
+typedef struct {
+  int level;          /* blocking level k (block length 2^k samples)                       */
+  long nblocks;       /* blocks at this level                                               */
+  double sem;         /* standard error of the mean estimated at this level:
+                         sqrt(var_k / (nblocks - 1)), var_k the 1/n variance of block means  */
+  double sem_err;     /* its own uncertainty, sem / sqrt(2 (nblocks - 1))                   */
+} rl_block_level;
+
+typedef struct {
+  long n;             /* samples                                                            */
+  double mean;        /* sample mean                                                        */
+  double sd;          /* population standard deviation (1/n)                                */
+  double sem;         /* block-averaged standard error of the mean at the chosen level      */
+  double sem_err;     /* uncertainty of `sem`                                               */
+  double sem_naive;   /* sd / sqrt(n - 1): the error bar if samples were independent        */
+  double tau;         /* integrated autocorrelation time in samples, from
+                         sem^2 = 2 tau sd^2 / n: tau = (sem / sem_naive)^2 / 2
+                         (1/2 for independent samples)                                       */
+  int level;          /* chosen blocking level (block length 2^level samples)               */
+  int converged;      /* 1 if the Lee-Needs-Towler criterion was met at some level with at
+                         least 4 blocks; 0: the series is too short for its correlation time
+                         and `sem` is the largest-level value (a lower bound)                */
+} rl_block_result;
+
+/* Returns NULL (rl_last_error set) on allocation failure. */
+rl_series *rl_series_alloc(void);
+void rl_series_free(rl_series *s); /* accepts NULL */
+void rl_series_reset(rl_series *s);
+/* in x: a finite sample.  RL_ENONFINITE for NaN/Inf (the sample is not added). */
+int rl_series_add(rl_series *s, double x);
+long rl_series_count(const rl_series *s);
+double rl_series_mean(const rl_series *s);  /* NaN if empty */
+double rl_series_sd(const rl_series *s);    /* population sd (1/n); NaN if empty */
+/* The paper's relative fluctuation sd / |mean| (calE for E, calU for U) of the samples so far.
+ * Called after every rl_series_add it is the *running* calE as a function of run length. NaN if
+ * empty or mean = 0. */
+double rl_series_rel_fluct(const rl_series *s);
+/* Number of blocking levels with at least 2 blocks, and the table of them.
+ * out levels[nmax]: filled up to min(nmax, that number). */
+int rl_series_block_levels(const rl_series *s, rl_block_level *levels, int nmax);
+/* Mean and block-averaged error.  The level is the smallest k satisfying the criterion of
+ * Lee, Needs & Towler, Phys. Rev. E 83, 066706 (2011) (as in pyblock):
+ *     (2^k)^3 > 2 n (sem_k / sem_0)^4,
+ * i.e. block length B beyond ~ (2 n tau^2)^(1/3).  RL_EINVAL if n < 4. */
+int rl_series_block_average(const rl_series *s, rl_block_result *r);
+
+/* Fixed number of blocks on a stored series: x[n] split into `nblocks` equal blocks of
+ * floor(n / nblocks) samples (the remainder at the end is dropped); sem = sd of block means /
+ * sqrt(nblocks - 1).  in x[n], n, nblocks >= 2 with n / nblocks >= 1.  out mean, sem. */
+int rl_block_fixed(const double *x, size_t n, int nblocks, double *mean, double *sem);
+
+/* Running relative fluctuation of a stored series: out[k] = sd(x[0..k]) / |mean(x[0..k])|
+ * (the paper's calE as a function of run length, Fig. 1).  in x[n]; out out[n] (may alias x). */
+int rl_running_rel_fluct(const double *x, size_t n, double *out);
+
+/* ====================================================================== heat capacity
+ * All return C_V of the whole system (extensive) in energy/temperature (real: kJ mol^-1 K^-1;
+ * lj: k_B); divide by N for per molecule.  kB = rl_units_kB(units).
+ *
+ * NVT (canonical, e.g. Bussi stochastic rescaling): C_V = <dE^2> / (kB T^2), E = K + U.
+ *   in var_E (population variance of the total energy), T (thermostat temperature).          */
+int rl_heat_capacity_nvt(double var_E, double T, double kB, double *cv);
+/* Isokinetic NVT (the paper's eqs. 17-18: K fixed, configurations canonical): the kinetic part
+ * is the ideal dof kB / 2 and the configurational part comes from the potential energy,
+ * C_V = dof kB / 2 + <dU^2> / (kB T^2).   in var_U, T, dof (kinetic degrees of freedom).      */
+int rl_heat_capacity_isokinetic(double var_U, double T, int dof, double kB, double *cv);
+/* NVE, Lebowitz-Percus-Verlet (Phys. Rev. 153, 250 (1967)) from kinetic-energy fluctuations:
+ *   <dK^2> = (2 <K>^2 / f) (1 - f kB / (2 C_V))   =>   C_V = (f kB / 2) / (1 - f <dK^2> / (2 <K>^2))
+ * with f = dof the kinetic degrees of freedom (rl_system_dof), T = 2<K>/(f kB).
+ * in mean_K, var_K, dof.  RL_EINVAL if f <dK^2> / (2 <K>^2) >= 1 (fluctuations at or above the
+ * canonical value: the run is not microcanonical or too short). */
+int rl_heat_capacity_nve(double mean_K, double var_K, int dof, double kB, double *cv);
+
+/* ====================================================================== radial distribution
+ * g_ab(r) between two sets of points a[na], b[nb] in a periodic orthorhombic box L, minimum
+ * image, histogram of nbins bins of width dr = r_max / nbins on [0, r_max], r_max <= min(L)/2.
+ * Optional molecule labels exclude pairs within one molecule (and self pairs when a and b are
+ * the same set: pass the same labels).  Normalisation by ideal-gas shell counts:
+ *   g(r_k) = H_k / (F * P / V * (4 pi / 3) ((k+1)^3 - k^3) dr^3)
+ * with H_k the ordered (a, b) pair count in bin k summed over F frames and P the number of
+ * ordered pairs allowed (na nb minus excluded), V = Lx Ly Lz (averaged over frames). */
+
+typedef struct rl_rdf rl_rdf;
+
+/* in r_max > 0, nbins >= 1.  NULL with a message on bad input or no memory. */
+rl_rdf *rl_rdf_alloc(double r_max, int nbins);
+void rl_rdf_free(rl_rdf *g); /* accepts NULL */
+void rl_rdf_reset(rl_rdf *g);
+/* Add one frame.
+ * in L[3] box edges (r_max <= min(L)/2 else RL_EINVAL); a[na][3], b[nb][3] positions (any image);
+ *    mol_a[na], mol_b[nb]: molecule labels (a pair with mol_a[i] == mol_b[j] is excluded), or both
+ *    NULL for no exclusion (then a pair at distance 0 counts in bin 0: pass labels for a = b). */
+int rl_rdf_add(rl_rdf *g, const double L[3], const double (*a)[3], int na, const int *mol_a,
+               const double (*b)[3], int nb, const int *mol_b);
+/* Add one frame for the site pair (species_a, site_a) - (species_b, site_b) of a system (site
+ * indices within species; e.g. water O-O is (0, 0, 0, 0), H-H (0, 1, 0, 1) and (0, 1, 0, 2)
+ * together -- call once per pair or use rl_rdf_add with a merged set).  Intramolecular pairs
+ * are excluded. */
+int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+                     int species_b, int site_b);
+int rl_rdf_nbins(const rl_rdf *g);
+double rl_rdf_rmax(const rl_rdf *g);
+long rl_rdf_frames(const rl_rdf *g);
+/* out r[nbins] bin centres (may be NULL), gr[nbins] g(r).  RL_ESTATE if no frame was added. */
+int rl_rdf_get(const rl_rdf *g, double *r, double *gr);
+/* Mean number of b points around an a point with r_lo <= r < r_hi (bins whose centres lie in
+ * the range): sum of H_k / (F na).  For the first shell integrate up to the first minimum. */
+double rl_rdf_coordination(const rl_rdf *g, double r_lo, double r_hi);
+/* Integrated absolute difference D = int_0^rmax |g1(r) - g2(r)| dr (length units; divide by
+ * r_max for a dimensionless mean difference).  The two must have the same r_max and nbins. */
+int rl_rdf_distance(const rl_rdf *g1, const rl_rdf *g2, double *d);
+/* The same on plain arrays g1[nbins], g2[nbins] of bin width dr. */
+double rl_rdf_distance_arrays(const double *g1, const double *g2, int nbins, double dr);
+
+/* ====================================================================== time correlations
+ * Stored samples of one 3-vector per body (axis, velocity, angular velocity, unwrapped centre),
+ * taken every `dt` of time; correlation functions averaged over bodies and over every time
+ * origin (origin stride 1 by default) up to a maximum lag. */
+
+typedef struct rl_vec_series rl_vec_series;
+
+typedef enum {
+  RL_TCF_DOT = 0, /* C(t) = <a(0) . a(t)> (unnormalised; VACF, angular-velocity ACF)         */
+  RL_TCF_P1 = 1,  /* <P1(u(0) . u(t))>, u = a/|a| (dipole-axis ACF, first Legendre)          */
+  RL_TCF_P2 = 2,  /* <P2(u(0) . u(t))>, P2(x) = (3x^2 - 1)/2                                 */
+  RL_TCF_MSD = 3  /* <|a(t) - a(0)|^2> (a: unwrapped centres)                                 */
+} rl_tcf_kind;
+
+/* in n bodies per frame (>= 1).  NULL on bad input / no memory. */
+rl_vec_series *rl_vec_series_alloc(int n);
+void rl_vec_series_free(rl_vec_series *s); /* accepts NULL */
+/* Append a frame: in x[n][3] (copied).  RL_ENONFINITE for NaN/Inf. */
+int rl_vec_series_add(rl_vec_series *s, const double (*x)[3]);
+int rl_vec_series_count(const rl_vec_series *s);  /* bodies */
+long rl_vec_series_frames(const rl_vec_series *s);
+/* Frame f (0-based) as [n][3], or NULL if out of range. */
+const double (*rl_vec_series_frame(const rl_vec_series *s, long f))[3];
+/* Correlation function over lags 0..max_lag (in frames).
+ * in kind, max_lag (0 <= max_lag < frames), origin_stride >= 1 (time origins every stride frames).
+ * out c[max_lag + 1].  For P1/P2 a zero vector is RL_EINVAL. */
+int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long origin_stride,
+                   double *c);
+
+/* Self-diffusion, Einstein: least-squares line msd(t) = a + 6 D t over lags lag_lo..lag_hi
+ * (inclusive; t = lag dt).  Documented default window: from 10% to 50% of the lags computed
+ * (the ballistic start and the poorly averaged tail excluded).  out D, D_err (standard error of
+ * the slope / 6 from the fit residuals; it ignores the correlation between lags, so it is a
+ * lower bound), either may be NULL.  in msd[nlag], 0 <= lag_lo < lag_hi < nlag. */
+int rl_diffusion_einstein(const double *msd, long nlag, double dt, long lag_lo, long lag_hi,
+                          double *D, double *D_err);
+/* Self-diffusion, Green-Kubo: D = (1/3) int_0^{t_max} <v(0) . v(t)> dt (trapezoid over vacf[nlag],
+ * t_max = (nlag - 1) dt).  vacf from RL_TCF_DOT on centre-of-mass velocities. */
+int rl_diffusion_green_kubo(const double *vacf, long nlag, double dt, double *D);
+
+/* Minimum-image unwrapping: out[i] = x[i] + L round((prev[i] - x[i]) / L) per component, the
+ * image of x[i] nearest the previous unwrapped position (valid while a body moves less than L/2
+ * between samples).  in L[3], prev[n][3] (previous unwrapped), x[n][3] (any image);
+ * out out[n][3] (may alias x). */
+void rl_unwrap(const double L[3], const double (*prev)[3], const double (*x)[3], int n,
+               double (*out)[3]);
+
+/* ---- per-body vectors of a system, to feed rl_vec_series ----
+ * out [n][3] with n = rl_system_count(sys).  Velocities and angular momenta are whatever the
+ * system holds (on-step values before rl_integrator_init / after rl_integrator_finish;
+ * half-step values in between). */
+void rl_system_positions(const rl_system *sys, double (*r)[3]);
+void rl_system_velocities(const rl_system *sys, double (*v)[3]);
+void rl_system_axes(const rl_system *sys, double (*u)[3]); /* body Z in the lab */
+/* Lab angular velocity: matrix bodies omega = A^T J^-1 A l; axis bodies (dipole, linear) the
+ * part of l / J_perp perpendicular to rho (J_perp = J_XX); point bodies 0. */
+void rl_system_angular_velocities(const rl_system *sys, double (*w)[3]);
+
+/* ====================================================================== dipoles, dielectric */
+
+/* Molecular dipoles: mu_i = sum_a q_a (s_a - r_i) + sum_a p_a rho_i, with s_a the lab site
+ * positions, r_i the centre of mass and p_a the point dipole along body Z (rl_species_ff).
+ * Relative to the centre of mass: equal to sum q s for neutral molecules; a net molecular charge
+ * contributes nothing (M of ionic systems is not defined this way).
+ * in sys, species[nspecies] (nspecies = rl_system_nspecies, nsites must match).
+ * out mu[n][3] (may be NULL), M[3] = sum_i mu_i (may be NULL).  Units: charge x length
+ * (real: e nm; 1 D = RL_DEBYE_E_NM e nm; lj: reduced mu*). */
+int rl_system_dipoles(const rl_system *sys, const rl_species_ff *species, int nspecies,
+                      double (*mu)[3], double M[3]);
+
+/* Total-dipole fluctuation accumulator: <M>, <M^2>, <dM^2> = <M.M> - <M>.<M> (Welford). */
+typedef struct rl_dipole_acc rl_dipole_acc;
+rl_dipole_acc *rl_dipole_acc_alloc(void);
+void rl_dipole_acc_free(rl_dipole_acc *d); /* accepts NULL */
+int rl_dipole_acc_add(rl_dipole_acc *d, const double M[3]);
+long rl_dipole_acc_count(const rl_dipole_acc *d);
+/* out mean[3] (may be NULL); returns <dM^2> (NaN if empty). */
+double rl_dipole_acc_fluct(const rl_dipole_acc *d, double mean[3]);
+
+/* Static dielectric constant with a reaction-field boundary (Neumann, Mol. Phys. 50, 841 (1983)):
+ *   (eps - 1)(2 eps_rf + 1) / (2 eps_rf + eps) = y,   y = 4 pi kc <dM^2> / (3 V kB T)
+ * (SI: y = <dM^2> / (3 eps0 V kB T), since kc = 1/(4 pi eps0)), solved as
+ *   eps = (2 eps_rf (1 + y) + 1) / (2 eps_rf + 1 - y);   eps_rf = INFINITY (tin foil): eps = 1 + y.
+ * in dM2 = <dM^2> (charge^2 length^2), V volume, T temperature, eps_rf >= 1 or INFINITY,
+ *    units, coulomb_constant kc (0: RL_COULOMB_KJMOL_NM in real, 1 in lj).
+ * RL_EINVAL for bad input or y >= 2 eps_rf + 1 (no positive solution). */
+int rl_dielectric_constant(double dM2, double V, double T, double eps_rf, rl_units units,
+                           double coulomb_constant, double *eps);
+/* The inverse: <dM^2> expected for a fluid of dielectric constant eps under boundary eps_rf. */
+double rl_dielectric_fluct(double eps, double V, double T, double eps_rf, rl_units units,
+                           double coulomb_constant);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
