@@ -2,8 +2,8 @@
 # Install the Debian 12 packages rotleap needs (as root; uses sudo otherwise).  Skips apt when
 # everything is already installed.  Usage: scripts/deps.sh [build|test|validate]
 set -euo pipefail
-build=(build-essential cmake pkg-config libgsl-dev)          # compiler, CMake, GSL
-testdeps=(libcmocka-dev)                                      # unit-test framework
+build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMake, GSL, INI decks
+testdeps=(libcmocka-dev python3)                              # unit-test framework; JSON check
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
 want=("${build[@]}")
 case "${1:-build}" in

@@ -5,6 +5,7 @@ cd "$(dirname "$0")/.."
 scripts/deps.sh build
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROTLEAP_TESTS=OFF >/dev/null
 cmake --build build -j"$(nproc)"
-# Default example: a free asymmetric top (TIP4P-like moments, amu nm^2; lab angular momentum in
-# amu nm^2/ps, ~ thermal at 298 K) for 10 ps at h = 2 fs with the guarded cubic solve.
-./build/free_top --inertia 0.6145 1.1551 1.7696 --angmom 3.9 -2.4 5.1 --h 0.002 --steps 5000 --solver cubic
+# The default example: TIP4P water at 298 K and 1 g/cm3 (examples/tip4p.ini says what to expect).
+mkdir -p out
+./build/rotleap run examples/tip4p.ini --set output.prefix=out/tip4p
+echo "outputs: out/tip4p.thermo.csv, out/tip4p.summary.txt"

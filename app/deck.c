@@ -1,0 +1,411 @@
+/* Deck parsing and validation.  Phase 1 reads every "section.key = value" (libinih, through a
+ * reader that counts lines, so each key keeps its line) and applies --set overrides; phase 2,
+ * once the model fixes the unit system, converts and checks every value and the combinations.
+ * All problems are reported before anything runs. */
+#include "deck.h"
+#include "quantity.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { K_STRING, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type;
+
+typedef struct {
+  const char *section, *name;
+  key_type type;
+  rl_dim dim;
+  const char *def;       /* default as text; NULL = required or no default            */
+  const char *choices;   /* K_CHOICE: "a|b|c"                                          */
+  const char *help;
+} key_def;
+
+enum {
+  K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
+  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN,
+  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TSEED, K_EQSTEPS, K_EQDT,
+  K_PREFIX, K_THERMO, K_PROGRESS, NKEYS
+};
+
+static const key_def keys[NKEYS] = {
+    [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models); required"},
+    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required"},
+    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\" (give box or density)"},
+    [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
+    [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
+    [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
+    [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
+    [K_TEMP] = {"system", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "Maxwell-Boltzmann temperature of the start; default: the thermostat temperature, else required"},
+    [K_GENERAL] = {"system", "force_general", K_BOOL, Q_NONE, "no", NULL, "integrate by the general asymmetric path whatever the family"},
+    [K_CUTOFF] = {"interactions", "cutoff", K_REAL, Q_LENGTH, NULL, NULL, "cutoff radius (<= half the shortest box edge); required"},
+    [K_SCHEME] = {"interactions", "scheme", K_CHOICE, Q_NONE, "site", "site|molecule", "cut site pairs by their own distance (OpenMM) or by centre distance"},
+    [K_LJ] = {"interactions", "lj", K_CHOICE, Q_NONE, "plain", "plain|shifted|shifted-force|switched", "Lennard-Jones truncation"},
+    [K_SWITCH] = {"interactions", "switch", K_REAL, Q_LENGTH, NULL, NULL, "switching distance for lj = switched"},
+    [K_DISP] = {"interactions", "dispersion_correction", K_BOOL, Q_NONE, "no", NULL, "long-range LJ correction of energy and pressure"},
+    [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting)"},
+    [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles: reaction field or shifted force"},
+    [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff"},
+    [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
+    [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
+    [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion", "revised leapfrog: guarded cubic (rl), exact solve, or quaternion variant"},
+    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi", "NVE, the paper's isokinetic NVT, or Bussi stochastic rescaling"},
+    [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
+    [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi relaxation time; default 100 h"},
+    [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi thermostat's random numbers"},
+    [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "isokinetic relaxation steps before the run (from a lattice)"},
+    [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
+    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini"},
+    [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
+    [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
+};
+
+typedef struct {
+  char *val[NKEYS];
+  int line[NKEYS];                  /* 0 = default, -1 = --set                                */
+  char *model_key[RL_MODEL_MAX_PARAMS], *model_val[RL_MODEL_MAX_PARAMS];
+  int model_line[RL_MODEL_MAX_PARAMS], nmodel;
+  const char *path;
+  int lineno, problems;
+  FILE *err;
+} raw_deck;
+
+static void problem(raw_deck *r, int line, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  if (line > 0) fprintf(r->err, "%s:%d: ", r->path, line);
+  else if (line < 0) fprintf(r->err, "--set: ");
+  else fprintf(r->err, "%s: ", r->path);
+  vfprintf(r->err, fmt, ap);
+  fputc('\n', r->err);
+  va_end(ap);
+  r->problems++;
+}
+
+static int find_key(const char *section, const char *name)
+{
+  for (int k = 0; k < NKEYS; k++)
+    if (!strcmp(keys[k].section, section) && !strcmp(keys[k].name, name)) return k;
+  return -1;
+}
+
+static void store(raw_deck *r, const char *section, const char *name, const char *value, int line)
+{
+  if (!strcmp(section, "model")) { /* model parameters, checked once the model is known */
+    for (int i = 0; i < r->nmodel; i++)
+      if (!strcmp(r->model_key[i], name)) {
+        if (line > 0 && r->model_line[i] > 0) problem(r, line, "[model] %s given twice (first at line %d)", name, r->model_line[i]);
+        free(r->model_val[i]);
+        r->model_val[i] = strdup(value);
+        r->model_line[i] = line;
+        return;
+      }
+    if (r->nmodel == RL_MODEL_MAX_PARAMS) { problem(r, line, "[model] too many parameters (%s)", name); return; }
+    r->model_key[r->nmodel] = strdup(name);
+    r->model_val[r->nmodel] = strdup(value);
+    r->model_line[r->nmodel++] = line;
+    return;
+  }
+  int k = find_key(section, name);
+  if (k < 0) {
+    int sec_known = 0;
+    for (int j = 0; j < NKEYS; j++) sec_known |= !strcmp(keys[j].section, section);
+    if (!sec_known) problem(r, line, "unknown section [%s] (sections: system, model, interactions, run, output)", section);
+    else problem(r, line, "unknown key '%s' in [%s] (see rotleap run --help)", name, section);
+    return;
+  }
+  if (line > 0 && r->line[k] > 0) problem(r, line, "%s.%s given twice (first at line %d)", section, name, r->line[k]);
+  free(r->val[k]);
+  r->val[k] = strdup(value);
+  r->line[k] = line;
+}
+
+static int deck_handler(void *user, const char *section, const char *name, const char *value)
+{
+  raw_deck *r = user;
+  if (!name) return 1; /* a section header */
+  if (!section || !*section) { problem(r, r->lineno, "key '%s' outside any [section]", name); return 1; }
+  store(r, section, name, value, r->lineno);
+  return 1;
+}
+
+/* fgets-like reader for ini_parse_stream that counts lines: inih calls the handler for a key
+ * right after reading its line, so lineno is that key's line. */
+static char *counting_reader(char *buf, int size, void *stream)
+{
+  raw_deck *r = ((void **)stream)[1];
+  char *s = fgets(buf, size, ((void **)stream)[0]);
+  if (s) r->lineno++;
+  return s;
+}
+
+static const char *val(const raw_deck *r, int k) { return r->val[k] ? r->val[k] : keys[k].def; }
+
+static int choice(raw_deck *r, int k)
+{
+  const char *v = val(r, k), *c = keys[k].choices;
+  int idx = 0;
+  size_t n = strlen(v);
+  for (const char *p = c; *p;) {
+    const char *e = strchr(p, '|');
+    size_t len = e ? (size_t)(e - p) : strlen(p);
+    if (len == n && !strncmp(p, v, n)) return idx;
+    idx++;
+    if (!e) break;
+    p = e + 1;
+  }
+  problem(r, r->line[k], "%s.%s: '%s' is not one of %s", keys[k].section, keys[k].name, v, c);
+  return 0;
+}
+
+static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallback)
+{
+  const char *v = val(r, k);
+  if (!v) return fallback;
+  double x;
+  char msg[256];
+  if (rl_parse_quantity(v, keys[k].dim, u, allow_inf, &x, msg, sizeof msg)) {
+    problem(r, r->line[k], "%s.%s: %s", keys[k].section, keys[k].name, msg);
+    return fallback;
+  }
+  return x;
+}
+
+static long integer(raw_deck *r, int k, long lo, long fallback)
+{
+  const char *v = val(r, k);
+  if (!v) return fallback;
+  char *end;
+  long x = strtol(v, &end, 10);
+  while (*end == ' ' || *end == '\t') end++;
+  if (end == v || *end) { problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); return fallback; }
+  if (x < lo) { problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); return fallback; }
+  return x;
+}
+
+static int boolean(raw_deck *r, int k)
+{
+  const char *v = val(r, k);
+  if (!strcmp(v, "yes") || !strcmp(v, "true") || !strcmp(v, "1") || !strcmp(v, "on")) return 1;
+  if (!strcmp(v, "no") || !strcmp(v, "false") || !strcmp(v, "0") || !strcmp(v, "off")) return 0;
+  problem(r, r->line[k], "%s.%s: '%s' is not yes or no", keys[k].section, keys[k].name, v);
+  return 0;
+}
+
+static void require(raw_deck *r, int k)
+{
+  if (!r->val[k]) problem(r, 0, "%s.%s is required (%s)", keys[k].section, keys[k].name, keys[k].help);
+}
+
+int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
+{
+  raw_deck r;
+  memset(&r, 0, sizeof r);
+  memset(d, 0, sizeof *d);
+  r.path = path;
+  r.err = err;
+  FILE *f = fopen(path, "r");
+  if (!f) { problem(&r, 0, "cannot open the deck: %s", strerror(errno)); return r.problems; }
+  void *stream[2] = {f, &r};
+  int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
+  fclose(f);
+  if (st > 0) problem(&r, st, "not a valid INI line (expected [section] or key = value)");
+  for (int i = 0; i < nsets; i++) { /* --set section.key=value */
+    char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
+    if (!eq || !dot || dot > eq) { problem(&r, -1, "'%s' is not section.key=value", sets[i]); continue; }
+    char sec[64], name[64];
+    snprintf(sec, sizeof sec, "%.*s", (int)(dot - sets[i]), sets[i]);
+    snprintf(name, sizeof name, "%.*s", (int)(eq - dot - 1), dot + 1);
+    store(&r, sec, name, eq + 1, -1);
+  }
+  snprintf(d->path, sizeof d->path, "%s", path);
+
+  /* the model decides the unit system */
+  require(&r, K_MODEL);
+  if (r.val[K_MODEL]) {
+    d->model = rl_catalog_find(r.val[K_MODEL]);
+    if (!d->model) problem(&r, r.line[K_MODEL], "system.model: %s", rl_last_error());
+  }
+  rl_units u = d->model ? d->model->units : RL_UNITS_REAL;
+  d->units = u;
+  if (d->model) {
+    for (int k = 0; k < d->model->nparams; k++) d->params[k] = d->model->param_defaults[k];
+    for (int i = 0; i < r.nmodel; i++) {
+      int k = rl_model_param_index(d->model, r.model_key[i]);
+      char *end;
+      double x = strtod(r.model_val[i], &end);
+      if (k < 0) problem(&r, r.model_line[i], "[model] %s: model %s has no parameter '%s'%s", r.model_key[i],
+                         d->model->name, r.model_key[i], d->model->nparams ? "" : " (it has none)");
+      else if (end == r.model_val[i] || *end || !isfinite(x) || x < 0)
+        problem(&r, r.model_line[i], "[model] %s: '%s' must be a number >= 0 (in %s)", r.model_key[i],
+                r.model_val[i], d->model->param_units[k]);
+      else d->params[k] = x;
+    }
+  }
+  /* [system] */
+  require(&r, K_COUNT);
+  d->count = (int)integer(&r, K_COUNT, 1, 1);
+  d->lattice = choice(&r, K_LATTICE) == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
+  d->random_orientations = choice(&r, K_ORIENT) == 0;
+  d->seed = (unsigned long)integer(&r, K_SEED, 0, 1);
+  d->force_general = boolean(&r, K_GENERAL);
+  double mass = 0.0;
+  if (d->model) {
+    rl_molecule m;
+    if (rl_model_build(d->model, d->params, 0, &m)) problem(&r, 0, "model %s: %s", d->model->name, rl_last_error());
+    else mass = m.mass;
+  }
+  if (r.val[K_BOX] && r.val[K_DENSITY])
+    problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box at line %d)", r.line[K_BOX]);
+  else if (r.val[K_BOX]) {
+    char tmp[256], *save, *tok;
+    int n = 0;
+    snprintf(tmp, sizeof tmp, "%s", r.val[K_BOX]);
+    /* split on whitespace, keeping a unit suffix with its number: "1.8 nm 1.8 nm 2 nm" or "1.8 1.8 2 nm" */
+    double vals[3];
+    char unit[32] = "";
+    char *toks[8];
+    int nt = 0;
+    for (tok = strtok_r(tmp, " \t", &save); tok && nt < 8; tok = strtok_r(NULL, " \t", &save)) toks[nt++] = tok;
+    if (nt > 0 && !(toks[nt - 1][0] == '-' || toks[nt - 1][0] == '.' || (toks[nt - 1][0] >= '0' && toks[nt - 1][0] <= '9')))
+      snprintf(unit, sizeof unit, "%s", toks[--nt]);
+    for (int i = 0; i < nt && n < 4; i++) {
+      char q[96], msg[256];
+      snprintf(q, sizeof q, "%s %s", toks[i], unit);
+      if (n == 3 || rl_parse_quantity(q, Q_LENGTH, u, 0, &vals[n], msg, sizeof msg)) {
+        problem(&r, r.line[K_BOX], "system.box: %s", n == 3 ? "more than three edges" : msg);
+        n = -1;
+        break;
+      }
+      n++;
+    }
+    if (n == 1) vals[1] = vals[2] = vals[0];
+    if (n == 1 || n == 3) {
+      for (int c = 0; c < 3; c++) {
+        d->box[c] = vals[c];
+        if (!(vals[c] > 0)) problem(&r, r.line[K_BOX], "system.box: edge %g must be positive", vals[c]);
+      }
+    } else if (n >= 0) problem(&r, r.line[K_BOX], "system.box: give one edge or three");
+  } else if (r.val[K_DENSITY]) {
+    double rho = number(&r, K_DENSITY, u, 0, 0.0);
+    if (!(rho > 0)) problem(&r, r.line[K_DENSITY], "system.density must be positive");
+    else if (d->model) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
+      double V = u == RL_UNITS_LJ ? d->count / rho : d->count * mass / rho;
+      d->box[0] = d->box[1] = d->box[2] = cbrt(V);
+    }
+  } else problem(&r, 0, "give system.box or system.density");
+
+  /* [interactions] */
+  rl_ff_params_default(&d->ff);
+  d->ff.box[0] = d->box[0]; d->ff.box[1] = d->box[1]; d->ff.box[2] = d->box[2];
+  require(&r, K_CUTOFF);
+  d->ff.cutoff = number(&r, K_CUTOFF, u, 0, 0.0);
+  double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  if (r.val[K_CUTOFF] && !(d->ff.cutoff > 0)) problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
+  else if (Lmin > 0 && d->ff.cutoff > 0.5 * Lmin)
+    problem(&r, r.line[K_CUTOFF], "interactions.cutoff %g is larger than half the shortest box edge (%g)", d->ff.cutoff, 0.5 * Lmin);
+  d->ff.scheme = choice(&r, K_SCHEME) ? RL_CUTOFF_MOLECULE : RL_CUTOFF_SITE;
+  d->ff.lj_truncation = (rl_lj_truncation)choice(&r, K_LJ);
+  if (d->ff.lj_truncation == RL_LJ_SWITCHED) {
+    if (!r.val[K_SWITCH]) problem(&r, r.line[K_LJ], "interactions.lj = switched needs interactions.switch");
+    else {
+      d->ff.r_switch = number(&r, K_SWITCH, u, 0, 0.0);
+      if (!(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
+        problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
+    }
+  } else if (r.val[K_SWITCH]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
+  d->ff.dispersion_correction = boolean(&r, K_DISP);
+  d->ff.eps_rf = number(&r, K_EPSRF, u, 1, 78.3);
+  if (!(d->ff.eps_rf >= 1.0)) problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
+  d->ff.dipole_method = choice(&r, K_DIPOLE) ? RL_DIPOLE_SF : RL_DIPOLE_RF;
+  if (r.val[K_SKIN]) {
+    d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
+    if (!(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
+  }
+
+  /* [run] */
+  require(&r, K_STEPS);
+  require(&r, K_DT);
+  d->steps = integer(&r, K_STEPS, 0, 0);
+  d->timestep = number(&r, K_DT, u, 0, 0.0);
+  if (r.val[K_DT] && !(d->timestep > 0)) problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
+  d->method = (rl_rot_method)choice(&r, K_INTEGRATOR);
+  int ens = choice(&r, K_ENSEMBLE);
+  d->thermostat = ens == 0 ? RL_THERMO_NONE : ens == 1 ? RL_THERMO_ISOKINETIC : RL_THERMO_BUSSI;
+  d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
+  if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
+  else if (ens > 0 && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
+  if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
+  d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
+  if (r.val[K_TAU] && ens != 2) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi");
+  if (!(d->tau > 0) && ens == 2) problem(&r, r.line[K_TAU], "run.tau must be positive");
+  d->equilibrate_steps = integer(&r, K_EQSTEPS, 0, 0);
+  d->equilibrate_timestep = number(&r, K_EQDT, u, 0, 0.25 * d->timestep);
+  if (!(d->equilibrate_timestep > 0)) problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
+  d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
+  if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run (the starting velocities)");
+  else if (!(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
+    problem(&r, r.line[K_TEMP], "system.temperature must be positive");
+  if (d->equilibrate_steps > 0 && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
+  /* an absurd step: no step can resolve a thermal rotation with h omega > 1 */
+  if (d->model && d->timestep > 0 && d->temperature > 0) {
+    rl_molecule m;
+    if (!rl_model_build(d->model, d->params, 0, &m) && m.kind != RL_KIND_POINT) {
+      double Jmin = INFINITY;
+      for (int a = 0; a < 3; a++) if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
+      double w = sqrt(rl_units_kB(u) * d->temperature / Jmin), hw = d->timestep * w;
+      if (hw > 1.0)
+        problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s: h times the thermal "
+                "angular velocity is %.2f > 1, no step can follow the rotation", d->timestep,
+                rl_dim_unit(Q_TIME, u), d->model->name, d->temperature, rl_dim_unit(Q_TEMPERATURE, u), hw);
+    }
+  }
+  d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
+  d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
+  /* [output] */
+  if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
+  else {
+    snprintf(d->prefix, sizeof d->prefix, "%s", path);
+    size_t n = strlen(d->prefix);
+    if (n > 4 && !strcmp(d->prefix + n - 4, ".ini")) d->prefix[n - 4] = '\0';
+  }
+  d->thermo_every = integer(&r, K_THERMO, 1, 100);
+  int pr = choice(&r, K_PROGRESS);
+  d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
+
+  for (int k = 0; k < NKEYS; k++) free(r.val[k]);
+  for (int i = 0; i < r.nmodel; i++) { free(r.model_key[i]); free(r.model_val[i]); }
+  return r.problems;
+}
+
+
+void rl_deck_print_keys(FILE *f, int md)
+{
+  const char *sec = "";
+  if (md)
+    fprintf(f, "# Deck keys\n\nGenerated by `rotleap deck-keys --markdown` from the key table in "
+               "`app/deck.c`; `tests` checks that this file matches it.\n\n"
+               "A deck is an INI file. Numbers take a unit suffix in real units (`2 fs`, `0.9 nm`, "
+               "`9 A`, `298 K`, `1 g/cm3`); a bare number is in the default unit shown. Reduced "
+               "(lj) models take bare numbers only. `--set section.key=value` overrides any key. "
+               "Model parameters go in `[model]` (see `rotleap models`).\n");
+  for (int k = 0; k < NKEYS; k++) {
+    const key_def *K = &keys[k];
+    if (strcmp(sec, K->section)) {
+      sec = K->section;
+      if (md) fprintf(f, "\n## [%s]\n\n| key | type | unit (real) | default | meaning |\n|---|---|---|---|---|\n", sec);
+      else fprintf(f, "\n[%s]\n", sec);
+    }
+    const char *type = K->type == K_CHOICE ? K->choices : K->type == K_INT ? "integer" : K->type == K_BOOL ? "yes/no"
+                     : K->type == K_REAL ? "number" : K->dim == Q_LENGTH ? "lengths" : "text";
+    const char *unit = K->dim == Q_NONE ? "" : rl_dim_unit(K->dim, RL_UNITS_REAL);
+    if (md) fprintf(f, "| `%s` | %s | %s | %s | %s |\n", K->name, type, unit, K->def ? K->def : "", K->help);
+    else fprintf(f, "  %-22s %-34s %-7s default %-8s %s\n", K->name, type, unit, K->def ? K->def : "-", K->help);
+  }
+  if (md)
+    fprintf(f, "\n## [model]\n\nAdjustable parameters of reduced models, by name, for example "
+               "`mu = 1.5` for `stockmayer` (see `rotleap models`).\n");
+}

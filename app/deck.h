@@ -1,0 +1,48 @@
+/* Decks: INI files (parsed by libinih) describing a run.  One table (deck.c) lists every key with
+ * its section, type, unit, default and meaning; it drives parsing, validation, `rotleap run
+ * --help` and docs/deck.md (`rotleap deck-keys --markdown`). */
+#ifndef ROTLEAP_APP_DECK_H
+#define ROTLEAP_APP_DECK_H
+
+#include <rotleap/rotleap.h>
+#include <stdio.h>
+
+typedef struct {
+  /* [system] */
+  const rl_model *model;
+  double params[RL_MODEL_MAX_PARAMS];
+  int force_general;
+  int count;
+  double box[3];            /* resolved: from `box` or from `density`                   */
+  rl_lattice lattice;
+  int random_orientations;
+  unsigned long seed;
+  double temperature;       /* initial Maxwell-Boltzmann temperature                    */
+  /* [interactions] */
+  rl_ff_params ff;
+  /* [run] */
+  long steps;
+  double timestep;
+  rl_rot_method method;
+  rl_thermostat thermostat;
+  double thermostat_temperature, tau;
+  unsigned long thermostat_seed;
+  long equilibrate_steps;
+  double equilibrate_timestep;
+  /* [output] */
+  char prefix[512];
+  long thermo_every;
+  int progress;             /* -1 auto (a terminal), 0 no, 1 yes                        */
+  rl_units units;
+  char path[512];
+} rl_deck;
+
+/* Parse `path` with the overrides `sets` ("section.key=value", nsets of them).  Every problem is
+ * reported, one line each ("FILE:LINE: message", "--set section.key: message"), to `err`;
+ * returns the number of problems (0 = the deck is usable). */
+int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err);
+
+/* Print every key: as text (for --help) or as the Markdown of docs/deck.md. */
+void rl_deck_print_keys(FILE *f, int markdown);
+
+#endif

@@ -1,0 +1,91 @@
+/* Unit suffixes for deck values.  Conversion factors: 1 A = 0.1 nm; 1 fs = 1e-3 ps;
+ * 1 g/cm^3 = 602.214076 amu/nm^3 (N_A 1e-21); 1 kcal = 4.184 kJ; energies given in K mean k_B T. */
+#include "quantity.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+  rl_dim dim;
+  const char *suffix;
+  double factor;
+} unit_def;
+
+static const unit_def units[] = {
+    {Q_LENGTH, "nm", 1.0},        {Q_LENGTH, "A", 0.1},          {Q_LENGTH, "Å", 0.1},
+    {Q_LENGTH, "angstrom", 0.1},  {Q_LENGTH, "pm", 1e-3},        {Q_TIME, "ps", 1.0},
+    {Q_TIME, "fs", 1e-3},         {Q_TIME, "ns", 1e3},           {Q_TEMPERATURE, "K", 1.0},
+    {Q_DENSITY, "g/cm3", 602.214076}, {Q_DENSITY, "g/cm^3", 602.214076}, {Q_DENSITY, "kg/m3", 0.602214076},
+    {Q_ENERGY, "kJ/mol", 1.0},    {Q_ENERGY, "kcal/mol", 4.184}, {Q_ENERGY, "K", RL_KB_KJMOL},
+};
+
+const char *rl_dim_unit(rl_dim dim, rl_units u)
+{
+  if (u == RL_UNITS_LJ) return dim == Q_NONE ? "" : "reduced";
+  switch (dim) {
+  case Q_LENGTH: return "nm";
+  case Q_TIME: return "ps";
+  case Q_TEMPERATURE: return "K";
+  case Q_DENSITY: return "g/cm3";
+  case Q_ENERGY: return "kJ/mol";
+  default: return "";
+  }
+}
+
+const char *rl_dim_suffixes(rl_dim dim)
+{
+  switch (dim) {
+  case Q_LENGTH: return "nm, A, pm";
+  case Q_TIME: return "fs, ps, ns";
+  case Q_TEMPERATURE: return "K";
+  case Q_DENSITY: return "g/cm3, kg/m3";
+  case Q_ENERGY: return "kJ/mol, kcal/mol, K";
+  default: return "";
+  }
+}
+
+int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, double *out,
+                      char *err, size_t errlen)
+{
+  while (isspace((unsigned char)*text)) text++;
+  if (!*text) { snprintf(err, errlen, "empty value"); return -1; }
+  char *end;
+  errno = 0;
+  double x = strtod(text, &end);
+  if (end == text) { snprintf(err, errlen, "'%s' is not a number", text); return -1; }
+  if (errno == ERANGE) { snprintf(err, errlen, "'%s' is out of range", text); return -1; }
+  if (isnan(x) || (isinf(x) && !allow_inf)) {
+    snprintf(err, errlen, "'%s' is not a finite number", text);
+    return -1;
+  }
+  while (isspace((unsigned char)*end)) end++;
+  char suffix[32];
+  size_t n = strlen(end);
+  while (n > 0 && isspace((unsigned char)end[n - 1])) n--;
+  if (n >= sizeof suffix) { snprintf(err, errlen, "unit '%s' is not known", end); return -1; }
+  memcpy(suffix, end, n);
+  suffix[n] = '\0';
+  double factor = 1.0;
+  if (n > 0) {
+    if (dim == Q_NONE) { snprintf(err, errlen, "'%s' takes no unit (got '%s')", text, suffix); return -1; }
+    if (u == RL_UNITS_LJ) {
+      snprintf(err, errlen, "reduced (lj) units take no unit suffix (got '%s')", suffix);
+      return -1;
+    }
+    int found = 0;
+    for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
+      if (units[k].dim == dim && !strcmp(units[k].suffix, suffix)) { factor = units[k].factor; found = 1; break; }
+    if (!found) {
+      snprintf(err, errlen, "unit '%s' is not a %s unit (use %s)", suffix,
+               dim == Q_LENGTH ? "length" : dim == Q_TIME ? "time" : dim == Q_TEMPERATURE ? "temperature"
+               : dim == Q_DENSITY ? "density" : "energy", rl_dim_suffixes(dim));
+      return -1;
+    }
+  }
+  *out = x * factor;
+  return 0;
+}
