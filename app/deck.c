@@ -65,6 +65,7 @@ static const key_def keys[NKEYS] = {
 typedef struct {
   char *val[NKEYS];
   int line[NKEYS];                  /* 0 = default, -1 = --set                                */
+  int bad[NKEYS];                   /* the value could not be parsed: skip checks built on it */
   char *model_key[RL_MODEL_MAX_PARAMS], *model_val[RL_MODEL_MAX_PARAMS];
   int model_line[RL_MODEL_MAX_PARAMS], nmodel;
   const char *path;
@@ -158,6 +159,7 @@ static int choice(raw_deck *r, int k)
     p = e + 1;
   }
   problem(r, r->line[k], "%s.%s: '%s' is not one of %s", keys[k].section, keys[k].name, v, c);
+  r->bad[k] = 1;
   return 0;
 }
 
@@ -169,6 +171,7 @@ static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallb
   char msg[256];
   if (rl_parse_quantity(v, keys[k].dim, u, allow_inf, &x, msg, sizeof msg)) {
     problem(r, r->line[k], "%s.%s: %s", keys[k].section, keys[k].name, msg);
+    r->bad[k] = 1;
     return fallback;
   }
   return x;
@@ -181,8 +184,8 @@ static long integer(raw_deck *r, int k, long lo, long fallback)
   char *end;
   long x = strtol(v, &end, 10);
   while (*end == ' ' || *end == '\t') end++;
-  if (end == v || *end) { problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); return fallback; }
-  if (x < lo) { problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); return fallback; }
+  if (end == v || *end) { problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); r->bad[k] = 1; return fallback; }
+  if (x < lo) { problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); r->bad[k] = 1; return fallback; }
   return x;
 }
 
@@ -331,7 +334,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   require(&r, K_DT);
   d->steps = integer(&r, K_STEPS, 0, 0);
   d->timestep = number(&r, K_DT, u, 0, 0.0);
-  if (r.val[K_DT] && !(d->timestep > 0)) problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
+  if (r.val[K_DT] && !r.bad[K_DT] && !(d->timestep > 0)) problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
   d->method = (rl_rot_method)choice(&r, K_INTEGRATOR);
   int ens = choice(&r, K_ENSEMBLE);
   d->thermostat = ens == 0 ? RL_THERMO_NONE : ens == 1 ? RL_THERMO_ISOKINETIC : RL_THERMO_BUSSI;
@@ -341,10 +344,12 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
   if (r.val[K_TAU] && ens != 2) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi");
-  if (!(d->tau > 0) && ens == 2) problem(&r, r.line[K_TAU], "run.tau must be positive");
+  if (!(d->tau > 0) && ens == 2 && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
+    problem(&r, r.line[K_TAU], "run.tau must be positive");
   d->equilibrate_steps = integer(&r, K_EQSTEPS, 0, 0);
   d->equilibrate_timestep = number(&r, K_EQDT, u, 0, 0.25 * d->timestep);
-  if (!(d->equilibrate_timestep > 0)) problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
+  if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
+    problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
   if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run (the starting velocities)");
   else if (!(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
