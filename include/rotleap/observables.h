@@ -199,7 +199,11 @@ void rl_unwrap(const double L[3], const double (*prev)[3], const double (*x)[3],
  * half-step values in between). */
 void rl_system_positions(const rl_system *sys, double (*r)[3]);
 void rl_system_velocities(const rl_system *sys, double (*v)[3]);
-void rl_system_axes(const rl_system *sys, double (*u)[3]); /* body Z in the lab */
+/* Body Z in the lab.  This is the dipole axis for point dipoles and linear molecules (and
+ * symmetric tops with the dipole on the unique axis) but NOT for water: TIP4P's dipole lies
+ * along its C2 axis, perpendicular to body Z.  For a dipole-axis ACF of any model feed the
+ * molecular dipoles mu_i of rl_system_dipoles (P1/P2 normalise them). */
+void rl_system_axes(const rl_system *sys, double (*u)[3]);
 /* Lab angular velocity: matrix bodies omega = A^T J^-1 A l; axis bodies (dipole, linear) the
  * part of l / J_perp perpendicular to rho (J_perp = J_XX); point bodies 0. */
 void rl_system_angular_velocities(const rl_system *sys, double (*w)[3]);

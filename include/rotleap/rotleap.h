@@ -11,4 +11,6 @@
 #include "rotleap/molecule.h"
 #include "rotleap/catalog.h"
 #include "rotleap/forcefield.h"
+#include "rotleap/observables.h"
+#include "rotleap/io.h"
 #endif
