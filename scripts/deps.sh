@@ -3,7 +3,7 @@
 # everything is already installed.  Usage: scripts/deps.sh [build|test|validate]
 set -euo pipefail
 build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMake, GSL, INI decks
-testdeps=(libcmocka-dev python3)                              # unit-test framework; JSON check
+testdeps=(libcmocka-dev python3 python3-mdtraj)               # unit tests; JSON check; MDTraj reads our DCD
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
 want=("${build[@]}")
 case "${1:-build}" in

@@ -1,0 +1,369 @@
+/* PDB: topology/structure writer and a reader of starting states that recovers each rigid
+ * molecule's centre and orientation by a least-squares fit of its body-frame sites. */
+#include "io_internal.h"
+#include "rotleap/error.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_matrix.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------------------- writing */
+
+static void element_of(const rl_system *sys, const rl_molecule *const *mols, int k, int a,
+                       const char *name, char el[3])
+{
+  el[0] = '\0';
+  if (sys->units != RL_UNITS_REAL) return;
+  const rl_molecule *m = mols ? mols[k] : NULL;
+  if (m && a < m->nsites && m->site_mass[a] == 0.0) return; /* virtual site: no element */
+  int n = 0;
+  while (n < 2 && isalpha((unsigned char)name[n])) n++;
+  if (n == 0) return;
+  /* one-letter elements of the catalogue first (H1 -> H, not a two-letter guess) */
+  el[0] = name[0];
+  el[1] = '\0';
+  if (n == 2 && islower((unsigned char)name[1])) { el[1] = name[1]; el[2] = '\0'; }
+}
+
+int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *const *mols,
+                 const double box[3])
+{
+  if (!path || !sys) return rl_error(RL_EINVAL, "rl_pdb_write: NULL argument");
+  double s = rl_io_length_scale(sys);
+  double(*x)[3] = rl_io_atom_positions(sys);
+  if (!x) return rl_error_wrap(RL_ENOMEM, "%s", path);
+  int na = rl_io_natoms(sys);
+  for (int a = 0; a < na; a++)
+    for (int c = 0; c < 3; c++)
+      if (!(fabs(x[a][c] * s) < 9999.9995)) {
+        double bad = x[a][c] * s;
+        free(x);
+        return rl_error(RL_EINVAL, "%s: atom %d coordinate %g does not fit PDB's %%8.3f field", path,
+                        a + 1, bad);
+      }
+  rl_atomic_file af;
+  int st = rl_atomic_open(&af, path);
+  if (st) { free(x); return st; }
+  FILE *fp = af.fp;
+  fprintf(fp, "REMARK   1 rotleap %s; lengths in %s\n", "structure",
+          sys->units == RL_UNITS_REAL ? "Angstrom" : "reduced units (sigma)");
+  if (box) fprintf(fp, "CRYST1%9.3f%9.3f%9.3f%7.2f%7.2f%7.2f P 1           1\n", box[0] * s, box[1] * s, box[2] * s, 90.0, 90.0, 90.0);
+  int o = 0;
+  for (int k = 0; k < sys->nspecies; k++) {
+    const rl_species *sp = &sys->sp[k];
+    char res[4];
+    rl_io_res_name(sys, k, res);
+    int ns = sp->nsites > 0 ? sp->nsites : 1;
+    for (int b = 0; b < sp->count; b++) {
+      int i = sp->first + b;
+      for (int a = 0; a < ns; a++, o++) {
+        char nm[8], el[3], field[12];
+        rl_io_site_name(sys, mols, k, a, nm);
+        element_of(sys, mols, k, a, nm, el);
+        if (strlen(nm) < 4) snprintf(field, sizeof field, " %-3.3s", nm);
+        else snprintf(field, sizeof field, "%-4.4s", nm);
+        fprintf(fp, "ATOM  %5d %-4s %-3s A%4d    %8.3f%8.3f%8.3f%6.2f%6.2f          %2s\n",
+                (o + 1) % 100000, field, res, (i + 1) % 10000, x[o][0] * s, x[o][1] * s, x[o][2] * s,
+                1.0, 0.0, el);
+      }
+    }
+  }
+  fprintf(fp, "TER\nEND\n");
+  free(x);
+  return rl_atomic_commit(&af);
+}
+
+/* ---------------------------------------------------------------------------- reading */
+
+typedef struct {
+  double x[3];
+  char name[5];
+  int line;
+} pdb_atom;
+
+typedef struct {
+  int first, count, line, seq;
+  char name[4];
+} pdb_res;
+
+typedef struct {
+  pdb_atom *atoms;
+  pdb_res *res;
+  int natoms, nres, cap_atoms, cap_res;
+  double box[3];
+  int has_box;
+} pdb_data;
+
+static void pdb_data_free(pdb_data *p)
+{
+  free(p->atoms);
+  free(p->res);
+}
+
+/* Copy columns [c0, c1] (1-based, inclusive) of line, trimmed. */
+static void field(const char *line, size_t len, int c0, int c1, char *out, size_t outsz)
+{
+  size_t n = 0;
+  for (int c = c0; c <= c1 && (size_t)c <= len && n + 1 < outsz; c++) out[n++] = line[c - 1];
+  out[n] = '\0';
+  while (n > 0 && isspace((unsigned char)out[n - 1])) out[--n] = '\0';
+  size_t s = 0;
+  while (out[s] && isspace((unsigned char)out[s])) s++;
+  if (s) memmove(out, out + s, n - s + 1);
+}
+
+static int number(const char *path, int lineno, const char *line, size_t len, int c0, int c1,
+                  const char *what, double *v)
+{
+  char buf[32], *end;
+  field(line, len, c0, c1, buf, sizeof buf);
+  errno = 0;
+  *v = strtod(buf, &end);
+  if (!buf[0] || *end || errno || !isfinite(*v))
+    return rl_error(RL_EINVAL, "%s:%d: %s in columns %d-%d is not a number: '%s'", path, lineno,
+                    what, c0, c1, buf);
+  return RL_OK;
+}
+
+static int parse_pdb(const char *path, pdb_data *p)
+{
+  memset(p, 0, sizeof *p);
+  FILE *fp = fopen(path, "r");
+  if (!fp) {
+    int e = errno;
+    return rl_error(RL_EINVAL, "%s: cannot open: %s", path, strerror(e));
+  }
+  char line[512];
+  int lineno = 0, st = RL_OK, new_res = 1;
+  char prev_key[16] = "";
+  while (fgets(line, sizeof line, fp)) {
+    lineno++;
+    size_t len = strlen(line);
+    if (len == sizeof line - 1 && line[len - 1] != '\n') {
+      st = rl_error(RL_EINVAL, "%s:%d: line longer than %d characters", path, lineno, (int)sizeof line - 2);
+      break;
+    }
+    while (len && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
+    if (strncmp(line, "ENDMDL", 6) == 0 || strncmp(line, "END", 3) == 0) break; /* first model */
+    if (strncmp(line, "TER", 3) == 0) { new_res = 1; continue; }
+    if (strncmp(line, "CRYST1", 6) == 0) {
+      double ang[3];
+      for (int c = 0; c < 3 && !st; c++) st = number(path, lineno, line, len, 7 + 9 * c, 15 + 9 * c, "CRYST1 cell length", &p->box[c]);
+      for (int c = 0; c < 3 && !st; c++) st = number(path, lineno, line, len, 34 + 7 * c, 40 + 7 * c, "CRYST1 cell angle", &ang[c]);
+      if (st) break;
+      for (int c = 0; c < 3; c++)
+        if (fabs(ang[c] - 90.0) > 0.01) {
+          st = rl_error(RL_EINVAL, "%s:%d: CRYST1 angles %.2f %.2f %.2f: only orthorhombic boxes (90 degrees) are supported",
+                        path, lineno, ang[0], ang[1], ang[2]);
+          break;
+        }
+      if (st) break;
+      p->has_box = 1;
+      continue;
+    }
+    if (strncmp(line, "ATOM  ", 6) != 0 && strncmp(line, "HETATM", 6) != 0) continue;
+    if (len < 54) {
+      st = rl_error(RL_EINVAL, "%s:%d: ATOM record has %d columns, coordinates need 54", path, lineno, (int)len);
+      break;
+    }
+    if (p->natoms == p->cap_atoms) {
+      int cap = p->cap_atoms ? 2 * p->cap_atoms : 1024;
+      pdb_atom *n = realloc(p->atoms, sizeof *n * (size_t)cap);
+      if (!n) { st = rl_error(RL_ENOMEM, "%s:%d: out of memory", path, lineno); break; }
+      p->atoms = n;
+      p->cap_atoms = cap;
+    }
+    pdb_atom *at = &p->atoms[p->natoms];
+    static const char *axis[3] = {"x", "y", "z"};
+    for (int c = 0; c < 3 && !st; c++) st = number(path, lineno, line, len, 31 + 8 * c, 38 + 8 * c, axis[c], &at->x[c]);
+    if (st) break;
+    field(line, len, 13, 16, at->name, sizeof at->name);
+    at->line = lineno;
+    char key[16], resname[4], seq[8];
+    field(line, len, 18, 20, resname, sizeof resname);
+    field(line, len, 23, 26, seq, sizeof seq);
+    snprintf(key, sizeof key, "%c|%s|%s", len >= 22 ? line[21] : ' ', seq, resname);
+    if (new_res || strcmp(key, prev_key) != 0) {
+      if (p->nres == p->cap_res) {
+        int cap = p->cap_res ? 2 * p->cap_res : 256;
+        pdb_res *n = realloc(p->res, sizeof *n * (size_t)cap);
+        if (!n) { st = rl_error(RL_ENOMEM, "%s:%d: out of memory", path, lineno); break; }
+        p->res = n;
+        p->cap_res = cap;
+      }
+      pdb_res *r = &p->res[p->nres++];
+      r->first = p->natoms;
+      r->count = 0;
+      r->line = lineno;
+      r->seq = atoi(seq);
+      snprintf(r->name, sizeof r->name, "%s", resname);
+      strcpy(prev_key, key);
+      new_res = 0;
+    }
+    p->res[p->nres - 1].count++;
+    p->natoms++;
+  }
+  if (!st && ferror(fp)) st = rl_error(RL_EINVAL, "%s: read error", path);
+  fclose(fp);
+  if (st) pdb_data_free(p);
+  return st;
+}
+
+int rl_pdb_count(const char *path, rl_units units, int *nres, double box[3])
+{
+  pdb_data p;
+  int st = parse_pdb(path, &p);
+  if (st) return st;
+  if (nres) *nres = p.nres;
+  if (box)
+    for (int c = 0; c < 3; c++) box[c] = p.has_box ? p.box[c] / (units == RL_UNITS_REAL ? 10.0 : 1.0) : 0.0;
+  pdb_data_free(&p);
+  return RL_OK;
+}
+
+/* Least-squares rotation R (row-major) with y_a ~ R z_a for centred point sets (Horn 1987,
+ * J. Opt. Soc. Am. A 4, 629: the unit quaternion is the top eigenvector of a 4x4 matrix). */
+static int fit_rotation(int n, const double (*z)[3], const double (*y)[3], double R[9])
+{
+  double S[3][3] = {{0}};
+  for (int a = 0; a < n; a++)
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) S[i][j] += z[a][i] * y[a][j];
+  double N[16] = {
+      S[0][0] + S[1][1] + S[2][2], S[1][2] - S[2][1], S[2][0] - S[0][2], S[0][1] - S[1][0],
+      S[1][2] - S[2][1], S[0][0] - S[1][1] - S[2][2], S[0][1] + S[1][0], S[2][0] + S[0][2],
+      S[2][0] - S[0][2], S[0][1] + S[1][0], -S[0][0] + S[1][1] - S[2][2], S[1][2] + S[2][1],
+      S[0][1] - S[1][0], S[2][0] + S[0][2], S[1][2] + S[2][1], -S[0][0] - S[1][1] + S[2][2]};
+  gsl_matrix_view Nv = gsl_matrix_view_array(N, 4, 4);
+  gsl_vector *eval = gsl_vector_alloc(4);
+  gsl_matrix *evec = gsl_matrix_alloc(4, 4);
+  gsl_eigen_symmv_workspace *w = gsl_eigen_symmv_alloc(4);
+  if (!eval || !evec || !w) {
+    gsl_vector_free(eval); gsl_matrix_free(evec); gsl_eigen_symmv_free(w);
+    return RL_ENOMEM;
+  }
+  gsl_eigen_symmv(&Nv.matrix, eval, evec, w);
+  gsl_eigen_symmv_sort(eval, evec, GSL_EIGEN_SORT_VAL_DESC);
+  double q[4], nq = 0.0;
+  for (int k = 0; k < 4; k++) { q[k] = gsl_matrix_get(evec, (size_t)k, 0); nq += q[k] * q[k]; }
+  gsl_vector_free(eval); gsl_matrix_free(evec); gsl_eigen_symmv_free(w);
+  nq = sqrt(nq);
+  double qw = q[0] / nq, qx = q[1] / nq, qy = q[2] / nq, qz = q[3] / nq;
+  R[0] = qw * qw + qx * qx - qy * qy - qz * qz;
+  R[1] = 2.0 * (qx * qy - qw * qz);
+  R[2] = 2.0 * (qx * qz + qw * qy);
+  R[3] = 2.0 * (qx * qy + qw * qz);
+  R[4] = qw * qw - qx * qx + qy * qy - qz * qz;
+  R[5] = 2.0 * (qy * qz - qw * qx);
+  R[6] = 2.0 * (qx * qz - qw * qy);
+  R[7] = 2.0 * (qy * qz + qw * qx);
+  R[8] = qw * qw - qx * qx - qy * qy + qz * qz;
+  return RL_OK;
+}
+
+int rl_pdb_read_state(const char *path, rl_system *sys, const rl_molecule *const *mols, double tol,
+                      double *rms_max, double box[3])
+{
+  if (!path || !sys) return rl_error(RL_EINVAL, "rl_pdb_read_state: NULL argument");
+  pdb_data p;
+  int st = parse_pdb(path, &p);
+  if (st) return st;
+  double s = rl_io_length_scale(sys);
+  const char *lu = sys->units == RL_UNITS_REAL ? "A" : "sigma";
+  if (tol <= 0.0) tol = 0.01 / s;
+  if (p.nres != sys->n) {
+    st = rl_error(RL_EINVAL, "%s: %d residues (molecules), the system has %d", path, p.nres, sys->n);
+    goto done;
+  }
+  double L[3];
+  for (int c = 0; c < 3; c++) L[c] = p.has_box ? p.box[c] / s : 0.0;
+  double worst = 0.0;
+  for (int i = 0; i < sys->n && !st; i++) {
+    int k = sys->species_of[i];
+    const rl_species *sp = &sys->sp[k];
+    const pdb_res *r = &p.res[i];
+    int ns = sp->nsites > 0 ? sp->nsites : 1;
+    if (r->count != ns) {
+      st = rl_error(RL_EINVAL, "%s:%d: residue %s %d (molecule %d) has %d atoms, species '%s' has %d sites",
+                    path, r->line, r->name, r->seq, i + 1, r->count, sp->name, ns);
+      break;
+    }
+    const pdb_atom *at = &p.atoms[r->first];
+    if (mols && mols[k]) {
+      for (int a = 0; a < ns; a++) {
+        char want[8];
+        rl_io_site_name(sys, mols, k, a, want);
+        const char *orig = a < mols[k]->nsites ? mols[k]->site_names[a] : want;
+        if (strcmp(at[a].name, want) != 0 && strcmp(at[a].name, orig) != 0) {
+          st = rl_error(RL_EINVAL, "%s:%d: residue %s %d atom '%s' is not site %d '%s' of species '%s'",
+                        path, at[a].line, r->name, r->seq, at[a].name, a + 1, want, sp->name);
+          break;
+        }
+      }
+      if (st) break;
+    }
+    double y[RL_MOLECULE_MAX_SITES][3], z[RL_MOLECULE_MAX_SITES][3], yc[3] = {0, 0, 0}, zc[3] = {0, 0, 0};
+    if (ns > RL_MOLECULE_MAX_SITES) { st = rl_error(RL_EINVAL, "%s: species '%s' has too many sites", path, sp->name); break; }
+    for (int a = 0; a < ns; a++)
+      for (int c = 0; c < 3; c++) {
+        double v = at[a].x[c] / s;
+        if (a > 0 && L[c] > 0.0) v -= L[c] * round((v - at[0].x[c] / s) / L[c]); /* make whole */
+        y[a][c] = v;
+        z[a][c] = sp->nsites > 0 ? sp->sites[3 * a + c] : 0.0;
+        yc[c] += v / ns;
+        zc[c] += z[a][c] / ns;
+      }
+    double A[9];
+    rl_system_get_orientation(sys, i, A);
+    double R[9] = {A[0], A[3], A[6], A[1], A[4], A[7], A[2], A[5], A[8]}; /* keep: A^T */
+    if (ns >= 2 && sp->kind != RL_KIND_POINT) {
+      for (int a = 0; a < ns; a++)
+        for (int c = 0; c < 3; c++) { y[a][c] -= yc[c]; z[a][c] -= zc[c]; }
+      if ((st = fit_rotation(ns, (const double(*)[3])z, (const double(*)[3])y, R))) {
+        st = rl_error(st, "%s:%d: residue %s %d: out of memory in the fit", path, r->line, r->name, r->seq);
+        break;
+      }
+      for (int a = 0; a < ns; a++)
+        for (int c = 0; c < 3; c++) { y[a][c] += yc[c]; z[a][c] += zc[c]; }
+    }
+    /* centre: r = ybar - R zbar; RMS of y_a - (r + R z_a) */
+    double rc[3], ss = 0.0;
+    for (int c = 0; c < 3; c++) rc[c] = yc[c] - (R[3 * c] * zc[0] + R[3 * c + 1] * zc[1] + R[3 * c + 2] * zc[2]);
+    for (int a = 0; a < ns; a++)
+      for (int c = 0; c < 3; c++) {
+        double d = y[a][c] - rc[c] - (R[3 * c] * z[a][0] + R[3 * c + 1] * z[a][1] + R[3 * c + 2] * z[a][2]);
+        ss += d * d;
+      }
+    double rms = sqrt(ss / ns);
+    if (!(rms <= tol)) {
+      st = rl_error(RL_EINVAL, "%s:%d: residue %s %d (molecule %d): its geometry does not match species "
+                    "'%s': RMS fit error %.4g %s > tolerance %.4g %s",
+                    path, r->line, r->name, r->seq, i + 1, sp->name, rms * s, lu, tol * s, lu);
+      break;
+    }
+    if (rms > worst) worst = rms;
+    if ((st = rl_system_set_position(sys, i, rc))) { st = rl_error_wrap(st, "%s:%d", path, r->line); break; }
+    if (ns >= 2 && sp->kind != RL_KIND_POINT) {
+      double At[9] = {R[0], R[3], R[6], R[1], R[4], R[7], R[2], R[5], R[8]};
+      if (rl_kind_is_axis(sp->kind)) {
+        double n = sqrt(At[6] * At[6] + At[7] * At[7] + At[8] * At[8]);
+        double rho[3] = {At[6] / n, At[7] / n, At[8] / n};
+        st = rl_system_set_axis(sys, i, rho);
+      } else {
+        st = rl_system_set_orientation(sys, i, At);
+      }
+      if (st) { st = rl_error_wrap(st, "%s:%d", path, r->line); break; }
+    }
+  }
+  if (!st) {
+    if (rms_max) *rms_max = worst;
+    if (box) for (int c = 0; c < 3; c++) box[c] = L[c];
+  }
+done:
+  pdb_data_free(&p);
+  return st;
+}

@@ -1,0 +1,106 @@
+/* DCD + PDB topology for MDTraj/VMD: writes io_traj.dcd, io_traj.pdb and io_traj_ref.txt (the
+ * coordinates and boxes written, in Angstrom, full precision) for mdtraj_read.py (test_io_mdtraj),
+ * after checking the DCD's layout here: header frame count, file size per frame, and that a
+ * restart (rl_dcd_append keeping 2 of 4 frames) continues the file correctly. */
+#include "io_testutil.h"
+
+#include <sys/stat.h>
+
+static const char *NAMES[2] = {"tip4p", "Ar"};
+static const int COUNTS[2] = {27, 5};
+
+static long file_size(const char *path)
+{
+  struct stat st;
+  return stat(path, &st) == 0 ? (long)st.st_size : -1L;
+}
+
+static long header_nset(const char *path)
+{
+  FILE *fp = fopen(path, "rb");
+  assert_non_null(fp);
+  unsigned char b[12];
+  assert_int_equal(fread(b, 1, 12, fp), 12);
+  fclose(fp);
+  return (long)b[8] | (long)b[9] << 8 | (long)b[10] << 16 | (long)b[11] << 24;
+}
+
+static void ref_frame(FILE *ref, const rl_system *sys, const double box[3])
+{
+  int na = rl_io_natoms(sys), ns = rl_system_nsites(sys);
+  double(*x)[3] = malloc(sizeof *x * (size_t)ns);
+  assert_non_null(x);
+  rl_system_site_positions(sys, x); /* every species here has sites: atoms = sites */
+  assert_int_equal(na, ns);
+  fprintf(ref, "box %.9f %.9f %.9f\n", box[0] * 10, box[1] * 10, box[2] * 10);
+  for (int a = 0; a < na; a++) fprintf(ref, "%.9f %.9f %.9f\n", x[a][0] * 10, x[a][1] * 10, x[a][2] * 10);
+  free(x);
+}
+
+static void write_files(void **state)
+{
+  (void)state;
+  io_scene s;
+  io_scene_build(&s, RL_UNITS_REAL, NAMES, COUNTS, 2, 1.5, 1);
+  const char *dcd = "io_traj.dcd", *pdb = "io_traj.pdb";
+  assert_int_equal(rl_pdb_write(pdb, s.sys, s.mols, s.box), RL_OK);
+  rl_dcd *d = rl_dcd_create(dcd, s.sys, 0, 10, 0.002, "rotleap test_io_dcd");
+  assert_non_null(d);
+  int na = rl_io_natoms(s.sys);
+  long fb = 56L + 3L * (8L + 4L * na);
+  double boxes[6][3];
+  for (int f = 0; f < 4; f++) {
+    double L = 1.5 + 0.01 * f;
+    boxes[f][0] = L; boxes[f][1] = L + 0.1; boxes[f][2] = L + 0.2;
+    assert_int_equal(rl_system_lattice(s.sys, boxes[f], RL_LATTICE_FCC, 1, 100 + (unsigned long)f), RL_OK);
+    assert_int_equal(rl_dcd_write_frame(d, s.sys, boxes[f]), RL_OK);
+  }
+  CHECK_TRUE("DCD header NSET counts frames as they are written", header_nset(dcd) == 4);
+  assert_int_equal(rl_dcd_close(d), RL_OK);
+  CHECK_TRUE("DCD size = 276-byte header + 4 frames x (56 + 3 (8 + 4 natom))", file_size(dcd) == 276 + 4 * fb);
+
+  /* restart: keep 2 frames, append 2 new ones */
+  d = rl_dcd_append(dcd, s.sys, 2);
+  assert_non_null(d);
+  CHECK_TRUE("DCD append: truncated to the 2 frames kept", header_nset(dcd) == 2 && file_size(dcd) == 276 + 2 * fb);
+  for (int f = 4; f < 6; f++) {
+    double L = 1.5 + 0.01 * f;
+    boxes[f][0] = L; boxes[f][1] = L + 0.1; boxes[f][2] = L + 0.2;
+    assert_int_equal(rl_system_lattice(s.sys, boxes[f], RL_LATTICE_FCC, 1, 100 + (unsigned long)f), RL_OK);
+    assert_int_equal(rl_dcd_write_frame(d, s.sys, boxes[f]), RL_OK);
+  }
+  assert_int_equal(rl_dcd_close(d), RL_OK);
+  CHECK_TRUE("DCD append: 4 frames after the restart", header_nset(dcd) == 4 && file_size(dcd) == 276 + 4 * fb);
+  CHECK_MSG("DCD append: keeping more frames than present is an error", rl_dcd_append(dcd, s.sys, 9) == NULL,
+            1, "holds 4 complete frames, cannot keep 9");
+  io_scene t;
+  int other[2] = {27, 6};
+  io_scene_build(&t, RL_UNITS_REAL, NAMES, other, 2, 1.5, 1);
+  CHECK_MSG("DCD append: a different atom count is an error", rl_dcd_append(dcd, t.sys, 1) == NULL, 1,
+            "DCD has 113 atoms, the system writes 114");
+  io_scene_free(&t);
+
+  /* the reference: frames 0, 1 (kept) and 4, 5 (appended) */
+  FILE *ref = fopen("io_traj_ref.txt", "w");
+  assert_non_null(ref);
+  fprintf(ref, "natoms %d\nnframes 4\nnresidues %d\n", na, rl_system_count(s.sys));
+  fprintf(ref, "names O H1 H2 MW AR\n");
+  for (int f = 0; f < 6; f++) {
+    if (f == 2 || f == 3) continue;
+    assert_int_equal(rl_system_lattice(s.sys, boxes[f], RL_LATTICE_FCC, 1, 100 + (unsigned long)f), RL_OK);
+    ref_frame(ref, s.sys, boxes[f]);
+  }
+  /* the PDB holds the state at write time (frame "-1": the initial lattice) */
+  assert_int_equal(rl_system_lattice(s.sys, s.box, RL_LATTICE_FCC, 1, 1), RL_OK);
+  fprintf(ref, "pdb\n");
+  ref_frame(ref, s.sys, s.box);
+  fclose(ref);
+  printf("info  wrote %s, %s, io_traj_ref.txt (%d atoms)\n", dcd, pdb, na);
+  io_scene_free(&s);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {cmocka_unit_test(write_files)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
