@@ -24,10 +24,10 @@ typedef struct {
 } key_def;
 
 enum {
-  K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
+  K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TSEED, K_EQSTEPS, K_EQDT,
-  K_PREFIX, K_THERMO, K_PROGRESS, NKEYS
+  K_PREFIX, K_THERMO, K_CHECKPOINT, K_TRAJ, K_PROGRESS, NKEYS
 };
 
 static const key_def keys[NKEYS] = {
@@ -35,6 +35,7 @@ static const key_def keys[NKEYS] = {
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\" (give box or density)"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
+    [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
@@ -59,6 +60,8 @@ static const key_def keys[NKEYS] = {
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
+    [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
+    [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none): PREFIX.dcd + PREFIX.pdb for site models, PREFIX.xyz (with orientations) for dipoles, linear molecules and atoms"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
 };
 
@@ -378,6 +381,20 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     if (n > 4 && !strcmp(d->prefix + n - 4, ".ini")) d->prefix[n - 4] = '\0';
   }
   d->thermo_every = integer(&r, K_THERMO, 1, 100);
+  d->checkpoint_every = integer(&r, K_CHECKPOINT, 0, 0);
+  d->trajectory_every = integer(&r, K_TRAJ, 0, 0);
+  snprintf(d->start, sizeof d->start, "%s", strcmp(val(&r, K_START), "lattice") ? val(&r, K_START) : "");
+  if (d->start[0]) {
+    size_t n = strlen(d->start);
+    const char *ext = n > 4 ? d->start + n - 4 : "";
+    if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
+      problem(&r, r.line[K_START], "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
+    else {
+      FILE *t = fopen(d->start, "rb");
+      if (!t) problem(&r, r.line[K_START], "system.start: cannot open %s: %s", d->start, strerror(errno));
+      else fclose(t);
+    }
+  }
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 

@@ -18,6 +18,7 @@ typedef struct {
   int random_orientations;
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */
+  char start[512];          /* "" = lattice; else a .pdb, .xyz or .chk file               */
   /* [interactions] */
   rl_ff_params ff;
   /* [run] */
@@ -32,6 +33,8 @@ typedef struct {
   /* [output] */
   char prefix[512];
   long thermo_every;
+  long checkpoint_every;    /* 0: only at the end                                        */
+  long trajectory_every;    /* 0: none                                                   */
   int progress;             /* -1 auto (a terminal), 0 no, 1 yes                        */
   rl_units units;
   char path[512];

@@ -17,10 +17,16 @@ typedef struct {
   rl_molecule mol;
   rl_system *sys;
   rl_forcefield *ff;
+  int restart;          /* started from a checkpoint */
+  long step0;
+  double t0;
+  void *blob;
+  size_t blob_size;
 } scene;
 
 static void scene_free(scene *s)
 {
+  free(s->blob);
   rl_forcefield_free(s->ff);
   rl_system_free(s->sys);
 }
@@ -33,8 +39,31 @@ static int build(const rl_deck *d, scene *s)
   rl_species_desc sd;
   rl_molecule_species(&s->mol, &sd);
   if (!s->sys || rl_system_add_species(s->sys, &sd, d->count, NULL)) return 1;
-  if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed)) return 1;
-  if (rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
+  size_t n = strlen(d->start);
+  const char *ext = n > 4 ? d->start + n - 4 : "";
+  double box[3] = {0, 0, 0};
+  if (!d->start[0]) {
+    if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed)) return 1;
+  } else if (!strcmp(ext, ".chk")) {
+    rl_checkpoint_meta meta;
+    memset(&meta, 0, sizeof meta);
+    if (rl_checkpoint_read(d->start, s->sys, &meta)) return 1;
+    s->restart = 1;
+    s->step0 = meta.step;
+    s->t0 = meta.time;
+    s->blob = (void *)meta.blob;
+    s->blob_size = meta.blob_size;
+    memcpy(box, meta.box, sizeof box);
+  } else if (!strcmp(ext, ".pdb")) {
+    const rl_molecule *mols[1] = {&s->mol};
+    double rms;
+    if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
+  } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
+  for (int c = 0; c < 3; c++)
+    if (box[0] > 0 && fabs(box[c] - d->box[c]) > 1e-6 * d->box[c])
+      return rl_error(RL_EINVAL, "the box of %s (%g %g %g) differs from the deck's (%g %g %g)", d->start,
+                      box[0], box[1], box[2], d->box[0], d->box[1], d->box[2]);
+  if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
   rl_species_ff sff = rl_molecule_ff(&s->mol);
   s->ff = rl_forcefield_alloc(s->sys, &d->ff, &sff, 1);
   if (!s->ff) return 1;
@@ -140,6 +169,77 @@ static int write_atomic(const char *path, const char *text)
   return 0;
 }
 
+/* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest. */
+typedef struct {
+  long every;
+  rl_dcd *dcd;
+  FILE *xyz;
+  char path[600];
+} traj;
+
+static int site_model(const scene *s) { return s->mol.kind != RL_KIND_POINT && s->mol.kind != RL_KIND_DIPOLE && s->mol.nsites > 1; }
+
+static int traj_open(traj *t, const rl_deck *d, scene *s, long first)
+{
+  t->every = d->trajectory_every;
+  if (site_model(s)) {
+    char top[600];
+    snprintf(top, sizeof top, "%s.pdb", d->prefix);
+    snprintf(t->path, sizeof t->path, "%s.dcd", d->prefix);
+    const rl_molecule *mols[1] = {&s->mol};
+    if (rl_pdb_write(top, s->sys, mols, d->box)) return 1;
+    t->dcd = s->restart ? rl_dcd_append(t->path, s->sys, first / t->every)
+                        : rl_dcd_create(t->path, s->sys, first + t->every, t->every, d->timestep, "rotleap");
+    return t->dcd ? 0 : 1;
+  }
+  snprintf(t->path, sizeof t->path, "%s.xyz", d->prefix);
+  t->xyz = fopen(t->path, s->restart ? "a" : "w");
+  if (!t->xyz) return rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
+  return 0;
+}
+
+static int traj_frame(traj *t, scene *s, const rl_deck *d, double time, long step)
+{
+  if (t->dcd) return rl_dcd_write_frame(t->dcd, s->sys, d->box);
+  int st = rl_xyz_write_frame(t->xyz, t->path, s->sys, d->box, time, step);
+  if (!st && fflush(t->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
+  return st;
+}
+
+static void traj_close(traj *t)
+{
+  if (t->dcd) rl_dcd_close(t->dcd);
+  if (t->xyz) fclose(t->xyz);
+}
+
+/* What a checkpoint carries besides the state: the run's own bookkeeping, so that a restart
+ * continues bit for bit (thermostat account and random stream, the summary's accumulators). */
+#define RUN_BLOB_MAGIC "rotleap-run-1"
+typedef struct {
+  char magic[16];
+  double thermo_work;
+  running E, U, T, Tt, Tr, P;
+  long done;
+  unsigned long rng_size;
+} run_blob;
+
+static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const run_blob *b0, const char *path)
+{
+  run_blob b = *b0;
+  snprintf(b.magic, sizeof b.magic, "%s", RUN_BLOB_MAGIC);
+  b.thermo_work = rl_integrator_thermostat_work(in);
+  b.rng_size = (unsigned long)rl_integrator_rng_size(in);
+  size_t size = sizeof b + b.rng_size;
+  unsigned char *buf = malloc(size);
+  if (!buf) return rl_error(RL_ENOMEM, "out of memory");
+  memcpy(buf, &b, sizeof b);
+  if (b.rng_size) memcpy(buf + sizeof b, rl_integrator_rng_state(in), b.rng_size);
+  rl_checkpoint_meta meta = {rl_integrator_time(in), rl_integrator_steps(in), {d->box[0], d->box[1], d->box[2]}, buf, size};
+  int st = rl_checkpoint_write(path, s->sys, &meta);
+  free(buf);
+  return st;
+}
+
 int rl_app_run(const rl_deck *d)
 {
   scene s;
@@ -161,7 +261,7 @@ int rl_app_run(const rl_deck *d)
   rl_integrator_params p;
   rl_integrator *in = NULL;
   int st = RL_OK, n = d->count;
-  if (d->equilibrate_steps > 0) { /* isokinetic relaxation from the lattice */
+  if (d->equilibrate_steps > 0 && !s.restart) { /* isokinetic relaxation from the start */
     rl_integrator_params_default(&p);
     p.h = d->equilibrate_timestep;
     p.thermostat = RL_THERMO_ISOKINETIC;
@@ -184,15 +284,43 @@ int rl_app_run(const rl_deck *d)
   p.force_general = d->force_general;
   if (!st) {
     in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
-    st = in ? rl_integrator_init(in) : RL_EINVAL;
+    st = !in ? RL_EINVAL : s.restart ? RL_OK : rl_integrator_init(in);
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
   fprintf(thermo, "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"
                   "temperature,t_trans,t_rot,pressure,conserved,calE\n");
   running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
+  long first = 0;
+  if (!st && s.restart) { /* continue: forces at t, no re-staggering, bookkeeping restored */
+    run_blob b;
+    if (s.blob_size < sizeof b || memcmp(s.blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
+      st = rl_error(RL_EINVAL, "%s was not written by rotleap run (no run record)", d->start);
+    } else {
+      memcpy(&b, s.blob, sizeof b);
+      if (b.rng_size != rl_integrator_rng_size(in) || s.blob_size != sizeof b + b.rng_size)
+        st = rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %lu bytes, "
+                      "this run needs %lu)", d->start, b.rng_size, (unsigned long)rl_integrator_rng_size(in));
+      else {
+        st = rl_integrator_resume(in, s.step0, s.t0);
+        if (!st && b.rng_size) memcpy(rl_integrator_rng_state(in), (unsigned char *)s.blob + sizeof b, b.rng_size);
+        rl_integrator_set_thermostat_work(in, b.thermo_work);
+        E = b.E; U = b.U; T = b.T; Tt = b.Tt; Tr = b.Tr; P = b.P;
+        first = s.step0;
+      }
+    }
+    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+  }
   double t0 = now(), last_progress = 0.0;
   long done = 0, fallbacks = 0;
-  for (long k = 0; !st && k < d->steps; k++) {
+  char chk_path[600];
+  snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
+  traj tr = {0};
+  if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first)) {
+    fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    st = RL_EINVAL;
+  }
+  long done0 = E.n;
+  for (long k = first; !st && k < d->steps; k++) {
     rl_ff_energies e;
     rl_forcefield_energies(s.ff, &e); /* terms at the current time t */
     const rl_forces *F = rl_integrator_forces(in);
@@ -214,6 +342,17 @@ int rl_app_run(const rl_deck *d)
     run_add(&Tr, info.t_rot);
     run_add(&P, pr);
     done++;
+    if (tr.every && (k + 1) % tr.every == 0 && traj_frame(&tr, &s, d, rl_integrator_time(in), k + 1)) {
+      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
+      st = RL_EINVAL;
+    }
+    if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps) {
+      run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0};
+      if (write_checkpoint(d, &s, in, &b, chk_path)) {
+        fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
+        st = RL_EINVAL;
+      }
+    }
     if (k % d->thermo_every == 0)
       fprintf(thermo, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.6g,%.10g,%.4e\n",
               k, info.t, info.total, info.potential, e.lj, e.coulomb, e.dipolar, e.quadrupolar, e.dispersion,
@@ -228,6 +367,15 @@ int rl_app_run(const rl_deck *d)
     }
   }
   if (in) fallbacks = rl_integrator_fallbacks(in);
+  traj_close(&tr);
+  (void)done0;
+  if (!st && in) { /* the final state, for a continuation */
+    run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0};
+    if (write_checkpoint(d, &s, in, &b, chk_path)) {
+      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+      st = RL_EINVAL;
+    }
+  }
   if (progress) fputc('\n', stderr);
   double wall = now() - t0;
   /* the rows already written are kept whatever happened: close and rename */
@@ -236,13 +384,13 @@ int rl_app_run(const rl_deck *d)
   char text[4096];
   snprintf(text, sizeof text,
            "# rotleap %s summary of %s\n"
-           "status = %s\nsteps = %ld of %ld\nmodel = %s\nmolecules = %d\nunits = %s\n"
+           "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
            "timestep = %g %s\nwall_seconds = %.3f\nfallbacks = %ld\n"
            "U_per_molecule = %.8g +- sd %.3g %s\n"
            "temperature = %.6g (translational %.6g, rotational %.6g) %s\n"
            "pressure = %.6g +- sd %.3g %s\n"
            "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n",
-           ROTLEAP_VERSION, d->path, st ? "error" : "ok", done, d->steps, d->model->name, n,
+           ROTLEAP_VERSION, d->path, st ? "error" : "ok", E.n, d->steps, done, d->model->name, n,
            d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), wall, fallbacks,
            U.mean / n, run_sd(&U) / n, energy_unit(d), T.mean, Tt.mean, Tr.mean,
            d->units == RL_UNITS_LJ ? "" : "K", P.mean, run_sd(&P), pressure_unit(d),

@@ -372,6 +372,25 @@ int rl_integrator_reverse(rl_integrator *in)
   return RL_OK;
 }
 
+int rl_integrator_resume(rl_integrator *in, long step, double t)
+{
+  int st = validate(in->sys, &in->p);
+  if (st) return st;
+  if (in->q) { /* quaternions are rebuilt from A: a quaternion restart is exact to round-off */
+    rl_system *s = in->sys;
+    for (int i = 0; i < s->nmat; i++)
+      if ((st = rl_matrix_to_quat(s->A[i], in->q[i]))) return st;
+  }
+  in->steps = step;
+  in->t = t;
+  in->fallbacks = 0;
+  in->quat_iterations = 0;
+  in->thermo_work = 0.0;
+  if ((st = compute_forces(in))) return st;
+  in->initialized = 1;
+  return RL_OK;
+}
+
 int rl_integrator_finish(rl_integrator *in)
 {
   if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_finish: not initialised");

@@ -106,6 +106,11 @@ void rl_integrator_free(rl_integrator *in); /* accepts NULL */
 
 /* Forces at the current time, and v, l staggered back half a step. */
 int rl_integrator_init(rl_integrator *in);
+/* Continue from a state whose v and l are already the half-step values v(t-h/2), l(t-h/2) (as a
+ * stepping integrator leaves them, and as a checkpoint stores them): forces at t are computed,
+ * nothing is staggered or projected, and the step counter and time are set, so that a restart
+ * continues bit for bit.  Restore the thermostat account and RNG state after this call. */
+int rl_integrator_resume(rl_integrator *in, long step, double t);
 /* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t. */
 int rl_integrator_step(rl_integrator *in, rl_step_info *info);
 /* Time reversal at the current time: on-step v and l are negated (mid-step values become
