@@ -27,7 +27,7 @@ enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TSEED, K_EQSTEPS, K_EQDT,
-  K_PREFIX, K_THERMO, K_CHECKPOINT, K_TRAJ, K_PROGRESS, NKEYS
+  K_PREFIX, K_THERMO, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_PROGRESS, NKEYS
 };
 
 static const key_def keys[NKEYS] = {
@@ -62,6 +62,8 @@ static const key_def keys[NKEYS] = {
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
     [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none): PREFIX.dcd + PREFIX.pdb for site models, PREFIX.xyz (with orientations) for dipoles, linear molecules and atoms"},
+    [K_SAMPLE] = {"output", "sample_every", K_INT, Q_NONE, "10", NULL, "steps between configurations sampled for RDFs, correlation functions, diffusion and the dielectric constant (0: none)"},
+    [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites)"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
 };
 
@@ -383,6 +385,8 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->thermo_every = integer(&r, K_THERMO, 1, 100);
   d->checkpoint_every = integer(&r, K_CHECKPOINT, 0, 0);
   d->trajectory_every = integer(&r, K_TRAJ, 0, 0);
+  d->sample_every = integer(&r, K_SAMPLE, 0, 10);
+  snprintf(d->rdf, sizeof d->rdf, "%s", val(&r, K_RDF));
   snprintf(d->start, sizeof d->start, "%s", strcmp(val(&r, K_START), "lattice") ? val(&r, K_START) : "");
   if (d->start[0]) {
     size_t n = strlen(d->start);

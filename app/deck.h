@@ -35,6 +35,8 @@ typedef struct {
   long thermo_every;
   long checkpoint_every;    /* 0: only at the end                                        */
   long trajectory_every;    /* 0: none                                                   */
+  long sample_every;        /* configurations for RDFs and correlation functions         */
+  char rdf[256];            /* "O-O, H-H": site pairs                                    */
   int progress;             /* -1 auto (a terminal), 0 no, 1 yes                        */
   rl_units units;
   char path[512];

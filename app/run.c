@@ -1,6 +1,7 @@
 /* The run driver: deck -> system, force field, integrator -> loop -> outputs.  Thin by design:
  * the physics lives in the library. */
 #include "run.h"
+#include "analysis.h"
 #include "quantity.h"
 
 #include <errno.h>
@@ -312,6 +313,9 @@ int rl_app_run(const rl_deck *d)
   }
   double t0 = now(), last_progress = 0.0;
   long done = 0, fallbacks = 0;
+  int nrot = rl_system_nrot(s.sys);
+  rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}};
+  rl_forces *fsnap = &fsnap_store;
   char chk_path[600];
   snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
   traj tr = {0};
@@ -320,12 +324,19 @@ int rl_app_run(const rl_deck *d)
     st = RL_EINVAL;
   }
   long done0 = E.n;
+  analysis *an = NULL;
+  if (!st && !(an = analysis_alloc(d, &s.mol, s.sys))) {
+    fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    st = RL_EINVAL;
+  }
   for (long k = first; !st && k < d->steps; k++) {
     rl_ff_energies e;
     rl_forcefield_energies(s.ff, &e); /* terms at the current time t */
     const rl_forces *F = rl_integrator_forces(in);
     double virial[9];
     memcpy(virial, F->virial, sizeof virial);
+    memcpy(fsnap->f, F->f, sizeof(double[3]) * (size_t)n);
+    if (nrot) memcpy(fsnap->k, F->k, sizeof(double[3]) * (size_t)nrot);
     rl_step_info info;
     st = rl_integrator_step(in, &info);
     if (st) {
@@ -335,6 +346,11 @@ int rl_app_run(const rl_deck *d)
     rl_forces Ft = {NULL, NULL, 0.0, {0}};
     memcpy(Ft.virial, virial, sizeof virial);
     double pr = pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+    analysis_step(an, &info, pr, fsnap, s.sys);
+    if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && analysis_sample(an, s.sys)) {
+      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
+      st = RL_EINVAL;
+    }
     run_add(&E, info.total);
     run_add(&U, info.potential);
     run_add(&T, info.temperature);
@@ -369,6 +385,11 @@ int rl_app_run(const rl_deck *d)
   if (in) fallbacks = rl_integrator_fallbacks(in);
   traj_close(&tr);
   (void)done0;
+  if (an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep))
+    fprintf(stderr, "rotleap run: writing results: %s\n", rl_last_error());
+  analysis_free(an);
+  free(fsnap_store.f);
+  free(fsnap_store.k);
   if (!st && in) { /* the final state, for a continuation */
     run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0};
     if (write_checkpoint(d, &s, in, &b, chk_path)) {

@@ -4,13 +4,15 @@
 set -euo pipefail
 build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMake, GSL, INI decks
 testdeps=(libcmocka-dev python3 python3-mdtraj)               # unit tests; JSON check; MDTraj reads our DCD
+example=(python3 python3-matplotlib)                          # PNG plots of the default job
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
 want=("${build[@]}")
 case "${1:-build}" in
   build) ;;
+  example) want+=("${example[@]}") ;;
   test) want+=("${testdeps[@]}") ;;
   validate) want+=("${testdeps[@]}" "${validate[@]}") ;;
-  *) echo "usage: $0 [build|test|validate]" >&2; exit 2 ;;
+  *) echo "usage: $0 [build|example|test|validate]" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${want[@]}"; do

@@ -1,0 +1,228 @@
+/* rotleap run's analysis: a thin layer over include/rotleap/observables.h. */
+#include "analysis.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_RDF 8
+
+struct analysis {
+  const rl_deck *d;
+  const rl_molecule *mol;
+  int n;
+  rl_series *U, *T, *Tt, *Tr, *P, *E, *K, *F2, *K2;
+  int nrdf;
+  rl_rdf *rdf[MAX_RDF];
+  int rdf_site[MAX_RDF][2];
+  char rdf_name[MAX_RDF][24];
+  rl_vec_series *axis, *vel, *omega, *pos;
+  double (*prev)[3], (*unwrapped)[3], (*buf)[3], (*dip)[3];
+  rl_dipole_acc *M;
+  rl_species_ff sff;
+  int dipolar;
+};
+
+static int site_index(const rl_molecule *m, const char *name)
+{
+  for (int a = 0; a < m->nsites; a++)
+    if (!strcmp(m->site_names[a], name)) return a;
+  return -1;
+}
+
+analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
+{
+  analysis *a = calloc(1, sizeof *a);
+  if (!a) return NULL;
+  a->d = d;
+  a->mol = mol;
+  a->n = rl_system_count(sys);
+  rl_series **ser[] = {&a->U, &a->T, &a->Tt, &a->Tr, &a->P, &a->E, &a->K, &a->F2, &a->K2};
+  for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) *ser[k] = rl_series_alloc();
+  /* output.rdf: "O-O, H-H" */
+  char spec[512];
+  snprintf(spec, sizeof spec, "%s", d->rdf);
+  double rmax = 0.5 * fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  for (char *save, *tok = strtok_r(spec, ", ", &save); tok && a->nrdf < MAX_RDF; tok = strtok_r(NULL, ", ", &save)) {
+    char *dash = strchr(tok, '-');
+    if (!dash) { rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok); analysis_free(a); return NULL; }
+    *dash = '\0';
+    int sa = site_index(mol, tok), sb = site_index(mol, dash + 1);
+    if (sa < 0 || sb < 0) {
+      rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s'", mol->name, sa < 0 ? tok : dash + 1);
+      analysis_free(a);
+      return NULL;
+    }
+    a->rdf_site[a->nrdf][0] = sa;
+    a->rdf_site[a->nrdf][1] = sb;
+    snprintf(a->rdf_name[a->nrdf], sizeof a->rdf_name[0], "%s-%s", tok, dash + 1);
+    a->rdf[a->nrdf++] = rl_rdf_alloc(rmax, 200);
+  }
+  a->axis = rl_vec_series_alloc(a->n);
+  a->vel = rl_vec_series_alloc(a->n);
+  a->omega = rl_vec_series_alloc(a->n);
+  a->pos = rl_vec_series_alloc(a->n);
+  a->prev = calloc((size_t)a->n, sizeof *a->prev);
+  a->unwrapped = calloc((size_t)a->n, sizeof *a->unwrapped);
+  a->buf = calloc((size_t)a->n, sizeof *a->buf);
+  a->dip = calloc((size_t)a->n, sizeof *a->dip);
+  a->M = rl_dipole_acc_alloc();
+  a->sff = rl_molecule_ff(mol);
+  for (int s = 0; s < mol->nsites; s++) a->dipolar |= mol->charge[s] != 0.0 || mol->dipole[s] != 0.0;
+  return a;
+}
+
+void analysis_free(analysis *a)
+{
+  if (!a) return;
+  rl_series *ser[] = {a->U, a->T, a->Tt, a->Tr, a->P, a->E, a->K, a->F2, a->K2};
+  for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) rl_series_free(ser[k]);
+  for (int k = 0; k < a->nrdf; k++) rl_rdf_free(a->rdf[k]);
+  rl_vec_series_free(a->axis);
+  rl_vec_series_free(a->vel);
+  rl_vec_series_free(a->omega);
+  rl_vec_series_free(a->pos);
+  free(a->prev); free(a->unwrapped); free(a->buf); free(a->dip);
+  rl_dipole_acc_free(a->M);
+  free(a);
+}
+
+int analysis_step(analysis *a, const rl_step_info *info, double pressure, const rl_forces *F, const rl_system *sys)
+{
+  rl_series_add(a->U, info->potential / a->n);
+  rl_series_add(a->T, info->temperature);
+  rl_series_add(a->Tt, info->t_trans);
+  rl_series_add(a->Tr, info->t_rot);
+  rl_series_add(a->P, pressure);
+  rl_series_add(a->E, info->total);
+  rl_series_add(a->K, info->ke_trans + info->ke_rot);
+  double f2 = 0.0, k2 = 0.0;
+  for (int i = 0; i < a->n; i++) {
+    f2 += F->f[i][0] * F->f[i][0] + F->f[i][1] * F->f[i][1] + F->f[i][2] * F->f[i][2];
+    int r = rl_system_rot_index(sys, i);
+    if (r >= 0) k2 += F->k[r][0] * F->k[r][0] + F->k[r][1] * F->k[r][1] + F->k[r][2] * F->k[r][2];
+  }
+  rl_series_add(a->F2, f2 / a->n);
+  rl_series_add(a->K2, k2 / a->n);
+  return RL_OK;
+}
+
+int analysis_sample(analysis *a, const rl_system *sys)
+{
+  for (int k = 0; k < a->nrdf; k++)
+    if (rl_rdf_add_sites(a->rdf[k], sys, a->d->box, 0, a->rdf_site[k][0], 0, a->rdf_site[k][1])) return 1;
+  double M[3];
+  if (rl_system_dipoles(sys, &a->sff, 1, a->dip, M)) return 1;
+  if (a->dipolar) rl_dipole_acc_add(a->M, M);
+  /* the dipole-axis ACF uses molecular dipoles where there are any (water's lies along its C2
+   * axis, not body Z), the body Z axis otherwise */
+  if (a->dipolar) { if (rl_vec_series_add(a->axis, (const double (*)[3])a->dip)) return 1; }
+  else { rl_system_axes(sys, a->buf); if (rl_vec_series_add(a->axis, (const double (*)[3])a->buf)) return 1; }
+  rl_system_velocities(sys, a->buf);
+  if (rl_vec_series_add(a->vel, (const double (*)[3])a->buf)) return 1;
+  rl_system_angular_velocities(sys, a->buf);
+  if (rl_vec_series_add(a->omega, (const double (*)[3])a->buf)) return 1;
+  rl_system_positions(sys, a->buf);
+  if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
+  else rl_unwrap(a->d->box, (const double (*)[3])a->prev, (const double (*)[3])a->buf, a->n, a->unwrapped);
+  memcpy(a->prev, a->buf, sizeof *a->buf * (size_t)a->n);
+  return rl_vec_series_add(a->pos, (const double (*)[3])a->unwrapped);
+}
+
+static void line_block(FILE *f, const char *name, rl_series *s, const char *unit)
+{
+  rl_block_result b;
+  if (rl_series_count(s) < 2 || rl_series_block_average(s, &b)) {
+    fprintf(f, "%s = %.8g %s\n", name, rl_series_mean(s), unit);
+    return;
+  }
+  fprintf(f, "%s = %.8g +- %.2g %s%s\n", name, b.mean, b.sem, unit, b.converged ? "" : " (error bar a lower bound: run longer)");
+}
+
+int analysis_write(analysis *a, const char *prefix, double dt_sample)
+{
+  const rl_deck *d = a->d;
+  int real = d->units == RL_UNITS_REAL;
+  const char *E = real ? "kJ/mol" : "", *L = real ? "nm" : "";
+  char path[700];
+  snprintf(path, sizeof path, "%s.results.txt", prefix);
+  rl_atomic_file af;
+  if (rl_atomic_open(&af, path)) return 1;
+  FILE *f = af.fp;
+  fprintf(f, "# rotleap results over this invocation's %ld steps (block-averaged standard errors, "
+             "Flyvbjerg-Petersen)\n", rl_series_count(a->U));
+  line_block(f, "U_per_molecule", a->U, E);
+  line_block(f, "temperature", a->T, real ? "K" : "");
+  line_block(f, "temperature_translational", a->Tt, real ? "K" : "");
+  line_block(f, "temperature_rotational", a->Tr, real ? "K" : "");
+  line_block(f, "pressure", a->P, real ? "bar" : "");
+  line_block(f, "mean_square_force", a->F2, real ? "(kJ/mol/nm)^2" : "");
+  line_block(f, "mean_square_torque", a->K2, real ? "(kJ/mol)^2" : "");
+  fprintf(f, "calE = %.6e\ncalU = %.6e\n", rl_series_rel_fluct(a->E), rl_series_rel_fluct(a->U));
+  double kB = rl_units_kB(d->units), T = rl_series_mean(a->T), cv = NAN, sdK = rl_series_sd(a->K),
+         sdE = rl_series_sd(a->E), sdU = rl_series_sd(a->U) * a->n;
+  int dof = (int)llround(2.0 * rl_series_mean(a->K) / (kB * T)); /* T = 2K/(g kB) defines g */
+  int st = d->thermostat == RL_THERMO_NONE ? rl_heat_capacity_nve(rl_series_mean(a->K), sdK * sdK, dof, kB, &cv)
+         : d->thermostat == RL_THERMO_BUSSI ? rl_heat_capacity_nvt(sdE * sdE, T, kB, &cv)
+         : rl_heat_capacity_isokinetic(sdU * sdU, T, dof, kB, &cv);
+  if (!st) fprintf(f, "heat_capacity_per_molecule = %.6g %s (%s formula)\n", cv / (a->n * kB),
+                   real ? "k_B" : "", d->thermostat == RL_THERMO_NONE ? "NVE, Lebowitz-Percus-Verlet"
+                   : d->thermostat == RL_THERMO_BUSSI ? "canonical" : "isokinetic");
+  else fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
+  long nf = rl_vec_series_frames(a->pos);
+  if (nf >= 4) {
+    long lag = nf / 2;
+    double *c[5];
+    rl_tcf_kind kinds[5] = {RL_TCF_P1, RL_TCF_P2, RL_TCF_DOT, RL_TCF_DOT, RL_TCF_MSD};
+    rl_vec_series *src[5] = {a->axis, a->axis, a->vel, a->omega, a->pos};
+    for (int k = 0; k < 5; k++) {
+      c[k] = calloc((size_t)lag + 1, sizeof(double));
+      rl_tcf_compute(src[k], kinds[k], lag, 1, c[k]);
+    }
+    double D, Derr;
+    if (!rl_diffusion_einstein(c[4], lag + 1, dt_sample, lag / 5, lag, &D, &Derr))
+      fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples)\n", D, Derr,
+              real ? "nm^2/ps" : "", lag / 5, lag);
+    char tp[700];
+    snprintf(tp, sizeof tp, "%s.tcf.csv", prefix);
+    rl_atomic_file tf;
+    if (!rl_atomic_open(&tf, tp)) {
+      fprintf(tf.fp, "lag_time,dipole_P1,dipole_P2,vacf,omega_acf,msd\n");
+      for (long k = 0; k <= lag; k++)
+        fprintf(tf.fp, "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", k * dt_sample, c[0][k], c[1][k], c[2][k], c[3][k], c[4][k]);
+      if (rl_atomic_commit(&tf)) fprintf(f, "# could not write %s\n", tp);
+    }
+    for (int k = 0; k < 5; k++) free(c[k]);
+  }
+  if (a->dipolar && rl_dipole_acc_count(a->M) >= 2) {
+    double mean[3], dM2 = rl_dipole_acc_fluct(a->M, mean), eps;
+    double V = d->box[0] * d->box[1] * d->box[2];
+    if (!rl_dielectric_constant(dM2, V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps))
+      fprintf(f, "dielectric_constant = %.4g (dipole fluctuations, reaction-field boundary eps_rf = %g; "
+                 "needs long runs to converge)\n", eps, d->ff.eps_rf);
+  }
+  for (int k = 0; k < a->nrdf; k++) {
+    char rp[700];
+    snprintf(rp, sizeof rp, "%s.rdf.csv", prefix);
+    if (k == 0) {
+      rl_atomic_file rf;
+      if (rl_atomic_open(&rf, rp)) break;
+      int nb = rl_rdf_nbins(a->rdf[0]);
+      double *r = malloc(sizeof(double) * (size_t)nb), *g = malloc(sizeof(double) * (size_t)nb * (size_t)a->nrdf);
+      for (int q = 0; q < a->nrdf; q++) rl_rdf_get(a->rdf[q], r, g + (size_t)q * (size_t)nb);
+      fprintf(rf.fp, "r");
+      for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",g_%s", a->rdf_name[q]);
+      fprintf(rf.fp, "\n");
+      for (int b = 0; b < nb; b++) {
+        fprintf(rf.fp, "%.6g", r[b]);
+        for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",%.6g", g[(size_t)q * (size_t)nb + (size_t)b]);
+        fprintf(rf.fp, "\n");
+      }
+      free(r); free(g);
+      if (rl_atomic_commit(&rf)) fprintf(f, "# could not write %s\n", rp);
+    }
+  }
+  (void)L;
+  return rl_atomic_commit(&af);
+}
