@@ -56,7 +56,7 @@ static const key_def keys[NKEYS] = {
     [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
     [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi relaxation time; default 100 h"},
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi thermostat's random numbers"},
-    [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "isokinetic relaxation steps before the run (from a lattice)"},
+    [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},

@@ -262,10 +262,14 @@ int rl_app_run(const rl_deck *d)
   rl_integrator_params p;
   rl_integrator *in = NULL;
   int st = RL_OK, n = d->count;
-  if (d->equilibrate_steps > 0 && !s.restart) { /* isokinetic relaxation from the start */
+  if (d->equilibrate_steps > 0 && !s.restart) {
+    /* relaxation from the start: Bussi with tau = 20 steps, which rescales the half-step
+     * velocities and stays sane however far T is from T0 (the isokinetic eqs. 17-18 do not) */
     rl_integrator_params_default(&p);
     p.h = d->equilibrate_timestep;
-    p.thermostat = RL_THERMO_ISOKINETIC;
+    p.thermostat = RL_THERMO_BUSSI;
+    p.tau = 20.0 * d->equilibrate_timestep;
+    p.seed = d->seed + 2;
     p.T0 = d->temperature;
     in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
     st = in ? rl_integrator_init(in) : RL_EINVAL;

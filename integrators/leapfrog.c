@@ -305,8 +305,16 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   info.t_trans = gt > 0 ? 2.0 * ket / (gt * s->kB) : 0.0;
   info.t_rot = gr > 0 ? 2.0 * ker / (gr * s->kB) : 0.0;
   double beta = 1.0, ke = ket + ker;
-  if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0)
+  if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) {
     beta = sqrt(in->p.T0 / info.temperature);
+    /* eqs. 17-18 carry (2 beta - 1) v forward: for beta < 1/2 that reverses the velocities, and
+     * the scheme (meant to hold T near T0) no longer describes dynamics */
+    if (beta < 0.5)
+      return rl_error(RL_EINVAL, "isokinetic thermostat at step %ld (t = %g): on-step temperature %g "
+                      "is more than 4 T0 = %g; eqs. 17-18 would reverse the velocities. Relax the "
+                      "start first (Bussi with a short tau) or use a smaller time step", in->steps,
+                      in->t, info.temperature, 4.0 * in->p.T0);
+  }
   info.beta = beta;
   info.conserved = info.total + in->thermo_work;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC) in->thermo_work += (1.0 - beta * beta) * ke;

@@ -108,8 +108,36 @@ static void bussi_conserved(void **state)
   rl_system_free(s);
 }
 
+/* The isokinetic scheme refuses to run when T is far above T0 (beta < 1/2 would reverse the
+ * velocities through eqs. 17-18) and says so. */
+static void isokinetic_far_from_T0(void **state)
+{
+  (void)state;
+  rl_system *s = rl_system_alloc(RL_UNITS_LJ);
+  rl_species_desc pt = {.name = "a", .kind = RL_KIND_POINT, .mass = 1.0};
+  assert_int_equal(rl_system_add_species(s, &pt, 20, NULL), RL_OK);
+  const double L[3] = {10, 10, 10};
+  assert_int_equal(rl_system_lattice(s, L, RL_LATTICE_SC, 0, 1), RL_OK);
+  assert_int_equal(rl_system_maxwell_boltzmann(s, 10.0, 2), RL_OK);
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = 0.005;
+  p.thermostat = RL_THERMO_ISOKINETIC;
+  p.T0 = 1.0;
+  rl_integrator *in = rl_integrator_alloc(s, &p, (rl_force_provider){no_forces, NULL});
+  assert_int_equal(rl_integrator_init(in), RL_OK);
+  int st = rl_integrator_step(in, NULL);
+  printf("check isokinetic with T >> T0 refused: \"%s\" %s\n", rl_last_error(),
+         st == RL_EINVAL && strstr(rl_last_error(), "more than 4 T0") ? "ok" : "FAIL");
+  assert_int_equal(st, RL_EINVAL);
+  assert_non_null(strstr(rl_last_error(), "more than 4 T0"));
+  rl_integrator_free(in);
+  rl_system_free(s);
+}
+
 int main(void)
 {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(bussi_canonical), cmocka_unit_test(bussi_conserved)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(bussi_canonical), cmocka_unit_test(bussi_conserved),
+                                     cmocka_unit_test(isokinetic_far_from_T0)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
