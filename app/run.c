@@ -170,6 +170,35 @@ static int write_atomic(const char *path, const char *text)
   return 0;
 }
 
+/* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
+ * energy by more than 10 kT per molecule in one step (a stable step changes it by far less than
+ * kT per molecule; a thermostat exchanges a fraction of kT), or a molecule moving more than the
+ * shortest box edge in one step. */
+static int blow_up_check(const rl_deck *d, scene *s, const rl_step_info *info, long k, double prevE)
+{
+  double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
+  const char *tu = rl_dim_unit(Q_TIME, d->units);
+  if (!isfinite(info->total))
+    return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
+                    "reduce run.timestep (now %g)", k, info->t, tu, d->timestep);
+  double jump = fabs(info->total - prevE);
+  if (isfinite(prevE) && jump > 10.0 * d->count * kT)
+    return rl_error(RL_EINVAL, "step %ld (t = %g %s): the total energy jumped by %.3g in one step (more "
+                    "than 10 kT per molecule): the run is unstable; reduce run.timestep (now %g)", k,
+                    info->t, tu, jump, d->timestep);
+  double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  for (int i = 0; i < d->count; i++) {
+    double v[3];
+    rl_system_get_velocity(s->sys, i, v);
+    double step = d->timestep * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(step <= Lmin))
+      return rl_error(RL_EINVAL, "step %ld (t = %g %s): molecule %d moved %.3g in one step, more than the "
+                      "box edge %.3g: the run blew up; reduce run.timestep (now %g)", k, info->t, tu, i,
+                      step, Lmin, d->timestep);
+  }
+  return RL_OK;
+}
+
 /* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest. */
 typedef struct {
   long every;
@@ -328,6 +357,7 @@ int rl_app_run(const rl_deck *d)
     st = RL_EINVAL;
   }
   long done0 = E.n;
+  double prevE = NAN;
   analysis *an = NULL;
   if (!st && !(an = analysis_alloc(d, &s.mol, s.sys))) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
@@ -343,10 +373,15 @@ int rl_app_run(const rl_deck *d)
     if (nrot) memcpy(fsnap->k, F->k, sizeof(double[3]) * (size_t)nrot);
     rl_step_info info;
     st = rl_integrator_step(in, &info);
-    if (st) {
-      fprintf(stderr, "rotleap run: step %ld (t = %g %s): %s\n", k, info.t, rl_dim_unit(Q_TIME, d->units), rl_last_error());
+    if (st) { /* the library's message names the step and the cause */
+      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
+    if ((st = blow_up_check(d, &s, &info, k, k > first ? prevE : NAN))) {
+      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+      break;
+    }
+    prevE = info.total;
     rl_forces Ft = {NULL, NULL, 0.0, {0}};
     memcpy(Ft.virial, virial, sizeof virial);
     double pr = pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));

@@ -41,6 +41,18 @@ check "unknown model parameter" '[ $code -eq 2 ] && grep -q "model stockmayer ha
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set output.prefix=/nonexistent/dir/x >out.txt 2>err.txt; code=$?
 check "unwritable prefix is an error before running" '[ $code -eq 1 ] && grep -q "cannot write /nonexistent/dir/x.thermo.csv.part" err.txt'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=0.05 --set run.steps=2000 --set output.prefix="$work/blow" >out.txt 2>err.txt; code=$?
+check "blow-up ends the run with exit 1" '[ $code -eq 1 ]'
+check "blow-up message names the step and the cause" 'grep -qE "step [0-9]+ \(t = .*\): the total energy jumped by .* reduce run.timestep" err.txt'
+check "blow-up keeps the rows written and marks the summary" '[ -s "$work/blow.thermo.csv" ] && grep -q "status = error" "$work/blow.summary.txt"'
+
+L=4.3088694997
+{ echo 64; echo "Lattice=\"$L 0 0 0 $L 0 0 0 $L\" Properties=species:S:1:pos:R:3:orientation:R:3"
+  for i in $(seq 0 63); do j=$i; [ $i -eq 5 ] && j=4
+    awk -v i=$j -v L=$L 'BEGIN{a=L/4; printf "stockmayer %.6f %.6f %.6f 0 0 1\n", (i%4+0.5)*a, (int(i/4)%4+0.5)*a, (int(i/16)+0.5)*a}'; done; } > overlap.xyz
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/overlap.xyz" --set output.prefix="$work/ov" >out.txt 2>err.txt; code=$?
+check "overlapping molecules in the start are an error naming them" '[ $code -ne 0 ] && grep -q "overlapping sites: site 0 of body 4 and site 0 of body 5" err.txt'
+
 "$rotleap" energy "$src/tests/cli/stockmayer_short.ini" --json >energy.json 2>err.txt; code=$?
 check "energy --json exits 0" '[ $code -eq 0 ]'
 if command -v python3 >/dev/null; then
