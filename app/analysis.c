@@ -144,7 +144,7 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
 {
   const rl_deck *d = a->d;
   int real = d->units == RL_UNITS_REAL;
-  const char *E = real ? "kJ/mol" : "", *L = real ? "nm" : "";
+  const char *E = real ? "kJ/mol" : "";
   char path[700];
   snprintf(path, sizeof path, "%s.results.txt", prefix);
   rl_atomic_file af;
@@ -202,27 +202,25 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
       fprintf(f, "dielectric_constant = %.4g (dipole fluctuations, reaction-field boundary eps_rf = %g; "
                  "needs long runs to converge)\n", eps, d->ff.eps_rf);
   }
-  for (int k = 0; k < a->nrdf; k++) {
+  if (a->nrdf > 0) {
     char rp[700];
     snprintf(rp, sizeof rp, "%s.rdf.csv", prefix);
-    if (k == 0) {
-      rl_atomic_file rf;
-      if (rl_atomic_open(&rf, rp)) break;
+    rl_atomic_file rf;
+    if (!rl_atomic_open(&rf, rp)) {
       int nb = rl_rdf_nbins(a->rdf[0]);
       double *r = malloc(sizeof(double) * (size_t)nb), *g = malloc(sizeof(double) * (size_t)nb * (size_t)a->nrdf);
       for (int q = 0; q < a->nrdf; q++) rl_rdf_get(a->rdf[q], r, g + (size_t)q * (size_t)nb);
       fprintf(rf.fp, "r");
       for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",g_%s", a->rdf_name[q]);
       fprintf(rf.fp, "\n");
-      for (int b = 0; b < nb; b++) {
-        fprintf(rf.fp, "%.6g", r[b]);
-        for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",%.6g", g[(size_t)q * (size_t)nb + (size_t)b]);
+      for (int b2 = 0; b2 < nb; b2++) {
+        fprintf(rf.fp, "%.6g", r[b2]);
+        for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",%.6g", g[(size_t)q * (size_t)nb + (size_t)b2]);
         fprintf(rf.fp, "\n");
       }
       free(r); free(g);
       if (rl_atomic_commit(&rf)) fprintf(f, "# could not write %s\n", rp);
     }
   }
-  (void)L;
   return rl_atomic_commit(&af);
 }

@@ -156,18 +156,13 @@ static void run_add(running *r, double x)
 }
 static double run_sd(const running *r) { return r->n > 1 ? sqrt(r->m2 / (r->n - 1)) : 0.0; }
 
-/* Write `text` to path atomically (temporary file + rename). */
+/* Write `text` to path atomically (rl_atomic_*: temporary file, fsync, rename). */
 static int write_atomic(const char *path, const char *text)
 {
-  char tmp[1200];
-  snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
-  FILE *f = fopen(tmp, "w");
-  if (!f) return -1;
-  int ok = fputs(text, f) >= 0;
-  ok = (fflush(f) == 0) && ok && fsync(fileno(f)) == 0;
-  ok = (fclose(f) == 0) && ok;
-  if (!ok || rename(tmp, path)) { remove(tmp); return -1; }
-  return 0;
+  rl_atomic_file af;
+  if (rl_atomic_open(&af, path)) return -1;
+  if (fputs(text, af.fp) < 0) { rl_atomic_abort(&af); return -1; }
+  return rl_atomic_commit(&af) ? -1 : 0;
 }
 
 /* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
@@ -356,7 +351,6 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
-  long done0 = E.n;
   double prevE = NAN;
   analysis *an = NULL;
   if (!st && !(an = analysis_alloc(d, &s.mol, s.sys))) {
@@ -423,7 +417,6 @@ int rl_app_run(const rl_deck *d)
   }
   if (in) fallbacks = rl_integrator_fallbacks(in);
   traj_close(&tr);
-  (void)done0;
   if (an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep))
     fprintf(stderr, "rotleap run: writing results: %s\n", rl_last_error());
   analysis_free(an);

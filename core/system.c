@@ -313,8 +313,7 @@ static int check_unit(const double rho[3], const char *who, int i)
   return RL_OK;
 }
 
-/* A right-handed orthonormal frame (row-major A) whose third row is the unit vector rho. */
-static void frame_from_axis(const double rho[3], double A[9])
+void rl_frame_from_axis(const double rho[3], double A[9])
 {
   double ax[3] = {fabs(rho[0]) < 0.9 ? 1.0 : 0.0, fabs(rho[0]) < 0.9 ? 0.0 : 1.0, 0.0};
   double d = ax[0] * rho[0] + ax[1] * rho[1];
@@ -348,7 +347,7 @@ int rl_system_set_axis(rl_system *s, int i, const double rho[3])
   if ((st = check_unit(rho, "rl_system_set_axis", i))) return st;
   if (sp->axis_off >= 0) { memcpy(s->rho[sp->axis_off + i - sp->first], rho, 3 * sizeof(double)); return RL_OK; }
   if (sp->kind == RL_KIND_POINT) return RL_OK;
-  frame_from_axis(rho, s->A[sp->mat_off + i - sp->first]); /* matrix kind: Z row is rho */
+  rl_frame_from_axis(rho, s->A[sp->mat_off + i - sp->first]); /* matrix kind: Z row is rho */
   return RL_OK;
 }
 
@@ -375,7 +374,7 @@ void rl_system_get_orientation(const rl_system *s, int i, double A[9])
   if (sp->mat_off >= 0) { memcpy(A, s->A[sp->mat_off + i - sp->first], 9 * sizeof(double)); return; }
   static const double I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   if (sp->axis_off < 0) memcpy(A, I9, sizeof I9);
-  else frame_from_axis(s->rho[sp->axis_off + i - sp->first], A);
+  else rl_frame_from_axis(s->rho[sp->axis_off + i - sp->first], A);
 }
 
 int rl_system_site_offset(const rl_system *s, int i)

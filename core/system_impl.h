@@ -39,6 +39,9 @@ static inline int rl_kind_is_matrix(rl_kind k)
 }
 static inline int rl_kind_is_axis(rl_kind k) { return k == RL_KIND_DIPOLE || k == RL_KIND_LINEAR; }
 
+/* A right-handed orthonormal frame (row-major A) whose third row is the unit vector rho. */
+void rl_frame_from_axis(const double rho[3], double A[9]);
+
 /* Check a rotation matrix: finite, orthonormal to 1e-10, det > 0. */
 int rl_check_rotation(const double A[9], const char *who, int body);
 

@@ -3,6 +3,7 @@
 #include "rotleap/molecule.h"
 #include "rotleap/forcefield.h"
 #include "rotleap/error.h"
+#include "../core/system_impl.h"
 
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_math.h>
@@ -58,17 +59,6 @@ static void cross(const double a[3], const double b[3], double c[3])
 static void right_handed(double V[9])
 {
   if (det3(V) < 0.0) cross(V + 3, V + 6, V);
-}
-
-/* A frame whose Z row is the unit vector z (for axis molecules). */
-static void frame_with_z(const double z[3], double V[9])
-{
-  double a[3] = {fabs(z[0]) < 0.9 ? 1.0 : 0.0, fabs(z[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-  double d = a[0] * z[0] + a[1] * z[1] + a[2] * z[2], x[3], n;
-  for (int c = 0; c < 3; c++) x[c] = a[c] - d * z[c];
-  n = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-  for (int c = 0; c < 3; c++) { V[c] = x[c] / n; V[6 + c] = z[c]; }
-  cross(V + 6, V, V + 3);
 }
 
 int rl_molecule_build(const rl_molecule_def *def, int force_general, rl_molecule *m)
@@ -159,13 +149,13 @@ int rl_molecule_build(const rl_molecule_def *def, int force_general, rl_molecule
       kind = RL_KIND_DIPOLE;
       double dn = sqrt(dipvec[0] * dipvec[0] + dipvec[1] * dipvec[1] + dipvec[2] * dipvec[2]);
       double z[3] = {dipvec[0] / dn, dipvec[1] / dn, dipvec[2] / dn};
-      frame_with_z(z, V);
+      rl_frame_from_axis(z, V);
       lam[0] = lam[1] = lam[2] = I[0];
     }
   } else if (lam[0] <= tol) {
     kind = RL_KIND_LINEAR; /* axis = eigenvector of the zero moment */
     double z[3] = {V[0], V[1], V[2]};
-    frame_with_z(z, V);
+    rl_frame_from_axis(z, V);
     double J = 0.5 * (lam[1] + lam[2]);
     lam[0] = lam[1] = J;
     lam[2] = 0.0;
