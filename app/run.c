@@ -3,6 +3,7 @@
 #include "run.h"
 #include "analysis.h"
 #include "quantity.h"
+#include "scene.h"
 
 #include <errno.h>
 #include <math.h>
@@ -14,70 +15,6 @@
 
 #define BAR_PER_KJMOL_NM3 16.605390671738467 /* 1 kJ/mol/nm^3 in bar (1e3 / N_A / 1e-27 / 1e5) */
 
-typedef struct {
-  rl_molecule mol;
-  rl_system *sys;
-  rl_forcefield *ff;
-  int restart;          /* started from a checkpoint */
-  long step0;
-  double t0;
-  void *blob;
-  size_t blob_size;
-} scene;
-
-static void scene_free(scene *s)
-{
-  free(s->blob);
-  rl_forcefield_free(s->ff);
-  rl_system_free(s->sys);
-}
-
-static int build(const rl_deck *d, scene *s)
-{
-  memset(s, 0, sizeof *s);
-  if (rl_model_build(d->model, d->params, d->force_general, &s->mol)) return 1;
-  s->sys = rl_system_alloc(d->units);
-  rl_species_desc sd;
-  rl_molecule_species(&s->mol, &sd);
-  if (!s->sys || rl_system_add_species(s->sys, &sd, d->count, NULL)) return 1;
-  size_t n = strlen(d->start);
-  const char *ext = n > 4 ? d->start + n - 4 : "";
-  double box[3] = {0, 0, 0};
-  if (!d->start[0]) {
-    if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed)) return 1;
-  } else if (!strcmp(ext, ".chk")) {
-    rl_checkpoint_meta meta;
-    memset(&meta, 0, sizeof meta);
-    if (rl_checkpoint_read(d->start, s->sys, &meta)) return 1;
-    s->restart = 1;
-    s->step0 = meta.step;
-    s->t0 = meta.time;
-    s->blob = (void *)meta.blob;
-    s->blob_size = meta.blob_size;
-    memcpy(box, meta.box, sizeof box);
-  } else if (!strcmp(ext, ".pdb")) {
-    const rl_molecule *mols[1] = {&s->mol};
-    double rms;
-    if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
-  } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
-  for (int c = 0; c < 3; c++)
-    if (box[0] > 0 && fabs(box[c] - d->box[c]) > 1e-6 * d->box[c])
-      return rl_error(RL_EINVAL, "the box of %s (%g %g %g) differs from the deck's (%g %g %g)", d->start,
-                      box[0], box[1], box[2], d->box[0], d->box[1], d->box[2]);
-  if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
-  rl_species_ff sff = rl_molecule_ff(&s->mol);
-  s->ff = rl_forcefield_alloc(s->sys, &d->ff, &sff, 1);
-  if (!s->ff) return 1;
-  if (d->model->geometric_mixing) /* OPLS, EPM2: sigma_ab = sqrt(sigma_a sigma_b) */
-    for (int a = 0; a < s->mol.nsites; a++)
-      for (int b = a; b < s->mol.nsites; b++)
-        if (s->mol.epsilon[a] > 0 && s->mol.epsilon[b] > 0 &&
-            rl_forcefield_set_lj_pair(s->ff, 0, a, 0, b, sqrt(s->mol.sigma[a] * s->mol.sigma[b]),
-                                      sqrt(s->mol.epsilon[a] * s->mol.epsilon[b])))
-          return 1;
-  return 0;
-}
-
 static double pressure_out(const rl_deck *d, double p) { return d->units == RL_UNITS_REAL ? p * BAR_PER_KJMOL_NM3 : p; }
 static const char *pressure_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "bar" : "reduced"; }
 static const char *energy_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "kJ/mol" : "reduced"; }
@@ -85,7 +22,7 @@ static const char *energy_unit(const rl_deck *d) { return d->units == RL_UNITS_R
 int rl_app_energy(const rl_deck *d, int json)
 {
   scene s;
-  if (build(d, &s)) { fprintf(stderr, "rotleap energy: %s\n", rl_last_error()); scene_free(&s); return 1; }
+  if (scene_build(d, &s)) { fprintf(stderr, "rotleap energy: %s\n", rl_last_error()); scene_free(&s); return 1; }
   int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
   rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])), 0.0, {0}};
   int st = F.f && F.k ? rl_forcefield_compute(s.ff, s.sys, &F) : RL_ENOMEM;
@@ -163,35 +100,6 @@ static int write_atomic(const char *path, const char *text)
   if (rl_atomic_open(&af, path)) return -1;
   if (fputs(text, af.fp) < 0) { rl_atomic_abort(&af); return -1; }
   return rl_atomic_commit(&af) ? -1 : 0;
-}
-
-/* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
- * energy by more than 10 kT per molecule in one step (a stable step changes it by far less than
- * kT per molecule; a thermostat exchanges a fraction of kT), or a molecule moving more than the
- * shortest box edge in one step. */
-static int blow_up_check(const rl_deck *d, scene *s, const rl_step_info *info, long k, double prevE)
-{
-  double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
-  const char *tu = rl_dim_unit(Q_TIME, d->units);
-  if (!isfinite(info->total))
-    return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
-                    "reduce run.timestep (now %g)", k, info->t, tu, d->timestep);
-  double jump = fabs(info->total - prevE);
-  if (isfinite(prevE) && jump > 10.0 * d->count * kT)
-    return rl_error(RL_EINVAL, "step %ld (t = %g %s): the total energy jumped by %.3g in one step (more "
-                    "than 10 kT per molecule): the run is unstable; reduce run.timestep (now %g)", k,
-                    info->t, tu, jump, d->timestep);
-  double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
-  for (int i = 0; i < d->count; i++) {
-    double v[3];
-    rl_system_get_velocity(s->sys, i, v);
-    double step = d->timestep * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(step <= Lmin))
-      return rl_error(RL_EINVAL, "step %ld (t = %g %s): molecule %d moved %.3g in one step, more than the "
-                      "box edge %.3g: the run blew up; reduce run.timestep (now %g)", k, info->t, tu, i,
-                      step, Lmin, d->timestep);
-  }
-  return RL_OK;
 }
 
 /* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest. */
@@ -277,7 +185,7 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: cannot write %s: %s (output.prefix = %s)\n", part, strerror(errno), d->prefix);
     return 1;
   }
-  if (build(d, &s)) {
+  if (scene_build(d, &s)) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     fclose(thermo); remove(part); scene_free(&s);
     return 1;
@@ -286,23 +194,7 @@ int rl_app_run(const rl_deck *d)
   rl_integrator_params p;
   rl_integrator *in = NULL;
   int st = RL_OK, n = d->count;
-  if (d->equilibrate_steps > 0 && !s.restart) {
-    /* relaxation from the start: Bussi with tau = 20 steps, which rescales the half-step
-     * velocities and stays sane however far T is from T0 (the isokinetic eqs. 17-18 do not) */
-    rl_integrator_params_default(&p);
-    p.h = d->equilibrate_timestep;
-    p.thermostat = RL_THERMO_BUSSI;
-    p.tau = 20.0 * d->equilibrate_timestep;
-    p.seed = d->seed + 2;
-    p.T0 = d->temperature;
-    in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
-    st = in ? rl_integrator_init(in) : RL_EINVAL;
-    for (long k = 0; !st && k < d->equilibrate_steps; k++) st = rl_integrator_step(in, NULL);
-    if (!st) st = rl_integrator_finish(in);
-    rl_integrator_free(in);
-    in = NULL;
-    if (st) fprintf(stderr, "rotleap run: during equilibration: %s\n", rl_last_error());
-  }
+  if ((st = scene_relax(d, &s))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   rl_integrator_params_default(&p);
   p.h = d->timestep;
   p.method = d->method;
@@ -371,7 +263,7 @@ int rl_app_run(const rl_deck *d)
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
-    if ((st = blow_up_check(d, &s, &info, k, k > first ? prevE : NAN))) {
+    if ((st = scene_blow_up_check(d, &s, &info, k, k > first ? prevE : NAN, d->timestep, "run.timestep"))) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }

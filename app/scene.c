@@ -1,0 +1,117 @@
+/* The scene of a deck (scene.h). */
+#include "scene.h"
+#include "quantity.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int scene_build(const rl_deck *d, scene *s)
+{
+  memset(s, 0, sizeof *s);
+  if (rl_model_build(d->model, d->params, d->force_general, &s->mol)) return 1;
+  s->sys = rl_system_alloc(d->units);
+  rl_species_desc sd;
+  rl_molecule_species(&s->mol, &sd);
+  if (!s->sys || rl_system_add_species(s->sys, &sd, d->count, NULL)) return 1;
+  size_t n = strlen(d->start);
+  const char *ext = n > 4 ? d->start + n - 4 : "";
+  double box[3] = {0, 0, 0};
+  if (!d->start[0]) {
+    if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed)) return 1;
+  } else if (!strcmp(ext, ".chk")) {
+    rl_checkpoint_meta meta;
+    memset(&meta, 0, sizeof meta);
+    if (rl_checkpoint_read(d->start, s->sys, &meta)) return 1;
+    s->restart = 1;
+    s->step0 = meta.step;
+    s->t0 = meta.time;
+    s->blob = (void *)meta.blob;
+    s->blob_size = meta.blob_size;
+    memcpy(box, meta.box, sizeof box);
+  } else if (!strcmp(ext, ".pdb")) {
+    const rl_molecule *mols[1] = {&s->mol};
+    double rms;
+    if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
+  } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
+  for (int c = 0; c < 3; c++)
+    if (box[0] > 0 && fabs(box[c] - d->box[c]) > 1e-6 * d->box[c])
+      return rl_error(RL_EINVAL, "the box of %s (%g %g %g) differs from the deck's (%g %g %g)", d->start,
+                      box[0], box[1], box[2], d->box[0], d->box[1], d->box[2]);
+  if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
+  s->ff = scene_forcefield(d, &s->mol, s->sys);
+  return s->ff ? 0 : 1;
+}
+
+rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
+{
+  rl_species_ff sff = rl_molecule_ff(mol);
+  rl_forcefield *ff = rl_forcefield_alloc(sys, &d->ff, &sff, 1);
+  if (ff && d->model->geometric_mixing) /* OPLS, EPM2: sigma_ab = sqrt(sigma_a sigma_b) */
+    for (int a = 0; a < mol->nsites; a++)
+      for (int b = a; b < mol->nsites; b++)
+        if (mol->epsilon[a] > 0 && mol->epsilon[b] > 0 &&
+            rl_forcefield_set_lj_pair(ff, 0, a, 0, b, sqrt(mol->sigma[a] * mol->sigma[b]),
+                                      sqrt(mol->epsilon[a] * mol->epsilon[b]))) {
+          rl_forcefield_free(ff);
+          return NULL;
+        }
+  return ff;
+}
+
+void scene_free(scene *s)
+{
+  free(s->blob);
+  rl_forcefield_free(s->ff);
+  rl_system_free(s->sys);
+}
+
+int scene_relax(const rl_deck *d, scene *s)
+{
+  if (d->equilibrate_steps <= 0 || s->restart) return RL_OK;
+  /* relaxation from the start: Bussi with tau = 20 steps, which rescales the half-step
+   * velocities and stays sane however far T is from T0 (the isokinetic eqs. 17-18 do not) */
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = d->equilibrate_timestep;
+  p.thermostat = RL_THERMO_BUSSI;
+  p.tau = 20.0 * d->equilibrate_timestep;
+  p.seed = d->seed + 2;
+  p.T0 = d->temperature;
+  rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
+  int st = in ? rl_integrator_init(in) : RL_EINVAL;
+  for (long k = 0; !st && k < d->equilibrate_steps; k++) st = rl_integrator_step(in, NULL);
+  if (!st) st = rl_integrator_finish(in);
+  rl_integrator_free(in);
+  return st ? rl_error_wrap(st, "during equilibration") : RL_OK;
+}
+
+/* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
+ * energy by more than 10 kT per molecule in one step (a stable step changes it by far less than
+ * kT per molecule; a thermostat exchanges a fraction of kT), or a molecule moving more than the
+ * shortest box edge in one step. */
+int scene_blow_up_check(const rl_deck *d, const scene *s, const rl_step_info *info, long k, double prevE,
+                        double h, const char *dt_name)
+{
+  double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
+  const char *tu = rl_dim_unit(Q_TIME, d->units);
+  if (!isfinite(info->total))
+    return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
+                    "reduce %s (now %g)", k, info->t, tu, dt_name, h);
+  double jump = fabs(info->total - prevE);
+  if (isfinite(prevE) && jump > 10.0 * d->count * kT)
+    return rl_error(RL_EINVAL, "step %ld (t = %g %s): the total energy jumped by %.3g in one step (more "
+                    "than 10 kT per molecule): the run is unstable; reduce %s (now %g)", k,
+                    info->t, tu, jump, dt_name, h);
+  double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  for (int i = 0; i < d->count; i++) {
+    double v[3];
+    rl_system_get_velocity(s->sys, i, v);
+    double step = h * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(step <= Lmin))
+      return rl_error(RL_EINVAL, "step %ld (t = %g %s): molecule %d moved %.3g in one step, more than the "
+                      "box edge %.3g: the run blew up; reduce %s (now %g)", k, info->t, tu, i,
+                      step, Lmin, dt_name, h);
+  }
+  return RL_OK;
+}
