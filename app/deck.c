@@ -67,6 +67,21 @@ static const key_def keys[NKEYS] = {
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
 };
 
+/* In the order of run.integrator's choices (the key table above). */
+const rl_deck_integrator rl_deck_integrators[] = {
+    {"rl", RL_ROT_CUBIC, "revised leapfrog, rotation matrices, guarded quasi-analytic cubic (eqs. 27-36)"},
+    {"rl-exact", RL_ROT_EXACT, "revised leapfrog, rotation matrices, eq. 28 solved exactly (Newton)"},
+    {"rl-quaternion", RL_ROT_QUATERNION, "revised leapfrog, quaternions, eq. 23 iterated"},
+};
+const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_deck_integrators[0]);
+
+int rl_deck_integrator_lookup(const char *name)
+{
+  for (int i = 0; i < rl_deck_nintegrators; i++)
+    if (!strcmp(rl_deck_integrators[i].name, name)) return i;
+  return -1;
+}
+
 typedef struct {
   char *val[NKEYS];
   int line[NKEYS];                  /* 0 = default, -1 = --set                                */
@@ -340,7 +355,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->steps = integer(&r, K_STEPS, 0, 0);
   d->timestep = number(&r, K_DT, u, 0, 0.0);
   if (r.val[K_DT] && !r.bad[K_DT] && !(d->timestep > 0)) problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
-  d->method = (rl_rot_method)choice(&r, K_INTEGRATOR);
+  d->method = rl_deck_integrators[choice(&r, K_INTEGRATOR)].method;
   int ens = choice(&r, K_ENSEMBLE);
   d->thermostat = ens == 0 ? RL_THERMO_NONE : ens == 1 ? RL_THERMO_ISOKINETIC : RL_THERMO_BUSSI;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);

@@ -42,6 +42,17 @@ typedef struct {
   char path[512];
 } rl_deck;
 
+/* The integrators by name: run.integrator and `rotleap scan --integrators`. */
+typedef struct {
+  const char *name;
+  rl_rot_method method;
+  const char *help;
+} rl_deck_integrator;
+extern const rl_deck_integrator rl_deck_integrators[];
+extern const int rl_deck_nintegrators;
+/* Index into rl_deck_integrators, or -1. */
+int rl_deck_integrator_lookup(const char *name);
+
 /* Parse `path` with the overrides `sets` ("section.key=value", nsets of them).  Every problem is
  * reported, one line each ("FILE:LINE: message", "--set section.key: message"), to `err`;
  * returns the number of problems (0 = the deck is usable). */

@@ -1,6 +1,7 @@
 /* rotleap: the command-line program.  The library never prints; this file owns all output. */
 #include "deck.h"
 #include "run.h"
+#include "scan.h"
 
 #include <rotleap/catalog.h>
 #include <rotleap/rotleap.h>
@@ -22,6 +23,9 @@ static void usage(FILE *f)
           "  energy DECK [--json] [--set ...]\n"
           "              evaluate the deck's starting configuration once: energy by term, virial,\n"
           "              pressure, per-molecule force and torque\n"
+          "  scan DECK [--timesteps LIST] [--integrators LIST] [--steps N | --time T] ...\n"
+          "              the speed-accuracy trade: the deck's scene from one shared start over time\n"
+          "              steps and integrators (calE, drift, rigidity, structure, equipartition, cost)\n"
           "  models      list the catalogue of named models: family and rotation path, degrees of\n"
           "              freedom, sites, parameters, units and literature reference\n"
           "  deck-keys [--markdown]\n"
@@ -121,6 +125,7 @@ int main(int argc, char **argv)
   if (!strcmp(cmd, "--version")) { printf("rotleap %s\n", ROTLEAP_VERSION); return 0; }
   if (!strcmp(cmd, "models")) return cmd_models(argc - 2, argv + 2);
   if (!strcmp(cmd, "run")) return deck_command("run", argc - 2, argv + 2, 0);
+  if (!strcmp(cmd, "scan")) return rl_app_scan(argc - 2, argv + 2);
   if (!strcmp(cmd, "energy")) return deck_command("energy", argc - 2, argv + 2, 1);
   if (!strcmp(cmd, "deck-keys")) {
     rl_deck_print_keys(stdout, argc > 2 && !strcmp(argv[2], "--markdown"));

@@ -1,0 +1,508 @@
+/* rotleap scan: the speed-accuracy trade of a deck's scene over time steps and integrators.
+ *
+ * One shared start (the deck's start after its relaxation phase) is cloned for every run; each
+ * run gets a fresh force field and integrator, the deck's ensemble, and either the same number of
+ * steps (the paper's Fig. 1 convention) or the same simulated time.  Per run: calE and calU
+ * (relative fluctuations of the conserved and potential energies), their ratio, the drift of the
+ * conserved energy (least squares, per molecule), the worst orthonormality error at the end,
+ * guarded-solve fallbacks, iterations, an RDF distance from the reference run (the first
+ * integrator at the smallest step), T_trans, T_rot and their ratio, wall time per step and
+ * ns/day.  Outputs (each written atomically after every run, so a scan stopped part-way keeps
+ * what it has done): PREFIX.scan.csv, PREFIX.scan_calE.csv (calE against run length), PREFIX.scan.txt (the
+ * table), and PNG plots by scripts/plot_scan.py. */
+#include "scan.h"
+#include "quantity.h"
+#include "scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define SCAN_MAX 64 /* time steps and integrators each */
+
+typedef struct {
+  int integ;          /* index into rl_deck_integrators */
+  double h;
+  long steps;         /* planned            */
+  long done;          /* steps completed    */
+  int ok;
+  char error[512];
+  double calE, calU, drift, ortho, t_trans, t_rot, rdf_dist, wall_per_step, ns_day, iterations;
+  double max_h_omega;
+  long fallbacks;
+  rl_rdf *rdf;
+  double (*curve)[3]; /* step, time, running calE */
+  int ncurve;
+} scan_run;
+
+typedef struct {
+  double h[SCAN_MAX];
+  int nh;
+  int integ[SCAN_MAX];
+  int ninteg;
+  long steps;         /* 0: the deck's run.steps            */
+  double time;        /* > 0: equal simulated time instead  */
+  double tolerance;   /* calE / calU                        */
+  int plot;
+} scan_opts;
+
+static double now(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* "1,2,4,6" with an optional unit (appended, or the next argument) -> h[], sorted. */
+static int parse_timesteps(const char *list, const char *unit, rl_units u, scan_opts *o, char *err, size_t errlen)
+{
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", list);
+  o->nh = 0;
+  for (char *save, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    if (o->nh == SCAN_MAX) { snprintf(err, errlen, "--timesteps: more than %d values", SCAN_MAX); return -1; }
+    char q[256], e[256];
+    snprintf(q, sizeof q, "%s%s%s", tok, unit ? " " : "", unit ? unit : "");
+    double h;
+    if (rl_parse_quantity(q, Q_TIME, u, 0, &h, e, sizeof e)) { snprintf(err, errlen, "--timesteps: %s", e); return -1; }
+    if (!(h > 0)) { snprintf(err, errlen, "--timesteps: '%s' is not a positive time step", q); return -1; }
+    o->h[o->nh++] = h;
+  }
+  if (!o->nh) { snprintf(err, errlen, "--timesteps: no values"); return -1; }
+  qsort(o->h, (size_t)o->nh, sizeof o->h[0], cmp_double);
+  return 0;
+}
+
+static int parse_integrators(const char *list, scan_opts *o, char *err, size_t errlen)
+{
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", list);
+  o->ninteg = 0;
+  for (char *save, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int k = rl_deck_integrator_lookup(tok);
+    if (k < 0) {
+      int n = snprintf(err, errlen, "--integrators: unknown integrator '%s' (known:", tok);
+      for (int i = 0; i < rl_deck_nintegrators && n > 0 && (size_t)n < errlen; i++)
+        n += snprintf(err + n, errlen - (size_t)n, " %s", rl_deck_integrators[i].name);
+      if (n > 0 && (size_t)n < errlen) snprintf(err + n, errlen - (size_t)n, ")");
+      return -1;
+    }
+    if (o->ninteg == SCAN_MAX) { snprintf(err, errlen, "--integrators: more than %d", SCAN_MAX); return -1; }
+    o->integ[o->ninteg++] = k;
+  }
+  if (!o->ninteg) { snprintf(err, errlen, "--integrators: none given"); return -1; }
+  return 0;
+}
+
+/* The first pair of output.rdf ("O-O, H-H" -> O, O), or site 0 - site 0. */
+static int rdf_pair(const rl_deck *d, const rl_molecule *m, int site[2], char *name, size_t len)
+{
+  site[0] = site[1] = 0;
+  snprintf(name, len, "%s-%s", m->site_names[0], m->site_names[0]);
+  if (!d->rdf[0]) return 0;
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", d->rdf);
+  char *save, *tok = strtok_r(buf, ", ", &save), *dash = tok ? strchr(tok, '-') : NULL;
+  if (!dash) return rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok ? tok : "");
+  *dash = '\0';
+  for (int k = 0; k < 2; k++) {
+    const char *want = k ? dash + 1 : tok;
+    site[k] = -1;
+    for (int a = 0; a < m->nsites; a++)
+      if (!strcmp(m->site_names[a], want)) site[k] = a;
+    if (site[k] < 0) return rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s'", m->name, want);
+  }
+  snprintf(name, len, "%s-%s", tok, dash + 1);
+  return 0;
+}
+
+/* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */
+static double ortho_error(const rl_system *s)
+{
+  double worst = 0.0;
+  for (int i = 0; i < rl_system_count(s); i++) {
+    rl_kind k = rl_system_species_kind(s, rl_system_species_of(s, i));
+    if (k == RL_KIND_POINT) continue;
+    if (k == RL_KIND_DIPOLE || k == RL_KIND_LINEAR) {
+      double r[3];
+      rl_system_get_axis(s, i, r);
+      worst = fmax(worst, fabs(sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - 1.0));
+      continue;
+    }
+    double A[9];
+    rl_system_get_orientation(s, i, A);
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++)
+        worst = fmax(worst, fabs(A[3 * a] * A[3 * b] + A[3 * a + 1] * A[3 * b + 1] + A[3 * a + 2] * A[3 * b + 2] -
+                                 (a == b)));
+  }
+  return worst;
+}
+
+/* One run from a clone of `start`.  Fills r (ok = 0 with the error on failure). */
+static void one_run(const rl_deck *d, const scene *base, const rl_system *start, const scan_opts *o,
+                    const int site[2], scan_run *r)
+{
+  const int n = d->count;
+  const long thermo = d->thermo_every > 0 ? d->thermo_every : 100;
+  r->steps = o->time > 0 ? lround(o->time / r->h) : (o->steps > 0 ? o->steps : d->steps);
+  if (r->steps < 2) r->steps = 2;
+  long sample = 0;
+  if (d->sample_every > 0) {
+    sample = lround(d->sample_every * d->timestep / r->h);
+    if (sample < 1) sample = 1;
+  }
+  double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  rl_system *sys = rl_system_clone(start);
+  rl_forcefield *ff = sys ? scene_forcefield(d, &base->mol, sys) : NULL;
+  rl_series *E = rl_series_alloc(), *U = rl_series_alloc();
+  r->rdf = sample ? rl_rdf_alloc(0.5 * Lmin, 200) : NULL;
+  r->curve = malloc(sizeof *r->curve * (size_t)(r->steps / thermo + 2));
+  rl_integrator *in = NULL;
+  int st = !sys || !ff || !E || !U || !r->curve || (sample && !r->rdf) ? RL_EINVAL : RL_OK;
+  if (!st) {
+    rl_integrator_params p;
+    rl_integrator_params_default(&p);
+    p.h = r->h;
+    p.method = rl_deck_integrators[r->integ].method;
+    p.thermostat = d->thermostat;
+    p.T0 = d->thermostat_temperature;
+    p.tau = d->tau;
+    p.seed = d->thermostat_seed;
+    p.force_general = d->force_general;
+    in = rl_integrator_alloc(sys, &p, rl_forcefield_provider(ff));
+    st = in ? rl_integrator_init(in) : RL_EINVAL;
+  }
+  double wall = 0.0, st_sum = 0, stt = 0, sE = 0, stE = 0, sTt = 0, sTr = 0, prevE = NAN, its = 0;
+  long done = 0;
+  r->max_h_omega = 0.0;
+  for (long k = 0; !st && k < r->steps; k++) {
+    rl_step_info info;
+    double t0 = now();
+    st = rl_integrator_step(in, &info);
+    wall += now() - t0;
+    if (st || (st = scene_blow_up_check(d, base, &info, k, prevE, r->h, "the time step"))) break;
+    prevE = info.total;
+    rl_series_add(E, info.conserved);
+    rl_series_add(U, info.potential);
+    st_sum += info.t; stt += info.t * info.t; sE += info.conserved; stE += info.t * info.conserved;
+    sTt += info.t_trans; sTr += info.t_rot;
+    its += info.quat_iterations;
+    r->max_h_omega = fmax(r->max_h_omega, info.max_h_omega);
+    done++;
+    if (k % thermo == 0 || k + 1 == r->steps) {
+      double *c = r->curve[r->ncurve++];
+      c[0] = (double)k; c[1] = info.t; c[2] = done > 1 ? rl_series_rel_fluct(E) : 0.0;
+    }
+    if (sample && (k + 1) % sample == 0 && site[0] >= 0)
+      st = rl_rdf_add_sites(r->rdf, sys, d->box, 0, site[0], 0, site[1]);
+  }
+  r->ok = !st;
+  r->done = done;
+  if (st) snprintf(r->error, sizeof r->error, "%s", rl_last_error());
+  if (done > 1) {
+    r->calE = rl_series_rel_fluct(E);
+    r->calU = rl_series_rel_fluct(U);
+    double var_t = stt / done - (st_sum / done) * (st_sum / done);
+    double slope = var_t > 0 ? (stE / done - (st_sum / done) * (sE / done)) / var_t : 0.0;
+    r->drift = slope / n * (d->units == RL_UNITS_REAL ? 1e3 : 1.0); /* per molecule per ns (real) */
+    r->t_trans = sTt / done;
+    r->t_rot = sTr / done;
+    r->wall_per_step = wall / done;
+    r->ns_day = d->units == RL_UNITS_REAL ? r->h * 1e-3 * 86400.0 / r->wall_per_step : 0.0;
+  }
+  r->ortho = sys ? ortho_error(sys) : NAN;
+  r->fallbacks = in ? rl_integrator_fallbacks(in) : 0;
+  int nmat = 0;
+  for (int i = 0; sys && i < n; i++) {
+    rl_kind kk = rl_system_species_kind(sys, rl_system_species_of(sys, i));
+    nmat += kk == RL_KIND_SPHERICAL || kk == RL_KIND_SYMMETRIC || kk == RL_KIND_ASYMMETRIC;
+  }
+  r->iterations = done && nmat ? its / ((double)done * nmat) : 0.0;
+  rl_integrator_free(in);
+  rl_series_free(E);
+  rl_series_free(U);
+  rl_forcefield_free(ff);
+  rl_system_free(sys);
+}
+
+static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const scan_run *runs, int nruns,
+                        const char *rdfname)
+{
+  const char *tu = rl_dim_unit(Q_TIME, d->units);
+  int real = d->units == RL_UNITS_REAL;
+  double hs = real ? 1e3 : 1.0; /* print steps in fs */
+  fprintf(f, "# rotleap scan of %s: %s, %d molecules, %s; shared start, %s\n", d->path, d->model->name, d->count,
+          d->thermostat == RL_THERMO_NONE ? "NVE" : d->thermostat == RL_THERMO_BUSSI ? "NVT (Bussi)" : "NVT (isokinetic)",
+          o->time > 0 ? "equal simulated time" : "equal number of steps");
+  fprintf(f, "# calE, calU: relative rms fluctuations of the conserved and potential energy; drift: of the conserved "
+             "energy, %s per molecule per %s; ortho: max |A A^T - I| or ||rho|-1| at the end; rdf: int |g - g_ref| dr "
+             "/ r_max for %s against the first run; iter: quaternion/implicit iterations per body and step\n",
+          real ? "kJ/mol" : "reduced", real ? "ns" : "time unit", rdfname);
+  fprintf(f, "%-14s %7s %7s %10s %10s %8s %10s %8s %6s %8s %8s %6s %8s %6s %9s %9s  %s\n", "integrator",
+          real ? "h(fs)" : "h", "steps", "calE", "calU", "E/U", "drift", "ortho", "fallb", "T_trans", "T_rot", "Tr/Tt",
+          "rdf", "iter", "ms/step", real ? "ns/day" : "", "status");
+  for (int k = 0; k < nruns; k++) {
+    const scan_run *r = &runs[k];
+    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f %8.4f %6.2f %9.3f %9.3g  %s\n",
+            rl_deck_integrators[r->integ].name, r->h * hs, r->done, r->calE, r->calU,
+            r->calU > 0 ? 100.0 * r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->t_trans, r->t_rot,
+            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, r->rdf_dist, r->iterations, 1e3 * r->wall_per_step,
+            r->ns_day, r->ok ? "ok" : r->error);
+  }
+  fprintf(f, "# largest time step with calE/calU <= %.3g%% (and no error):\n", 100.0 * o->tolerance);
+  for (int i = 0; i < o->ninteg; i++) {
+    const scan_run *best = NULL;
+    for (int k = 0; k < nruns; k++)
+      if (runs[k].integ == o->integ[i] && runs[k].ok && runs[k].calU > 0 &&
+          runs[k].calE <= o->tolerance * runs[k].calU)
+        best = &runs[k];
+    if (best)
+      fprintf(f, "#   %-14s %g %s (%.3g ns/day)\n", rl_deck_integrators[o->integ[i]].name, best->h * hs,
+              real ? "fs" : tu, best->ns_day);
+    else
+      fprintf(f, "#   %-14s none of the steps scanned\n", rl_deck_integrators[o->integ[i]].name);
+  }
+}
+
+/* A CSV field: the text quoted, inner quotes doubled. */
+static void csv_text(FILE *f, const char *s)
+{
+  fputc('"', f);
+  for (; *s; s++) {
+    if (*s == '"') fputc('"', f);
+    fputc(*s == '\n' ? ' ' : *s, f);
+  }
+  fputc('"', f);
+}
+
+static int write_outputs(const rl_deck *d, const scan_opts *o, const char *prefix, const scan_run *runs,
+                         int nruns, const char *rdfname)
+{
+  char path[700];
+  rl_atomic_file af;
+  const int real = d->units == RL_UNITS_REAL;
+  snprintf(path, sizeof path, "%s.scan.csv", prefix);
+  if (rl_atomic_open(&af, path)) return 1;
+  fprintf(af.fp, "integrator,h_%s,steps,steps_done,calE,calU,calE_over_calU,drift_per_molecule_per_%s,ortho_error,fallbacks,"
+                 "iterations_per_body_step,max_h_omega,t_trans,t_rot,t_rot_over_t_trans,rdf_distance_%s,wall_s_per_step,"
+                 "ns_per_day,meets_tolerance,status\n",
+          real ? "fs" : "reduced", real ? "ns" : "time", rdfname);
+  for (int k = 0; k < nruns; k++) {
+    const scan_run *r = &runs[k];
+    int meets = r->ok && r->calU > 0 && r->calE <= o->tolerance * r->calU;
+    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%.6e,%.6e,%.6g,%s,",
+            rl_deck_integrators[r->integ].name, r->h * (real ? 1e3 : 1.0), r->steps, r->done, r->calE, r->calU,
+            r->calU > 0 ? r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->iterations, r->max_h_omega,
+            r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, r->rdf_dist, r->wall_per_step,
+            r->ns_day, meets ? "yes" : "no");
+    csv_text(af.fp, r->ok ? "ok" : r->error);
+    fputc('\n', af.fp);
+  }
+  if (rl_atomic_commit(&af)) return 1;
+  snprintf(path, sizeof path, "%s.scan_calE.csv", prefix);
+  if (rl_atomic_open(&af, path)) return 1;
+  fprintf(af.fp, "integrator,h_%s,step,time_%s,calE\n", real ? "fs" : "reduced", real ? "ps" : "reduced");
+  for (int k = 0; k < nruns; k++)
+    for (int j = 0; j < runs[k].ncurve; j++)
+      fprintf(af.fp, "%s,%.10g,%.0f,%.10g,%.6e\n", rl_deck_integrators[runs[k].integ].name,
+              runs[k].h * (real ? 1e3 : 1.0), runs[k].curve[j][0], runs[k].curve[j][1], runs[k].curve[j][2]);
+  if (rl_atomic_commit(&af)) return 1;
+  snprintf(path, sizeof path, "%s.scan.txt", prefix);
+  if (rl_atomic_open(&af, path)) return 1;
+  print_table(af.fp, d, o, runs, nruns, rdfname);
+  return rl_atomic_commit(&af) ? 1 : 0;
+}
+
+/* PNG plots by scripts/plot_scan.py (matplotlib), next to the CSVs. */
+static int plot(const char *prefix)
+{
+  const char *script = getenv("ROTLEAP_PLOT_SCAN");
+  char def[1024];
+  if (!script) {
+    snprintf(def, sizeof def, "%s/scripts/plot_scan.py", ROTLEAP_SOURCE_DIR);
+    script = def;
+  }
+  if (access(script, R_OK)) {
+    fprintf(stderr, "rotleap scan: plots not made: %s not found (set ROTLEAP_PLOT_SCAN)\n", script);
+    return 1;
+  }
+  const char *py = access("/usr/bin/python3", X_OK) ? "python3" : "/usr/bin/python3";
+  char cmd[3000];
+  snprintf(cmd, sizeof cmd, "'%s' '%s' '%s'", py, script, prefix);
+  if (strchr(prefix, '\'') || strchr(script, '\'')) {
+    fprintf(stderr, "rotleap scan: plots not made: a quote in the path\n");
+    return 1;
+  }
+  int rc = system(cmd);
+  if (rc) {
+    fprintf(stderr, "rotleap scan: plots not made (%s exited with %d; it needs python3-matplotlib); the CSV files are "
+                    "complete\n", script, rc);
+    return 1;
+  }
+  return 0;
+}
+
+static void usage(FILE *f)
+{
+  fprintf(f,
+          "usage: rotleap scan DECK [--timesteps LIST [UNIT]] [--integrators LIST] [--steps N | --time T]\n"
+          "                        [--tolerance X] [--no-plot] [--set section.key=value ...]\n"
+          "\n"
+          "Runs the deck's scene from one shared start (the deck's start after its run.equilibrate relaxation;\n"
+          "give system.start = an equilibrated checkpoint for a careful scan) for every time step and\n"
+          "integrator, in the deck's ensemble, and reports per run: calE, calU and their ratio, the drift of\n"
+          "the conserved energy per molecule and ns, the orthonormality error, guarded-solve fallbacks,\n"
+          "iterations, the RDF distance (first output.rdf pair, else site 0 - site 0) from the first\n"
+          "integrator's smallest step, T_trans, T_rot and their ratio, wall time per step and ns/day.  It\n"
+          "marks, per integrator, the largest step with calE/calU <= the tolerance.\n"
+          "\n"
+          "  --timesteps LIST   e.g. \"1,2,4,6 fs\" (default: run.timestep)\n"
+          "  --integrators LIST e.g. rl,rl-quaternion (default: run.integrator); known:");
+  for (int i = 0; i < rl_deck_nintegrators; i++) fprintf(f, " %s", rl_deck_integrators[i].name);
+  fprintf(f,
+          "\n  --steps N          steps per run (default run.steps): the same number for every step size\n"
+          "  --time T           instead, the same simulated time per run, e.g. \"10 ps\"\n"
+          "  --tolerance X      calE/calU tolerance, \"5%%\" or 0.05 (default 5%%)\n"
+          "  --no-plot          skip PREFIX.scan_calE.png and PREFIX.scan_pareto.png\n"
+          "\n"
+          "Writes PREFIX.scan.csv, PREFIX.scan_calE.csv (calE against run length), PREFIX.scan.txt and the\n"
+          "plots, PREFIX = output.prefix; each file is replaced atomically after every run.\n");
+}
+
+int rl_app_scan(int argc, char **argv)
+{
+  const char *path = NULL, *ts = NULL, *ts_unit = NULL, *integ = NULL, *steps = NULL, *time = NULL, *tol = NULL;
+  char **sets = calloc((size_t)argc + 1, sizeof *sets);
+  int nsets = 0, plot_it = 1;
+  if (!sets) return 1;
+  for (int i = 0; i < argc; i++) {
+    const char *a = argv[i];
+    const char **slot = !strcmp(a, "--timesteps") ? &ts : !strcmp(a, "--integrators") ? &integ
+                      : !strcmp(a, "--steps") ? &steps : !strcmp(a, "--time") ? &time
+                      : !strcmp(a, "--tolerance") ? &tol : NULL;
+    if (!strcmp(a, "--help") || !strcmp(a, "-h")) { usage(stdout); free(sets); return 0; }
+    if (slot || !strcmp(a, "--set")) {
+      if (i + 1 >= argc) { fprintf(stderr, "rotleap scan: %s needs a value\n", a); free(sets); return 2; }
+      if (slot) *slot = argv[++i];
+      else sets[nsets++] = argv[++i];
+      /* "--timesteps 1,2,4 fs": a unit as the next word */
+      if (slot == &ts && i + 1 < argc && argv[i + 1][0] != '-') {
+        double x;
+        char e[128], q[64];
+        snprintf(q, sizeof q, "1 %s", argv[i + 1]);
+        if (!rl_parse_quantity(q, Q_TIME, RL_UNITS_REAL, 0, &x, e, sizeof e)) ts_unit = argv[++i];
+      }
+    } else if (!strcmp(a, "--no-plot")) plot_it = 0;
+    else if (a[0] == '-') { fprintf(stderr, "rotleap scan: unknown option '%s' (rotleap scan --help)\n", a); free(sets); return 2; }
+    else if (path) { fprintf(stderr, "rotleap scan: more than one deck ('%s', '%s')\n", path, a); free(sets); return 2; }
+    else path = a;
+  }
+  if (!path) { fprintf(stderr, "rotleap scan: no deck given (rotleap scan --help)\n"); free(sets); return 2; }
+  rl_deck d;
+  int problems = rl_deck_load(path, sets, nsets, &d, stderr);
+  free(sets);
+  if (problems) {
+    fprintf(stderr, "rotleap scan: %d problem%s in %s; nothing was run\n", problems, problems > 1 ? "s" : "", path);
+    return 2;
+  }
+  scan_opts o;
+  memset(&o, 0, sizeof o);
+  o.tolerance = 0.05;
+  o.plot = plot_it;
+  char err[512] = "";
+  int bad = 0;
+  if (ts) bad |= parse_timesteps(ts, ts_unit, d.units, &o, err, sizeof err) != 0;
+  else { o.h[0] = d.timestep; o.nh = 1; }
+  if (!bad && integ) bad |= parse_integrators(integ, &o, err, sizeof err) != 0;
+  else if (!bad) {
+    for (int i = 0; i < rl_deck_nintegrators; i++)
+      if (rl_deck_integrators[i].method == d.method) o.integ[0] = i;
+    o.ninteg = 1;
+  }
+  if (!bad && steps) {
+    char *end;
+    errno = 0;
+    o.steps = strtol(steps, &end, 10);
+    if (errno || *end || o.steps < 2) { snprintf(err, sizeof err, "--steps: '%s' is not a whole number >= 2", steps); bad = 1; }
+  }
+  if (!bad && time && (rl_parse_quantity(time, Q_TIME, d.units, 0, &o.time, err, sizeof err) || !(o.time > 0))) {
+    if (!err[0]) snprintf(err, sizeof err, "--time: '%s' must be positive", time);
+    bad = 1;
+  }
+  if (!bad && steps && time) { snprintf(err, sizeof err, "give --steps or --time, not both"); bad = 1; }
+  if (!bad && tol) {
+    char *end;
+    o.tolerance = strtod(tol, &end);
+    if (*end == '%' && !end[1]) { o.tolerance /= 100.0; end++; }
+    if (*end || !(o.tolerance > 0)) { snprintf(err, sizeof err, "--tolerance: '%s' is not a positive fraction or percentage", tol); bad = 1; }
+  }
+  if (bad) { fprintf(stderr, "rotleap scan: %s\n", err); return 2; }
+
+  scene s;
+  if (scene_build(&d, &s) || scene_relax(&d, &s)) {
+    fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
+    scene_free(&s);
+    return 1;
+  }
+  int site[2];
+  char rdfname[64];
+  if (rdf_pair(&d, &s.mol, site, rdfname, sizeof rdfname)) {
+    fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
+    scene_free(&s);
+    return 1;
+  }
+  int nruns = o.nh * o.ninteg;
+  scan_run *runs = calloc((size_t)nruns, sizeof *runs);
+  if (!runs) { scene_free(&s); return 1; }
+  int progress = d.progress < 0 ? isatty(fileno(stderr)) : d.progress, io_bad = 0;
+  const double hs = d.units == RL_UNITS_REAL ? 1e3 : 1.0;
+  for (int i = 0, k = 0; i < o.ninteg && !io_bad; i++)
+    for (int j = 0; j < o.nh && !io_bad; j++, k++) {
+      scan_run *r = &runs[k];
+      r->integ = o.integ[i];
+      r->h = o.h[j];
+      if (progress)
+        fprintf(stderr, "rotleap scan: run %d/%d: %s at h = %g%s ...\n", k + 1, nruns, rl_deck_integrators[r->integ].name,
+                r->h * hs, d.units == RL_UNITS_REAL ? " fs" : "");
+      one_run(&d, &s, s.sys, &o, site, r);
+      if (!r->ok) fprintf(stderr, "rotleap scan: %s at h = %g%s: %s\n", rl_deck_integrators[r->integ].name, r->h * hs,
+                d.units == RL_UNITS_REAL ? " fs" : "", r->error);
+      /* RDF distance from the reference run (runs[0]: first integrator, smallest step) */
+      for (int q = 0; q <= k; q++) {
+        double dist = NAN;
+        if (runs[0].rdf && runs[q].rdf && rl_rdf_frames(runs[0].rdf) > 0 && rl_rdf_frames(runs[q].rdf) > 0 &&
+            !rl_rdf_distance(runs[q].rdf, runs[0].rdf, &dist))
+          dist /= rl_rdf_rmax(runs[0].rdf);
+        runs[q].rdf_dist = dist;
+      }
+      if (write_outputs(&d, &o, d.prefix, runs, k + 1, rdfname)) {
+        fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
+        io_bad = 1;
+      }
+    }
+  if (!io_bad) {
+    print_table(stdout, &d, &o, runs, nruns, rdfname);
+    printf("# outputs: %s.scan.csv, %s.scan_calE.csv, %s.scan.txt%s\n", d.prefix, d.prefix, d.prefix,
+           o.plot ? ", .scan_calE.png, .scan_pareto.png" : "");
+    if (o.plot) plot(d.prefix);
+  }
+  for (int k = 0; k < nruns; k++) {
+    rl_rdf_free(runs[k].rdf);
+    free(runs[k].curve);
+  }
+  free(runs);
+  scene_free(&s);
+  /* runs that blew up are results of the scan (reported in the table), not failures of it */
+  return io_bad ? 1 : 0;
+}
