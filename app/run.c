@@ -243,7 +243,8 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
-  double prevE = NAN;
+  scene_watch watch;
+  scene_watch_init(&watch);
   analysis *an = NULL;
   if (!st && !(an = analysis_alloc(d, &s.mol, s.sys))) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
@@ -263,11 +264,10 @@ int rl_app_run(const rl_deck *d)
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
-    if ((st = scene_blow_up_check(d, &s, &info, k, k > first ? prevE : NAN, d->timestep, "run.timestep"))) {
+    if ((st = scene_watch_step(d, &s, &watch, &info, k, d->timestep, "run.timestep"))) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
-    prevE = info.total;
     rl_forces Ft = {NULL, NULL, 0.0, {0}};
     memcpy(Ft.virial, virial, sizeof virial);
     double pr = pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
@@ -334,13 +334,24 @@ int rl_app_run(const rl_deck *d)
            "U_per_molecule = %.8g +- sd %.3g %s\n"
            "temperature = %.6g (translational %.6g, rotational %.6g) %s\n"
            "pressure = %.6g +- sd %.3g %s\n"
-           "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n",
+           "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n"
+           "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
            ROTLEAP_VERSION, d->path, st ? "error" : "ok", E.n, d->steps, done, d->model->name, n,
            d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), wall, fallbacks,
            U.mean / n, run_sd(&U) / n, energy_unit(d), T.mean, Tt.mean, Tr.mean,
            d->units == RL_UNITS_LJ ? "" : "K", P.mean, run_sd(&P), pressure_unit(d),
            E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0,
-           U.n > 1 && run_sd(&U) > 0 ? (run_sd(&E) / fabs(E.mean)) / (run_sd(&U) / fabs(U.mean)) : 0.0);
+           U.n > 1 && run_sd(&U) > 0 ? (run_sd(&E) / fabs(E.mean)) / (run_sd(&U) / fabs(U.mean)) : 0.0,
+           watch.max_rate, rl_dim_unit(Q_TIME, d->units), SCENE_WINDOW, rl_dim_unit(Q_TIME, d->units),
+           watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window",
+           fabs(watch.max_rate) > SCENE_DRIFT_WARN
+               ? "warning = the conserved energy drifts: integration error is heating or cooling the system; "
+                 "a smaller time step will change the results\n"
+               : "");
+  if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
+    fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
+                    "step %g is too large for accurate dynamics\n", watch.max_rate, rl_dim_unit(Q_TIME, d->units),
+            d->timestep);
   if (write_atomic(summary_path, text)) {
     fprintf(stderr, "rotleap run: cannot write %s: %s\n", summary_path, strerror(errno));
     io_ok = 0;

@@ -183,7 +183,9 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     in = rl_integrator_alloc(sys, &p, rl_forcefield_provider(ff));
     st = in ? rl_integrator_init(in) : RL_EINVAL;
   }
-  double wall = 0.0, st_sum = 0, stt = 0, sE = 0, stE = 0, sTt = 0, sTr = 0, prevE = NAN, its = 0;
+  double wall = 0.0, st_sum = 0, stt = 0, sE = 0, stE = 0, sTt = 0, sTr = 0, its = 0;
+  scene_watch watch;
+  scene_watch_init(&watch);
   long done = 0;
   r->max_h_omega = 0.0;
   for (long k = 0; !st && k < r->steps; k++) {
@@ -191,8 +193,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     double t0 = now();
     st = rl_integrator_step(in, &info);
     wall += now() - t0;
-    if (st || (st = scene_blow_up_check(d, base, &info, k, prevE, r->h, "the time step"))) break;
-    prevE = info.total;
+    if (st || (st = scene_watch_step(d, base, &watch, &info, k, r->h, "the time step"))) break;
     rl_series_add(E, info.conserved);
     rl_series_add(U, info.potential);
     st_sum += info.t; stt += info.t * info.t; sE += info.conserved; stE += info.t * info.conserved;

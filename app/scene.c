@@ -86,15 +86,29 @@ int scene_relax(const rl_deck *d, scene *s)
   return st ? rl_error_wrap(st, "during equilibration") : RL_OK;
 }
 
+void scene_watch_init(scene_watch *w)
+{
+  memset(w, 0, sizeof *w);
+  w->prevE = NAN;
+}
+
 /* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
  * energy by more than 10 kT per molecule in one step (a stable step changes it by far less than
  * kT per molecule; a thermostat exchanges a fraction of kT), or a molecule moving more than the
- * shortest box edge in one step. */
-int scene_blow_up_check(const rl_deck *d, const scene *s, const rl_step_info *info, long k, double prevE,
-                        double h, const char *dt_name)
+ * shortest box edge in one step.  A slower failure -- integration error pumping energy into the
+ * system (water beyond ~10 fs: the fastest librations pass the leapfrog's stability limit
+ * h omega = 2) while a thermostat hides it -- shows as a drift of the conserved quantity (the
+ * total energy plus what the thermostat removed); it is measured over windows of SCENE_WINDOW
+ * time units and at least 50 steps, and ends the run above SCENE_DRIFT_ERROR kT per molecule per
+ * time unit (real: ps).  A stable run drifts by orders of magnitude less (TIP4P at 2 fs: ~1e-3;
+ * at 10 fs 0.7, at 12 fs 16, measured with Bussi, tau 0.1 ps, 216 molecules). */
+int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k,
+                     double h, const char *dt_name)
 {
   double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
   const char *tu = rl_dim_unit(Q_TIME, d->units);
+  double prevE = w->prevE;
+  w->prevE = info->total;
   if (!isfinite(info->total))
     return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
                     "reduce %s (now %g)", k, info->t, tu, dt_name, h);
@@ -112,6 +126,21 @@ int scene_blow_up_check(const rl_deck *d, const scene *s, const rl_step_info *in
       return rl_error(RL_EINVAL, "step %ld (t = %g %s): molecule %d moved %.3g in one step, more than the "
                       "box edge %.3g: the run blew up; reduce %s (now %g)", k, info->t, tu, i,
                       step, Lmin, dt_name, h);
+  }
+  if (!w->open) {
+    w->open = 1;
+    w->step0 = k;
+    w->t0 = info->t;
+    w->c0 = info->conserved;
+  } else if (k - w->step0 >= 50 && info->t - w->t0 >= SCENE_WINDOW) {
+    double rate = (info->conserved - w->c0) / (d->count * kT * (info->t - w->t0));
+    if (fabs(rate) > fabs(w->max_rate)) w->max_rate = rate;
+    w->open = 0;
+    if (fabs(rate) > SCENE_DRIFT_ERROR)
+      return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
+                      "%s over the last %g %s (more than %g): integration error is %s the system; reduce %s "
+                      "(now %g)", k, info->t, tu, rate, tu, info->t - w->t0, tu, SCENE_DRIFT_ERROR,
+                      rate > 0 ? "heating" : "cooling", dt_name, h);
   }
   return RL_OK;
 }

@@ -26,9 +26,19 @@ void scene_free(scene *s);
 rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
 /* The deck's relaxation phase (run.equilibrate steps; nothing for a checkpoint start). */
 int scene_relax(const rl_deck *d, scene *s);
-/* A blow-up ends a run at the step where it shows; RL_OK or an error naming step and cause.
- * prevE: the total energy of the previous step (NAN for the first); h the step in use, named
- * dt_name in the advice ("run.timestep"). */
-int scene_blow_up_check(const rl_deck *d, const scene *s, const rl_step_info *info, long step,
-                        double prevE, double h, const char *dt_name);
+/* Watching a run for blow-ups (scene.c says what and why). */
+#define SCENE_WINDOW 1.0       /* drift window: 1 ps (real), 1 time unit (lj)              */
+#define SCENE_DRIFT_ERROR 5.0  /* kT per molecule per time unit: the run is stopped        */
+#define SCENE_DRIFT_WARN 0.5   /* kT per molecule per time unit: the summary warns         */
+typedef struct {
+  double prevE;           /* total energy of the previous step (NAN: none)                */
+  int open;               /* a drift window is open, from step0, t0, conserved c0         */
+  long step0;
+  double t0, c0;
+  double max_rate;        /* the largest drift seen, kT per molecule per time unit (signed) */
+} scene_watch;
+void scene_watch_init(scene_watch *w);
+/* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce. */
+int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long step,
+                     double h, const char *dt_name);
 #endif

@@ -59,6 +59,24 @@ if command -v python3 >/dev/null; then
   check "energy --json is valid JSON with 64 molecules" \
     'python3 -c "import json,sys; d=json.load(open(\"energy.json\")); assert len(d[\"molecules\"])==64 and \"total\" in d[\"energy\"] and len(d[\"molecules\"][0][\"torque\"])==3"'
 fi
+# Water NVT at the edge of stability (issue 7): at 10 fs the run completes and warns that the
+# conserved energy drifts; at 12 fs the fastest librations pass the leapfrog's limit h omega = 2,
+# the Bussi thermostat hides the heating, and the drift monitor stops the run within its 1 ps
+# window, naming the step and cause, keeping the rows and the last checkpoint (step 80).
+nvt="--set run.ensemble=nvt-bussi --set run.temperature=298K --set run.tau=0.1ps --set run.steps=1000 --set run.equilibrate=1000 --set output.checkpoint_every=20 --set output.progress=no"
+"$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=10fs --set output.prefix="$work/w10" >out.txt 2>err.txt; code=$?
+check "water NVT at 10 fs completes" '[ $code -eq 0 ] && grep -q "status = ok" "$work/w10.summary.txt"'
+check "water NVT at 10 fs warns of the drift" 'grep -q "^warning = the conserved energy drifts" "$work/w10.summary.txt" && grep -q "warning: the conserved energy drifted by" err.txt'
+"$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=12fs --set output.prefix="$work/w12" >out.txt 2>err.txt; code=$?
+check "water NVT at 12 fs is stopped" '[ $code -eq 1 ] && grep -q "status = error" "$work/w12.summary.txt"'
+check "the stop names step, drift and cause" 'grep -qE "step [0-9]+ \(t = .* ps\): the conserved energy drifted by [0-9.]+ kT per molecule per ps .* integration error is heating the system; reduce run.timestep" err.txt'
+check "the rows before the stop are kept" '[ "$(grep -c "^[0-9]" "$work/w12.thermo.csv")" -ge 1 ]'
+"$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=12fs --set run.steps=84 --set run.equilibrate=0 \
+  --set system.start="$work/w12.chk" --set output.prefix="$work/w12r" >out.txt 2>err.txt; code=$?
+check "the last checkpoint (step 80) is readable and continues" '[ $code -eq 0 ] && grep -q "steps = 84 of 84 (this invocation: 4)" "$work/w12r.summary.txt"'
+check "no water NVT run wrote NaN" '! grep -qi nan "$work/w10.thermo.csv" "$work/w12.thermo.csv"'
+check "conserved drift reported for a stable run" '"$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=2fs --set run.steps=600 --set output.prefix="$work/w2" >/dev/null 2>&1 && grep -qE "^conserved_drift = -?0\.0" "$work/w2.summary.txt" && ! grep -q "^warning" "$work/w2.summary.txt"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
