@@ -327,6 +327,7 @@ int rl_app_run(const rl_deck *d)
   int io_ok = fclose(thermo) == 0 && rename(part, thermo_path) == 0;
   if (!io_ok) fprintf(stderr, "rotleap run: cannot write %s: %s\n", thermo_path, strerror(errno));
   char text[4096];
+  const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   snprintf(text, sizeof text,
            "# rotleap %s summary of %s\n"
            "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
@@ -335,6 +336,7 @@ int rl_app_run(const rl_deck *d)
            "temperature = %.6g (translational %.6g, rotational %.6g) %s\n"
            "pressure = %.6g +- sd %.3g %s\n"
            "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n"
+           "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n"
            "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
            ROTLEAP_VERSION, d->path, st ? "error" : "ok", E.n, d->steps, done, d->model->name, n,
            d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), wall, fallbacks,
@@ -342,7 +344,7 @@ int rl_app_run(const rl_deck *d)
            d->units == RL_UNITS_LJ ? "" : "K", P.mean, run_sd(&P), pressure_unit(d),
            E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0,
            U.n > 1 && run_sd(&U) > 0 ? (run_sd(&E) / fabs(E.mean)) / (run_sd(&U) / fabs(U.mean)) : 0.0,
-           watch.max_rate, rl_dim_unit(Q_TIME, d->units), SCENE_WINDOW, rl_dim_unit(Q_TIME, d->units),
+           scene_rigidity_error(s.sys), watch.max_rate, tunit, SCENE_WINDOW, tunit,
            watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window",
            fabs(watch.max_rate) > SCENE_DRIFT_WARN
                ? "warning = the conserved energy drifts: integration error is heating or cooling the system; "
@@ -350,7 +352,7 @@ int rl_app_run(const rl_deck *d)
                : "");
   if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
     fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
-                    "step %g is too large for accurate dynamics\n", watch.max_rate, rl_dim_unit(Q_TIME, d->units),
+                    "step %g is too large for accurate dynamics\n", watch.max_rate, tunit,
             d->timestep);
   if (write_atomic(summary_path, text)) {
     fprintf(stderr, "rotleap run: cannot write %s: %s\n", summary_path, strerror(errno));

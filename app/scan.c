@@ -126,29 +126,6 @@ static int rdf_pair(const rl_deck *d, const rl_molecule *m, int site[2], char *n
   return 0;
 }
 
-/* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */
-static double ortho_error(const rl_system *s)
-{
-  double worst = 0.0;
-  for (int i = 0; i < rl_system_count(s); i++) {
-    rl_kind k = rl_system_species_kind(s, rl_system_species_of(s, i));
-    if (k == RL_KIND_POINT) continue;
-    if (k == RL_KIND_DIPOLE || k == RL_KIND_LINEAR) {
-      double r[3];
-      rl_system_get_axis(s, i, r);
-      worst = fmax(worst, fabs(sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - 1.0));
-      continue;
-    }
-    double A[9];
-    rl_system_get_orientation(s, i, A);
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++)
-        worst = fmax(worst, fabs(A[3 * a] * A[3 * b] + A[3 * a + 1] * A[3 * b + 1] + A[3 * a + 2] * A[3 * b + 2] -
-                                 (a == b)));
-  }
-  return worst;
-}
-
 /* One run from a clone of `start`.  Fills r (ok = 0 with the error on failure). */
 static void one_run(const rl_deck *d, const scene *base, const rl_system *start, const scan_opts *o,
                     const int site[2], scan_run *r)
@@ -222,7 +199,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     r->wall_per_step = wall / done;
     r->ns_day = d->units == RL_UNITS_REAL ? r->h * 1e-3 * 86400.0 / r->wall_per_step : 0.0;
   }
-  r->ortho = sys ? ortho_error(sys) : NAN;
+  r->ortho = sys ? scene_rigidity_error(sys) : NAN;
   r->fallbacks = in ? rl_integrator_fallbacks(in) : 0;
   int nmat = 0;
   for (int i = 0; sys && i < n; i++) {

@@ -144,3 +144,26 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
   }
   return RL_OK;
 }
+
+/* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */
+double scene_rigidity_error(const rl_system *s)
+{
+  double worst = 0.0;
+  for (int i = 0; i < rl_system_count(s); i++) {
+    rl_kind k = rl_system_species_kind(s, rl_system_species_of(s, i));
+    if (k == RL_KIND_POINT) continue;
+    if (k == RL_KIND_DIPOLE || k == RL_KIND_LINEAR) {
+      double r[3];
+      rl_system_get_axis(s, i, r);
+      worst = fmax(worst, fabs(sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - 1.0));
+      continue;
+    }
+    double A[9];
+    rl_system_get_orientation(s, i, A);
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++)
+        worst = fmax(worst, fabs(A[3 * a] * A[3 * b] + A[3 * a + 1] * A[3 * b + 1] + A[3 * a + 2] * A[3 * b + 2] -
+                                 (a == b)));
+  }
+  return worst;
+}

@@ -41,4 +41,6 @@ void scene_watch_init(scene_watch *w);
 /* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce. */
 int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long step,
                      double h, const char *dt_name);
+/* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */
+double scene_rigidity_error(const rl_system *s);
 #endif
