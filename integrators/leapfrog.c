@@ -203,26 +203,34 @@ int rl_integrator_init(rl_integrator *in)
 static void polish_orientations(rl_integrator *in)
 {
   rl_system *s = in->sys;
-  for (int i = 0; i < s->nmat; i++) {
-    double *A = s->A[i], M[9], B[9];
-    for (int a = 0; a < 3; a++) /* M = (3I - A^T A)/2 */
-      for (int b = 0; b < 3; b++)
-        M[3 * a + b] = 0.5 * ((a == b ? 3.0 : 0.0) - (A[a] * A[b] + A[3 + a] * A[3 + b] + A[6 + a] * A[6 + b]));
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++)
-        B[3 * a + b] = A[3 * a] * M[b] + A[3 * a + 1] * M[3 + b] + A[3 * a + 2] * M[6 + b];
-    memcpy(A, B, sizeof B);
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    if (sp->mat_off < 0) continue;
+    /* q is the state only where RL_ROT_QUATERNION actually moves it (the general path); the
+     * fast paths advance A, and their never-advanced q must not overwrite it */
+    const int qstate = in->p.method == RL_ROT_QUATERNION &&
+                       rl_family_for(sp->kind, in->p.force_general) == &rl_family_asymmetric;
+    for (int i = sp->mat_off; i < sp->mat_off + sp->count; i++) {
+      if (qstate) {
+        double *q = in->q[i], f = 0.5 * (3.0 - (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]));
+        for (int c = 0; c < 4; c++) q[c] *= f;
+        rl_quat_to_matrix(q, s->A[i]);
+        continue;
+      }
+      double *A = s->A[i], M[9], B[9];
+      for (int a = 0; a < 3; a++) /* M = (3I - A^T A)/2 */
+        for (int b = 0; b < 3; b++)
+          M[3 * a + b] = 0.5 * ((a == b ? 3.0 : 0.0) - (A[a] * A[b] + A[3 + a] * A[3 + b] + A[6 + a] * A[6 + b]));
+      for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+          B[3 * a + b] = A[3 * a] * M[b] + A[3 * a + 1] * M[3 + b] + A[3 * a + 2] * M[6 + b];
+      memcpy(A, B, sizeof B);
+    }
   }
   for (int i = 0; i < s->naxis; i++) {
     double *r = s->rho[i], f = 0.5 * (3.0 - (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
     r[0] *= f; r[1] *= f; r[2] *= f;
   }
-  if (in->q)
-    for (int i = 0; i < s->nmat; i++) {
-      double *q = in->q[i], f = 0.5 * (3.0 - (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]));
-      for (int c = 0; c < 4; c++) q[c] *= f;
-      rl_quat_to_matrix(q, s->A[i]);
-    }
 }
 
 /* Bussi et al. 2007, eq. (A7): the ratio K'/K of the new to the current kinetic energy for a
