@@ -91,6 +91,30 @@ static inline void free_cluster(cluster *c)
   rl_system_free(c->sys);
 }
 
+/* 400 steps at h = 0.02 forward, reverse, 400 back with rotation method m: the worst
+ * |r_back - r_0| and |A_back - A_0| over the bodies. */
+static inline void cluster_reversal_error(rl_rot_method m, double *worst_r, double *worst_A)
+{
+  cluster c = make_cluster(0.02, m, RL_THERMO_NONE, 0.0);
+  double r0[NB][3], A0[NB][9];
+  *worst_r = *worst_A = 0.0;
+  for (int i = 0; i < NB; i++) {
+    rl_system_get_position(c.sys, i, r0[i]);
+    rl_system_get_orientation(c.sys, i, A0[i]);
+  }
+  for (int s = 0; s < 400; s++) assert_int_equal(rl_integrator_step(c.in, NULL), RL_OK);
+  assert_int_equal(rl_integrator_reverse(c.in), RL_OK);
+  for (int s = 0; s < 400; s++) assert_int_equal(rl_integrator_step(c.in, NULL), RL_OK);
+  for (int i = 0; i < NB; i++) {
+    double r[3], A[9];
+    rl_system_get_position(c.sys, i, r);
+    rl_system_get_orientation(c.sys, i, A);
+    *worst_r = fmax(*worst_r, max_abs_diff(r, r0[i], 3));
+    *worst_A = fmax(*worst_A, max_abs_diff(A, A0[i], 9));
+  }
+  free_cluster(&c);
+}
+
 /* Standard deviation of the on-step total energy over T at step h. */
 static inline double cluster_energy_sd(rl_rot_method m, double h, double T)
 {
