@@ -1,6 +1,6 @@
 /* free_top: one force-free rigid body from A = I, integrated by the revised leapfrog.
  *
- *   free_top --inertia JX JY JZ --angmom LX LY LZ --h H --steps N --solver cubic|exact|quaternion
+ *   free_top --inertia JX JY JZ --angmom LX LY LZ --h H --steps N --solver cubic|exact|quaternion|hybrid|fincham|no-squish
  *
  * The angular momentum is given in the lab frame (= the body frame at t = 0).  Units are any
  * consistent set (the top is scale free).  Prints the final rotation matrix row by row, its
@@ -22,7 +22,7 @@ static int zero_forces(void *ctx, const rl_system *sys, rl_forces *out)
 static void usage(FILE *f)
 {
   fprintf(f, "usage: free_top --inertia JX JY JZ --angmom LX LY LZ --h H --steps N "
-             "[--solver cubic|exact|quaternion]\n"
+             "[--solver cubic|exact|quaternion|hybrid|fincham|no-squish]\n"
              "Integrates one force-free rigid body from A = identity with the revised\n"
              "angular-momentum leapfrog and prints the final rotation matrix.\n");
 }
@@ -51,7 +51,14 @@ int main(int argc, char **argv)
       if (!strcmp(v, "cubic")) method = RL_ROT_CUBIC;
       else if (!strcmp(v, "exact")) method = RL_ROT_EXACT;
       else if (!strcmp(v, "quaternion")) method = RL_ROT_QUATERNION;
-      else { fprintf(stderr, "free_top: unknown solver '%s' (cubic, exact, quaternion)\n", v); return 2; }
+      else if (!strcmp(v, "hybrid")) method = RL_ROT_HYBRID;
+      else if (!strcmp(v, "fincham")) method = RL_ROT_FINCHAM;
+      else if (!strcmp(v, "no-squish")) method = RL_ROT_NOSQUISH;
+      else {
+        fprintf(stderr, "free_top: unknown solver '%s' (cubic, exact, quaternion, hybrid, fincham, "
+                "no-squish)\n", v);
+        return 2;
+      }
       continue;
     }
     double *dst = !strcmp(a, "--inertia") ? J : !strcmp(a, "--angmom") ? L : !strcmp(a, "--h") ? &h : &steps_d;
@@ -101,7 +108,7 @@ int main(int argc, char **argv)
   for (int k = 0; k < 9; k++) printf(" %.17g", A[k]);
   printf("\northonormality_error = %.3e\nfallbacks = %ld\n", rl_orthonormality_error(A),
          rl_integrator_fallbacks(in));
-  if (method == RL_ROT_QUATERNION)
+  if (method == RL_ROT_QUATERNION || method == RL_ROT_FINCHAM)
     printf("quaternion_iterations = %ld\n", rl_integrator_quat_iterations(in));
   rl_integrator_free(in);
   rl_system_free(sys);

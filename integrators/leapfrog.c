@@ -7,7 +7,8 @@
  *   2. v(t+h/2) = (2 beta - 1) v(t) + h/2 f/m, same for l                  (eqs. 10, 17-18;
  *      beta = 1 is the plain kick)
  *   3. r(t+h) = r(t) + h v(t+h/2)                                          (eq. 8)
- *   4. rotation by kind, from l(t+h/2)                                     (eqs. 19-36, III.D)
+ *   4. rotation by kind, from l(t+h/2)                                     (eqs. 19-36, III.D),
+ *      or by a baseline method for every matrix body (models/family_baselines.c)
  *   5. forces at t+h from the provider. */
 #include "rotleap/integrator.h"
 #include "rotleap/error.h"
@@ -33,13 +34,27 @@ struct rl_integrator {
   rl_integrator_params p;
   rl_force_provider provider;
   rl_forces F;
-  double (*q)[4]; /* [nmat] quaternions, only for RL_ROT_QUATERNION */
+  double (*q)[4]; /* [nmat] quaternions: RL_ROT_QUATERNION's state; the baselines' last q */
+  double (*lprev)[3]; /* [nrot] l(t-h/2) before the kick, RL_ROT_FINCHAM only */
   int initialized;
   long steps, fallbacks, quat_iterations;
   double t;
   gsl_rng *rng;       /* Bussi thermostat only */
   double thermo_work; /* kinetic energy removed by the thermostat so far */
 };
+
+const char *rl_rot_method_name(rl_rot_method m)
+{
+  switch (m) {
+  case RL_ROT_CUBIC: return "rl";
+  case RL_ROT_EXACT: return "rl-exact";
+  case RL_ROT_QUATERNION: return "rl-quaternion";
+  case RL_ROT_HYBRID: return "rl-hybrid";
+  case RL_ROT_FINCHAM: return "fincham";
+  case RL_ROT_NOSQUISH: return "no-squish";
+  }
+  return NULL;
+}
 
 void rl_integrator_params_default(rl_integrator_params *p)
 {
@@ -58,9 +73,10 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
 {
   if (!(p->h > 0.0) || !isfinite(p->h))
     return rl_error(RL_EINVAL, "time step h = %g must be positive and finite", p->h);
-  if (p->method != RL_ROT_CUBIC && p->method != RL_ROT_EXACT && p->method != RL_ROT_QUATERNION)
+  if (!rl_rot_method_name(p->method))
     return rl_error(RL_EINVAL, "unknown rotation method %d", (int)p->method);
-  if (p->method == RL_ROT_QUATERNION && (!(p->quat_tol > 0.0) || p->quat_maxit < 1))
+  if ((p->method == RL_ROT_QUATERNION || p->method == RL_ROT_FINCHAM) &&
+      (!(p->quat_tol > 0.0) || p->quat_maxit < 1))
     return rl_error(RL_EINVAL, "quaternion tolerance %g / max iterations %d must be positive",
                     p->quat_tol, p->quat_maxit);
   if (p->thermostat != RL_THERMO_NONE && p->thermostat != RL_THERMO_ISOKINETIC &&
@@ -77,6 +93,13 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
                     rl_system_dof(s));
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
+    /* the baselines are quaternion schemes for full orientations; an axis-only species has no
+     * q to advance, and a re-derived axis scheme would not be the published baseline */
+    if (rl_rot_is_baseline(p->method) && sp->axis_off >= 0)
+      return rl_error(RL_EINVAL, "rotation method %s has no baseline for species '%s' (%s: only "
+                      "its axis is stored); use rl, rl-exact or rl-quaternion for systems with "
+                      "point dipoles or linear molecules", rl_rot_method_name(p->method),
+                      sp->name, rl_kind_name(sp->kind));
     for (int b = 0; b < sp->count; b++) {
       int st;
       if (sp->mat_off >= 0 && (st = rl_check_rotation(s->A[sp->mat_off + b], "integrator", sp->first + b)))
@@ -107,12 +130,15 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   in->provider = provider;
   in->F.f = calloc((size_t)sys->n, sizeof *in->F.f);
   in->F.k = calloc((size_t)(sys->nrot > 0 ? sys->nrot : 1), sizeof *in->F.k);
-  if (p->method == RL_ROT_QUATERNION && sys->nmat > 0) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
+  const int need_q = (p->method == RL_ROT_QUATERNION || rl_rot_is_baseline(p->method)) && sys->nmat > 0;
+  const int need_lprev = p->method == RL_ROT_FINCHAM && sys->nrot > 0;
+  if (need_q) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
+  if (need_lprev) in->lprev = calloc((size_t)sys->nrot, sizeof *in->lprev);
   if (p->thermostat == RL_THERMO_BUSSI) {
     in->rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (in->rng) gsl_rng_set(in->rng, p->seed);
   }
-  if (!in->F.f || !in->F.k || (p->method == RL_ROT_QUATERNION && sys->nmat > 0 && !in->q) ||
+  if (!in->F.f || !in->F.k || (need_q && !in->q) || (need_lprev && !in->lprev) ||
       (p->thermostat == RL_THERMO_BUSSI && !in->rng)) {
     rl_integrator_free(in);
     rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
@@ -127,6 +153,7 @@ void rl_integrator_free(rl_integrator *in)
   free(in->F.f);
   free(in->F.k);
   free(in->q);
+  free(in->lprev);
   gsl_rng_free(in->rng);
   free(in);
 }
@@ -203,26 +230,34 @@ int rl_integrator_init(rl_integrator *in)
 static void polish_orientations(rl_integrator *in)
 {
   rl_system *s = in->sys;
-  for (int i = 0; i < s->nmat; i++) {
-    double *A = s->A[i], M[9], B[9];
-    for (int a = 0; a < 3; a++) /* M = (3I - A^T A)/2 */
-      for (int b = 0; b < 3; b++)
-        M[3 * a + b] = 0.5 * ((a == b ? 3.0 : 0.0) - (A[a] * A[b] + A[3 + a] * A[3 + b] + A[6 + a] * A[6 + b]));
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++)
-        B[3 * a + b] = A[3 * a] * M[b] + A[3 * a + 1] * M[3 + b] + A[3 * a + 2] * M[6 + b];
-    memcpy(A, B, sizeof B);
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    if (sp->mat_off < 0) continue;
+    /* q is the state only where RL_ROT_QUATERNION actually moves it (the general path); the
+     * fast paths and the baselines advance A, and their q must not overwrite it */
+    const int qstate = in->p.method == RL_ROT_QUATERNION &&
+                       rl_family_for(sp->kind, in->p.force_general) == &rl_family_asymmetric;
+    for (int i = sp->mat_off; i < sp->mat_off + sp->count; i++) {
+      if (qstate) {
+        double *q = in->q[i], f = 0.5 * (3.0 - (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]));
+        for (int c = 0; c < 4; c++) q[c] *= f;
+        rl_quat_to_matrix(q, s->A[i]);
+        continue;
+      }
+      double *A = s->A[i], M[9], B[9];
+      for (int a = 0; a < 3; a++) /* M = (3I - A^T A)/2 */
+        for (int b = 0; b < 3; b++)
+          M[3 * a + b] = 0.5 * ((a == b ? 3.0 : 0.0) - (A[a] * A[b] + A[3 + a] * A[3 + b] + A[6 + a] * A[6 + b]));
+      for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+          B[3 * a + b] = A[3 * a] * M[b] + A[3 * a + 1] * M[3 + b] + A[3 * a + 2] * M[6 + b];
+      memcpy(A, B, sizeof B);
+    }
   }
   for (int i = 0; i < s->naxis; i++) {
     double *r = s->rho[i], f = 0.5 * (3.0 - (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
     r[0] *= f; r[1] *= f; r[2] *= f;
   }
-  if (in->q)
-    for (int i = 0; i < s->nmat; i++) {
-      double *q = in->q[i], f = 0.5 * (3.0 - (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]));
-      for (int c = 0; c < 4; c++) q[c] *= f;
-      rl_quat_to_matrix(q, s->A[i]);
-    }
 }
 
 /* Bussi et al. 2007, eq. (A7): the ratio K'/K of the new to the current kinetic energy for a
@@ -320,6 +355,9 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   if (in->p.thermostat == RL_THERMO_ISOKINETIC) in->thermo_work += (1.0 - beta * beta) * ke;
   const int bussi = in->p.thermostat == RL_THERMO_BUSSI;
 
+  /* Fincham needs l(t-h/2) next to l'(t+h/2) for its on-step l'(t) */
+  if (in->lprev) memcpy(in->lprev, s->l, sizeof(*s->l) * (size_t)s->nrot);
+
   /* 2-3. kick and drift */
   const double c2 = 2.0 * beta - 1.0;
   for (int k = 0; k < s->nspecies; k++) {
@@ -351,7 +389,8 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   }
   /* 4. rotation, one family at a time */
   rl_rotation_work rw = {h, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
-                         in->q, in->steps, 0, 0, 0, 0.0};
+                         in->q, (const double (*)[3])in->F.k, (const double (*)[3])in->lprev,
+                         in->steps, 0, 0, 0, 0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     int st = rl_family_for(sp->kind, in->p.force_general)->rotate(sp, s, &rw);
@@ -361,6 +400,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   info.quat_iterations = rw.quat_iterations;
   info.quat_max_iterations = rw.quat_max_iterations;
   info.max_h_omega = rw.max_h_omega;
+  info.quat_norm_defect = rw.quat_norm_defect;
   in->t += h;
   in->steps++;
   if (in->steps % RL_POLISH_INTERVAL == 0) polish_orientations(in);
@@ -433,7 +473,7 @@ int rl_integrator_quaternion(const rl_integrator *in, int i, double q[4])
   const rl_system *s = in->sys;
   const rl_species *sp = &s->sp[s->species_of[i]];
   if (!in->q || sp->mat_off < 0)
-    return rl_error(RL_ESTATE, "body %d has no quaternion (quaternion method not selected)", i);
+    return rl_error(RL_ESTATE, "body %d has no quaternion (no quaternion method selected)", i);
   memcpy(q, in->q[sp->mat_off + i - sp->first], 4 * sizeof(double));
   return RL_OK;
 }

@@ -11,17 +11,32 @@
 /* What a rotate call needs from the integrator, and what it reports back. */
 typedef struct {
   double h;
-  rl_rot_method method;   /* general path only: cubic, exact or quaternion       */
+  rl_rot_method method;   /* general path only: cubic, exact, quaternion or a baseline */
   double guard_tol;
   double quat_tol;
   int quat_maxit;
-  double (*q)[4];         /* [nmat] quaternions for RL_ROT_QUATERNION, else NULL */
+  double (*q)[4];         /* [nmat] quaternions for RL_ROT_QUATERNION and the baselines,
+                             else NULL                                               */
+  const double (*k)[3];   /* [nrot] torques k(t) (lab)                               */
+  const double (*l_prev)[3]; /* [nrot] l(t-h/2) before the kick: RL_ROT_FINCHAM only   */
   long step;              /* for error messages                                  */
   long fallbacks;         /* out: guarded solves that needed Newton               */
   long quat_iterations;   /* out                                                  */
   int quat_max_iterations;/* out                                                  */
   double max_h_omega;     /* out: max h |Omega(t+h/2)|                            */
+  double quat_norm_defect;/* out: RL_ROT_FINCHAM, max ||q(t+h)| - 1| rescaled away  */
 } rl_rotation_work;
+
+/* 1 for the baseline methods (RL_ROT_HYBRID, RL_ROT_FINCHAM, RL_ROT_NOSQUISH), which send every
+ * matrix body through the general family and cannot move axis-only species. */
+static inline int rl_rot_is_baseline(rl_rot_method m)
+{
+  return m == RL_ROT_HYBRID || m == RL_ROT_FINCHAM || m == RL_ROT_NOSQUISH;
+}
+
+/* Rotate body b (0-based in sp, a matrix body) by the baseline w->method
+ * (models/family_baselines.c); *hw receives its h |Omega|. */
+int rl_rotate_baseline(const rl_species *sp, rl_system *s, int b, rl_rotation_work *w, double *hw);
 
 typedef struct rl_family {
   rl_kind kind;

@@ -1,6 +1,8 @@
 /* Asymmetric body, the general path: theta = J^-1 A(t) l(t+h/2); Omega(t+h/2) from eq. 28 by
  * the guarded quasi-analytic cubic (default), the exact 3-D Newton solve, or the quaternion
- * variant (eq. 23 iterated with eqs. 19-20 in quaternion space); A(t+h) = D(Omega) A(t). */
+ * variant (eq. 23 iterated with eqs. 19-20 in quaternion space); A(t+h) = D(Omega) A(t).
+ * Under a baseline method (hybrid, Fincham, NO_SQUISH) every matrix body comes here and is
+ * moved by models/family_baselines.c. */
 #include "family.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
@@ -42,7 +44,10 @@ static int rotate_asymmetric(const rl_species *sp, rl_system *s, rl_rotation_wor
   double (*l)[3] = s->l + sp->rot_off, (*A)[9] = s->A + sp->mat_off;
   for (int b = 0; b < sp->count; b++) {
     double hw = 0.0;
-    if (w->method == RL_ROT_QUATERNION) {
+    if (rl_rot_is_baseline(w->method)) {
+      int st = rl_rotate_baseline(sp, s, b, w, &hw);
+      if (st) return st;
+    } else if (w->method == RL_ROT_QUATERNION) {
       int st = rotate_quaternion(sp, b, l[b], A[b], w, &hw);
       if (st) return st;
     } else {

@@ -8,6 +8,7 @@
 
 static int rotate_spherical(const rl_species *sp, rl_system *s, rl_rotation_work *w)
 {
+  if (rl_rot_is_baseline(w->method)) return rl_family_asymmetric.rotate(sp, s, w); /* no fast path */
   const double h = w->h, inv = 1.0 / sp->J[0];
   double (*l)[3] = s->l + sp->rot_off, (*A)[9] = s->A + sp->mat_off, hw = w->max_h_omega;
   for (int b = 0; b < sp->count; b++) {

@@ -6,6 +6,7 @@
 
 static int rotate_symmetric(const rl_species *sp, rl_system *s, rl_rotation_work *w)
 {
+  if (rl_rot_is_baseline(w->method)) return rl_family_asymmetric.rotate(sp, s, w); /* no fast path */
   const double h = w->h;
   const int *p = sp->perm;
   const double Jp[3] = {sp->J[p[0]], sp->J[p[1]], sp->J[p[2]]};

@@ -1,94 +1,7 @@
 /* A few asymmetric bodies interacting through a smooth site-site potential in vacuum:
  * total linear and angular momentum conserved to round-off, total-energy fluctuation ~ h^2,
  * time reversibility of the coupled translation + rotation, and the isokinetic thermostat. */
-#include "testutil.h"
-
-#include <gsl/gsl_statistics_double.h>
-
-/* u(r) = e1 exp(-r^2/a^2) - e2 exp(-r^2/b^2): a smooth soft core with an attractive well, so
- * the cluster stays bound and no cutoff breaks smoothness.  Units: reduced. */
-static const double E1 = 4.0, A2 = 0.25, E2 = 1.0, B2 = 1.0;
-
-#define NB 4
-#define NS 3
-/* a water-like asymmetric body: three sites, centre of mass at the origin */
-static const double SITES[NS][3] = {{0.0, 0.0, -0.0656}, {0.4, 0.0, 0.5204}, {-0.4, 0.0, 0.5204}};
-
-static int smooth_forces(void *ctx, const rl_system *sys, rl_forces *out)
-{
-  (void)ctx;
-  int ns = rl_system_nsites(sys);
-  double pos[NB * NS][3], fs[NB * NS][3];
-  memset(fs, 0, sizeof fs);
-  rl_system_site_positions(sys, pos);
-  double U = 0.0;
-  for (int a = 0; a < ns; a++)
-    for (int b = a + 1; b < ns; b++) {
-      if (a / NS == b / NS) continue; /* rigid: no intramolecular pairs */
-      double d[3] = {pos[a][0] - pos[b][0], pos[a][1] - pos[b][1], pos[a][2] - pos[b][2]};
-      double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-      double g1 = E1 * exp(-r2 / A2), g2 = E2 * exp(-r2 / B2);
-      U += g1 - g2;
-      double fr = 2.0 * g1 / A2 - 2.0 * g2 / B2; /* -du/dr / r */
-      for (int c = 0; c < 3; c++) { fs[a][c] += fr * d[c]; fs[b][c] -= fr * d[c]; }
-    }
-  out->energy = U;
-  rl_system_add_site_forces(sys, (const double (*)[3])fs, out);
-  return RL_OK;
-}
-
-typedef struct {
-  rl_system *sys;
-  rl_integrator *in;
-} cluster;
-
-static cluster make_cluster(double h, rl_rot_method m, rl_thermostat th, double T0)
-{
-  cluster c;
-  c.sys = rl_system_alloc(RL_UNITS_LJ);
-  /* principal moments of the three sites with masses 16, 1, 1 would do; any asymmetric set is
-   * fine for the dynamics test */
-  rl_species_desc d = {.name = "w", .kind = RL_KIND_ASYMMETRIC, .mass = 18.0,
-                       .inertia = {0.35, 0.62, 0.95}, .nsites = NS, .sites = &SITES[0][0]};
-  assert_int_equal(rl_system_add_species(c.sys, &d, NB, NULL), RL_OK);
-  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(r, 21);
-  const double pos[NB][3] = {{0, 0, 0}, {1.3, 0, 0}, {0.65, 1.1, 0}, {0.65, 0.37, 1.05}};
-  double P[3] = {0, 0, 0};
-  for (int i = 0; i < NB; i++) {
-    double A[9], v[3], l[3];
-    random_rotation(r, A);
-    for (int k = 0; k < 3; k++) { v[k] = gsl_ran_gaussian(r, 0.05); l[k] = gsl_ran_gaussian(r, 0.3); }
-    assert_int_equal(rl_system_set_position(c.sys, i, pos[i]), RL_OK);
-    assert_int_equal(rl_system_set_orientation(c.sys, i, A), RL_OK);
-    assert_int_equal(rl_system_set_velocity(c.sys, i, v), RL_OK);
-    assert_int_equal(rl_system_set_angmom(c.sys, i, l), RL_OK);
-    for (int k = 0; k < 3; k++) P[k] += v[k] / NB;
-  }
-  for (int i = 0; i < NB; i++) { /* zero total momentum */
-    double v[3];
-    rl_system_get_velocity(c.sys, i, v);
-    for (int k = 0; k < 3; k++) v[k] -= P[k];
-    rl_system_set_velocity(c.sys, i, v);
-  }
-  gsl_rng_free(r);
-  rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = h;
-  p.method = m;
-  p.thermostat = th;
-  p.T0 = T0;
-  c.in = rl_integrator_alloc(c.sys, &p, (rl_force_provider){smooth_forces, NULL});
-  assert_non_null(c.in);
-  assert_int_equal(rl_integrator_init(c.in), RL_OK);
-  return c;
-}
-
-static void free_cluster(cluster *c)
-{
-  rl_integrator_free(c->in);
-  rl_system_free(c->sys);
-}
+#include "cluster_util.h"
 
 /* Mid-step totals: P = sum m v(t+h/2), L = sum m r(t) x v(t+h/2) + l(t+h/2).  Both are exact
  * invariants of the leapfrog for central pair forces: L(t+h/2) - L(t-h/2) = h sum (r x f + k)
@@ -138,19 +51,7 @@ static void energy_order(void **state)
   (void)state;
   const double T = 4.0, hs[4] = {0.04, 0.02, 0.01, 0.005};
   double sd[4];
-  for (int k = 0; k < 4; k++) {
-    cluster c = make_cluster(hs[k], RL_ROT_CUBIC, RL_THERMO_NONE, 0.0);
-    long n = lround(T / hs[k]);
-    double *E = malloc(sizeof(double) * (size_t)n);
-    for (long s = 0; s < n; s++) {
-      rl_step_info info;
-      assert_int_equal(rl_integrator_step(c.in, &info), RL_OK);
-      E[s] = info.total;
-    }
-    sd[k] = gsl_stats_sd(E, 1, (size_t)n);
-    free(E);
-    free_cluster(&c);
-  }
+  for (int k = 0; k < 4; k++) sd[k] = cluster_energy_sd(RL_ROT_CUBIC, hs[k], T);
   char name[96];
   for (int k = 0; k < 3; k++) {
     snprintf(name, sizeof name, "energy fluctuation order h=%g->%g (sd %.2e->%.2e)", hs[k],
@@ -166,68 +67,18 @@ static void energy_order(void **state)
 static void reversibility(void **state)
 {
   (void)state;
-  cluster c = make_cluster(0.02, RL_ROT_CUBIC, RL_THERMO_NONE, 0.0);
-  double r0[NB][3], A0[NB][9], worst_r = 0.0, worst_A = 0.0;
-  for (int i = 0; i < NB; i++) {
-    rl_system_get_position(c.sys, i, r0[i]);
-    rl_system_get_orientation(c.sys, i, A0[i]);
-  }
-  for (int s = 0; s < 400; s++) assert_int_equal(rl_integrator_step(c.in, NULL), RL_OK);
-  assert_int_equal(rl_integrator_reverse(c.in), RL_OK);
-  for (int s = 0; s < 400; s++) assert_int_equal(rl_integrator_step(c.in, NULL), RL_OK);
-  for (int i = 0; i < NB; i++) {
-    double r[3], A[9];
-    rl_system_get_position(c.sys, i, r);
-    rl_system_get_orientation(c.sys, i, A);
-    worst_r = fmax(worst_r, max_abs_diff(r, r0[i], 3));
-    worst_A = fmax(worst_A, max_abs_diff(A, A0[i], 9));
-  }
+  double worst_r, worst_A;
+  cluster_reversal_error(RL_ROT_CUBIC, &worst_r, &worst_A);
   CHECK_LE("cluster reversibility: max |r_back - r_0|", worst_r, 1e-10);
   CHECK_LE("cluster reversibility: max |A_back - A_0|", worst_A, 1e-10);
-  free_cluster(&c);
 }
 
-/* Isokinetic thermostat: the on-step temperature built from v(t-h/2) and the modified
- * v'(t+h/2) (eqs. 17-18) and likewise for l equals T0 exactly (section III.B). */
+/* Isokinetic thermostat: on-step T after scaling equals T0 (cluster_util.h). */
 static void isokinetic(void **state)
 {
   (void)state;
-  const double T0 = 0.05;
-  cluster c = make_cluster(0.01, RL_ROT_CUBIC, RL_THERMO_ISOKINETIC, T0);
-  const rl_system *s = c.sys;
-  double worst = 0.0;
-  for (int step = 0; step < 200; step++) {
-    double vold[NB][3], lold[NB][3], Aold[NB][9];
-    for (int i = 0; i < NB; i++) {
-      rl_system_get_velocity(s, i, vold[i]);
-      rl_system_get_angmom(s, i, lold[i]);
-      rl_system_get_orientation(s, i, Aold[i]);
-    }
-    assert_int_equal(rl_integrator_step(c.in, NULL), RL_OK);
-    double ke = 0.0;
-    for (int i = 0; i < NB; i++) {
-      double v[3], l[3], J[3], m = rl_system_mass(s, i);
-      rl_system_get_velocity(s, i, v);
-      rl_system_get_angmom(s, i, l);
-      rl_system_inertia(s, i, J);
-      for (int k = 0; k < 3; k++) {
-        double vt = 0.5 * (vold[i][k] + v[k]);
-        ke += 0.5 * m * vt * vt;
-      }
-      double lt[3] = {0.5 * (lold[i][0] + l[0]), 0.5 * (lold[i][1] + l[1]), 0.5 * (lold[i][2] + l[2])};
-      for (int a = 0; a < 3; a++) {
-        const double *A = Aold[i];
-        double Om = (A[3 * a] * lt[0] + A[3 * a + 1] * lt[1] + A[3 * a + 2] * lt[2]) / J[a];
-        ke += 0.5 * J[a] * Om * Om;
-      }
-    }
-    int g = rl_system_dof(s);
-    assert_int_equal(g, 6 * NB - 3);
-    double T = 2.0 * ke / (g * rl_system_kB(s));
-    worst = fmax(worst, fabs(T - T0) / T0);
-  }
-  CHECK_LE("isokinetic: on-step T after scaling = T0 (relative)", worst, 1e-13);
-  free_cluster(&c);
+  CHECK_LE("isokinetic: on-step T after scaling = T0 (relative)",
+           cluster_isokinetic_error(RL_ROT_CUBIC, 200), 1e-13);
 }
 
 int main(void)

@@ -47,8 +47,30 @@ void rl_system_add_site_forces(const rl_system *sys, const double (*fs)[3], rl_f
 typedef enum {
   RL_ROT_CUBIC = 0,      /* revised leapfrog, matrix, guarded quasi-analytic cubic (default)   */
   RL_ROT_EXACT = 1,      /* revised leapfrog, matrix, eq. 28 solved by 3-D Newton (checking)   */
-  RL_ROT_QUATERNION = 2  /* revised leapfrog, quaternions, eq. 23 iterated to quat_tol          */
+  RL_ROT_QUATERNION = 2, /* revised leapfrog, quaternions, eq. 23 iterated to quat_tol          */
+  /* Baselines, for comparison (docs/integrators.md).  Under these every matrix body (spherical,
+   * symmetric, asymmetric) goes through the baseline algorithm, never a fast path; species
+   * stored as an axis (point dipoles, linear molecules) are refused by rl_integrator_alloc. The
+   * state stays A: each step takes q(t) from A(t) and returns A(t+h) = A(q(t+h)), so restarts
+   * are bit for bit.  The translation and the kick of l are rotleap's leapfrog in all cases. */
+  RL_ROT_HYBRID = 3,     /* the paper's hybrid (section IV): Omega(t+h/2) from the matrix
+                            equation 28 (guarded cubic), then the quaternion Cayley update
+                            q(t+h) = G(Omega) q(t) of eq. 23.  Second order, but it turns by
+                            4 atan(h|Omega|/4) where eq. 24 turns by 2 atan(h|Omega|/2): not
+                            time-reversible, energy not conserved for a free top            */
+  RL_ROT_FINCHAM = 4,    /* Fincham's implicit quaternion leapfrog (eqs. 10-16, the paper's
+                            "standard" scheme): trapezoidal q update with on-step l(t) and the
+                            extrapolated l~(t+h) = l(t+h/2) + h/2 k(t), iterated to quat_tol
+                            (quat_maxit), q rescaled to unit norm after each step              */
+  RL_ROT_NOSQUISH = 5    /* NO_SQUISH (Miller, Eleftheriou, Pattnaik, Ndirango, Newns &
+                            Martyna, J. Chem. Phys. 116, 8649 (2002)): symplectic, reversible
+                            splitting of the free rotor into exact rotations about the principal
+                            axes, Z(h/2) Y(h/2) X(h) Y(h/2) Z(h/2), in quaternion + conjugate
+                            momentum form, between rotleap's kicks of l                        */
 } rl_rot_method;
+
+/* "rl", "rl-exact", "rl-quaternion", "rl-hybrid", "fincham", "no-squish" (NULL if unknown). */
+const char *rl_rot_method_name(rl_rot_method m);
 
 typedef enum {
   RL_THERMO_NONE = 0,       /* NVE                                                          */
@@ -94,6 +116,8 @@ typedef struct {
   long fallbacks;        /* guarded solves that needed Newton in this step                  */
   long quat_iterations;  /* quaternion iterations in this step (sum over bodies)            */
   int quat_max_iterations;
+  double quat_norm_defect; /* RL_ROT_FINCHAM: max over bodies of ||q(t+h)| - 1| that the step's
+                              rescaling removed (the scheme's own norm error); else 0         */
 } rl_step_info;
 
 typedef struct rl_integrator rl_integrator;
@@ -140,7 +164,9 @@ const rl_forces *rl_integrator_forces(const rl_integrator *in);
  * return the stored mid-step values v(t-h/2), l(t-h/2). */
 void rl_integrator_mid_velocity(const rl_integrator *in, int body, double v[3]);
 void rl_integrator_mid_angmom(const rl_integrator *in, int body, double l[3]);
-/* Quaternion of a matrix body under RL_ROT_QUATERNION (returns RL_ESTATE otherwise). */
+/* Quaternion of a matrix body under RL_ROT_QUATERNION, or, under the baselines, the q(t+h) the
+ * last step produced (A = A(q); the periodic round-off polish of A does not update it); returns
+ * RL_ESTATE for the other methods. */
 int rl_integrator_quaternion(const rl_integrator *in, int body, double q[4]);
 
 #ifdef __cplusplus

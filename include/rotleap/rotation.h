@@ -88,6 +88,51 @@ int rl_matrix_to_quat(const double A[9], double q[4]);      /* inverse of eq. 4,
 /* q <- G(Omega) q, eq. 23. */
 void rl_quat_rotate(double q[4], const double Omega[3], double h);
 
+/* ------------------------------------------------------------------ baselines (issue 7)
+ * Kernels of the comparison integrators selected by rl_integrator_params.method (see
+ * docs/integrators.md).  Quaternions in the convention of eqs. 4-5 above. */
+
+/* out = M_k q, where Q(Omega) of eq. 5 is (Omega_X M_X + Omega_Y M_Y + Omega_Z M_Z)/2 (k = 0, 1, 2
+ * for X, Y, Z).  Each M_k is antisymmetric with M_k^2 = -I; for |q| = 1 the four vectors q,
+ * M_X q, M_Y q, M_Z q are orthonormal. */
+void rl_quat_generator(int k, const double q[4], double out[4]);
+
+typedef struct {
+  int iterations;     /* fixed-point iterations used                                         */
+  double norm_defect; /* ||q(t+h)| - 1| of the converged iterate, removed by rescaling          */
+  double change;      /* max |q^(n+1) - q^(n)| of the last iteration                          */
+  double h_omega;     /* h |Omega(t)|                                                          */
+} rl_fincham_info;
+
+/* One step of Fincham's implicit quaternion leapfrog (eqs. 13-16):
+ *   q(t+h) = q(t) + h/2 [Q(Omega(t)) q(t) + Q(Omega~(t+h)) q(t+h)],
+ *   Omega(t) = J^-1 A(q(t)) l(t),  Omega~(t+h) = J^-1 A(q(t+h)) l~(t+h),
+ * solved by fixed-point iteration from q^(0) = q(t) + h Q(Omega(t)) q(t) until
+ * max |q^(n+1) - q^(n)| <= tol, then rescaled to |q| = 1 (Fincham's practice; the trapezoidal
+ * update itself does not keep the norm).
+ * in     J[3]      principal moments (> 0)
+ * in     lt[3]     on-step lab angular momentum l(t) (eq. 12; thermostatted l'(t) in NVT)
+ * in     lnext[3]  predicted l~(t+h) = l(t+h/2) + h/2 k(t) (eq. 16)
+ * in     h, tol, maxit
+ * in/out q[4]      q(t) (unit) -> q(t+h) (unit); unchanged on error
+ * out    info      may be NULL
+ * Returns RL_OK, or RL_ENOCONV if the iteration diverges (non-finite, or |q| > 4) or does not
+ * converge in maxit iterations -- the message says which, with h |Omega(t)|. */
+int rl_fincham_quat(const double J[3], const double lt[3], const double lnext[3], double h,
+                    double tol, int maxit, double q[4], rl_fincham_info *info);
+
+/* NO_SQUISH conjugate momentum of a unit quaternion for the principal angular momentum L = A l:
+ * p = 2 sum_k L_k M_k q; and back, L_k = (M_k q).p / 2. */
+void rl_quat_conjugate_momentum(const double q[4], const double L[3], double p[4]);
+void rl_quat_body_angmom(const double q[4], const double p[4], double L[3]);
+
+/* NO_SQUISH free rotor over h (Miller et al. 2002): the symmetric splitting
+ * R_Z(h/2) R_Y(h/2) R_X(h) R_Y(h/2) R_Z(h/2), each R_k the exact flow of L_k^2/(2 J_k):
+ * q <- cos(z) q + sin(z) M_k q, p <- cos(z) p + sin(z) M_k p, z = dt L_k/(2 J_k).  Symplectic,
+ * time-reversible, |q| preserved to round-off; the lab angular momentum A(q)^T L(q, p) is
+ * invariant under every sub-rotation. */
+void rl_nosquish_free(const double J[3], double h, double q[4], double p[4]);
+
 /* max |A^T A - I| (elementwise). */
 double rl_orthonormality_error(const double A[9]);
 
