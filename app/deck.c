@@ -51,7 +51,7 @@ static const key_def keys[NKEYS] = {
     [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff"},
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
-    [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion", "revised leapfrog: guarded cubic (rl), exact solve, or quaternion variant"},
+    [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion|rl-hybrid|fincham|no-squish", "revised leapfrog: guarded cubic (rl), exact solve, quaternion variant; baselines (matrix bodies only): the paper's hybrid, Fincham's implicit quaternion leapfrog, NO_SQUISH (docs/integrators.md)"},
     [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi", "NVE, the paper's isokinetic NVT, or Bussi stochastic rescaling"},
     [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
     [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi relaxation time; default 100 h"},
@@ -72,6 +72,9 @@ const rl_deck_integrator rl_deck_integrators[] = {
     {"rl", RL_ROT_CUBIC, "revised leapfrog, rotation matrices, guarded quasi-analytic cubic (eqs. 27-36)"},
     {"rl-exact", RL_ROT_EXACT, "revised leapfrog, rotation matrices, eq. 28 solved exactly (Newton)"},
     {"rl-quaternion", RL_ROT_QUATERNION, "revised leapfrog, quaternions, eq. 23 iterated"},
+    {"rl-hybrid", RL_ROT_HYBRID, "the paper's hybrid: cubic Omega in the quaternion update (section IV)"},
+    {"fincham", RL_ROT_FINCHAM, "Fincham's implicit quaternion leapfrog (eqs. 10-16)"},
+    {"no-squish", RL_ROT_NOSQUISH, "NO_SQUISH symplectic splitting (Miller et al. 2002)"},
 };
 const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_deck_integrators[0]);
 

@@ -54,6 +54,29 @@ PY
 while read -r res msg; do check "scan CSV: $msg" '[ "$res" = ok ]'; done < py.txt
 check "python checks ran" '[ "$(wc -l < py.txt)" -ge 12 ]'
 
+# every integrator by its deck name, one step size: the names map to the right methods
+"$rotleap" scan "$deck" --timesteps 1fs --integrators rl,rl-exact,rl-quaternion,rl-hybrid,fincham,no-squish \
+  --steps 100 --no-plot --set output.prefix="$work/all" >out.txt 2>err.txt; code=$?
+check "scan of all six integrators exits 0" '[ $code -eq 0 ]'
+/usr/bin/python3 - "$work/all.scan.csv" > py2.txt <<'PY'
+import csv, sys
+r = {x["integrator"]: x for x in csv.DictReader(open(sys.argv[1]))}
+ok = lambda c, m: print(("ok " if c else "FAIL ") + m)
+ok(len(r) == 6 and all(x["status"] == "ok" for x in r.values()), "six runs, all ok")
+it = {k: float(x["iterations_per_body_step"]) for k, x in r.items()}
+ok(all((it[k] > 1) == (k in ("rl-quaternion", "fincham")) for k in it), "iterations only for the iterative methods: %s" % it)
+e = {k: float(x["calE"]) for k, x in r.items()}
+ok(e["rl"] == e["rl-exact"], "rl = rl-exact")
+ok(all(e[k] != e["rl"] and 0.5 < e[k] / e["rl"] < 2 for k in ("rl-quaternion", "rl-hybrid", "fincham", "no-squish")),
+   "other methods: other trajectories, similar calE at 1 fs: %s" % e)
+ok(all(float(x["ortho_error"]) < 1e-12 for x in r.values()), "all rigid to round-off")
+PY
+while read -r res msg; do check "all integrators: $msg" '[ "$res" = ok ]'; done < py2.txt
+check "python checks ran (2)" '[ "$(wc -l < py2.txt)" -eq 5 ]'
+"$rotleap" scan "$src/tests/cli/stockmayer_short.ini" --integrators rl,fincham --steps 20 --no-plot \
+  --set output.prefix="$work/sm" >out.txt 2>err.txt; code=$?
+check "a baseline on dipoles: the run says why it cannot, the scan goes on" '[ $code -eq 0 ] && grep -q "fincham.*has no baseline for species" err.txt && grep -q "^rl,.*\"ok\"$" "$work/sm.scan.csv"'
+
 # an unstable step: the run at 20 fs stops with the cause; the 1 fs run is kept; the scan succeeds
 "$rotleap" scan "$deck" --timesteps 1,20 fs --integrators rl --steps 100 --no-plot \
   --set output.prefix="$work/b" >out.txt 2>err.txt; code=$?
