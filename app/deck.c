@@ -78,6 +78,17 @@ const rl_deck_integrator rl_deck_integrators[] = {
 };
 const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_deck_integrators[0]);
 
+double rl_deck_thermal_omega(const rl_deck *d)
+{
+  rl_molecule m;
+  if (!d->model || !(d->temperature > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
+    return 0.0;
+  double Jmin = INFINITY;
+  for (int a = 0; a < 3; a++)
+    if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
+  return sqrt(rl_units_kB(d->units) * d->temperature / Jmin);
+}
+
 int rl_deck_integrator_lookup(const char *name)
 {
   for (int i = 0; i < rl_deck_nintegrators; i++)
@@ -380,16 +391,11 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (d->equilibrate_steps > 0 && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
   /* an absurd step: no step can resolve a thermal rotation with h omega > 1 */
   if (d->model && d->timestep > 0 && d->temperature > 0) {
-    rl_molecule m;
-    if (!rl_model_build(d->model, d->params, 0, &m) && m.kind != RL_KIND_POINT) {
-      double Jmin = INFINITY;
-      for (int a = 0; a < 3; a++) if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
-      double w = sqrt(rl_units_kB(u) * d->temperature / Jmin), hw = d->timestep * w;
-      if (hw > 1.0)
-        problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s: h times the thermal "
-                "angular velocity is %.2f > 1, no step can follow the rotation", d->timestep,
-                rl_dim_unit(Q_TIME, u), d->model->name, d->temperature, rl_dim_unit(Q_TEMPERATURE, u), hw);
-    }
+    double hw = d->timestep * rl_deck_thermal_omega(d);
+    if (hw > 1.0)
+      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s: h times the thermal "
+              "angular velocity is %.2f > 1, no step can follow the rotation", d->timestep,
+              rl_dim_unit(Q_TIME, u), d->model->name, d->temperature, rl_dim_unit(Q_TEMPERATURE, u), hw);
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);

@@ -53,6 +53,10 @@ extern const int rl_deck_nintegrators;
 /* Index into rl_deck_integrators, or -1. */
 int rl_deck_integrator_lookup(const char *name);
 
+/* The thermal angular velocity sqrt(kB T / J_min) of the deck's molecule at system.temperature
+ * (0 for point particles): a step with h omega > 1 cannot follow the rotation. */
+double rl_deck_thermal_omega(const rl_deck *d);
+
 /* Parse `path` with the overrides `sets` ("section.key=value", nsets of them).  Every problem is
  * reported, one line each ("FILE:LINE: message", "--set section.key: message"), to `err`;
  * returns the number of problems (0 = the deck is usable). */

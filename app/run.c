@@ -13,9 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#define BAR_PER_KJMOL_NM3 16.605390671738467 /* 1 kJ/mol/nm^3 in bar (1e3 / N_A / 1e-27 / 1e5) */
 
-static double pressure_out(const rl_deck *d, double p) { return d->units == RL_UNITS_REAL ? p * BAR_PER_KJMOL_NM3 : p; }
 static const char *pressure_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "bar" : "reduced"; }
 static const char *energy_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "kJ/mol" : "reduced"; }
 
@@ -39,7 +37,7 @@ int rl_app_energy(const rl_deck *d, int json)
     rl_system_get_velocity(s.sys, i, v);
     ke += 0.5 * s.mol.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
-  double P = pressure_out(d, rl_forcefield_pressure(s.ff, &F, ke));
+  double P = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &F, ke));
   const char *L = d->units == RL_UNITS_REAL ? "nm" : "reduced";
   if (json) {
     printf("{\"units\": {\"energy\": \"%s\", \"length\": \"%s\", \"force\": \"%s/%s\", \"torque\": \"%s\", "
@@ -270,7 +268,7 @@ int rl_app_run(const rl_deck *d)
     }
     rl_forces Ft = {NULL, NULL, 0.0, {0}};
     memcpy(Ft.virial, virial, sizeof virial);
-    double pr = pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+    double pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
     analysis_step(an, &info, pr, fsnap, s.sys);
     if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && analysis_sample(an, s.sys)) {
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());

@@ -11,6 +11,7 @@
  * what it has done): PREFIX.scan.csv, PREFIX.scan_calE.csv (calE against run length), PREFIX.scan.txt (the
  * table), and PNG plots by scripts/plot_scan.py. */
 #include "scan.h"
+#include "analysis.h"
 #include "quantity.h"
 #include "scene.h"
 
@@ -48,6 +49,8 @@ typedef struct {
   double time;        /* > 0: equal simulated time instead  */
   double tolerance;   /* calE / calU                        */
   int plot;
+  int analysis;       /* per-run results, RDFs, TCFs          */
+  const char *prefix;
 } scan_opts;
 
 static double now(void)
@@ -63,16 +66,23 @@ static int cmp_double(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-/* "1,2,4,6" with an optional unit (appended, or the next argument) -> h[], sorted. */
+/* "1,2,4,6" with an optional unit (the next argument, or the suffix of the last value, which then
+ * applies to every bare value: "1,2,4fs" is 1, 2 and 4 fs) -> h[], sorted. */
 static int parse_timesteps(const char *list, const char *unit, rl_units u, scan_opts *o, char *err, size_t errlen)
 {
-  char buf[1024];
+  char buf[1024], last_unit[64] = "";
   snprintf(buf, sizeof buf, "%s", list);
+  const char *tail = strrchr(list, ',') ? strrchr(list, ',') + 1 : list;
+  while (*tail && (strchr("0123456789.+-eE ", *tail))) tail++;
+  if (*tail && !unit) snprintf(last_unit, sizeof last_unit, "%s", tail);
   o->nh = 0;
   for (char *save, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     if (o->nh == SCAN_MAX) { snprintf(err, errlen, "--timesteps: more than %d values", SCAN_MAX); return -1; }
     char q[256], e[256];
-    snprintf(q, sizeof q, "%s%s%s", tok, unit ? " " : "", unit ? unit : "");
+    int bare = 1;
+    for (const char *c = tok; *c; c++) bare &= strchr("0123456789.+-eE ", *c) != NULL;
+    const char *uu = unit ? unit : bare && last_unit[0] ? last_unit : NULL;
+    snprintf(q, sizeof q, "%s%s%s", tok, uu ? " " : "", uu ? uu : "");
     double h;
     if (rl_parse_quantity(q, Q_TIME, u, 0, &h, e, sizeof e)) { snprintf(err, errlen, "--timesteps: %s", e); return -1; }
     if (!(h > 0)) { snprintf(err, errlen, "--timesteps: '%s' is not a positive time step", q); return -1; }
@@ -146,7 +156,12 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   r->rdf = sample ? rl_rdf_alloc(0.5 * Lmin, 200) : NULL;
   r->curve = malloc(sizeof *r->curve * (size_t)(r->steps / thermo + 2));
   rl_integrator *in = NULL;
-  int st = !sys || !ff || !E || !U || !r->curve || (sample && !r->rdf) ? RL_EINVAL : RL_OK;
+  analysis *an = o->analysis && sys ? analysis_alloc(d, &base->mol, sys) : NULL;
+  int nrot = sys ? rl_system_nrot(sys) : 0;
+  rl_forces snap = {o->analysis ? calloc((size_t)n, sizeof(double[3])) : NULL,
+                    o->analysis ? calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])) : NULL, 0.0, {0}};
+  int st = !sys || !ff || !E || !U || !r->curve || (sample && !r->rdf) ||
+           (o->analysis && (!an || !snap.f || !snap.k)) ? RL_EINVAL : RL_OK;
   if (!st) {
     rl_integrator_params p;
     rl_integrator_params_default(&p);
@@ -167,6 +182,12 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   r->max_h_omega = 0.0;
   for (long k = 0; !st && k < r->steps; k++) {
     rl_step_info info;
+    if (an) { /* forces, torques and virial at t, for the analysis of this step */
+      const rl_forces *F = rl_integrator_forces(in);
+      memcpy(snap.f, F->f, sizeof(double[3]) * (size_t)n);
+      if (nrot) memcpy(snap.k, F->k, sizeof(double[3]) * (size_t)nrot);
+      memcpy(snap.virial, F->virial, sizeof snap.virial);
+    }
     double t0 = now();
     st = rl_integrator_step(in, &info);
     wall += now() - t0;
@@ -182,12 +203,29 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
       double *c = r->curve[r->ncurve++];
       c[0] = (double)k; c[1] = info.t; c[2] = done > 1 ? rl_series_rel_fluct(E) : 0.0;
     }
-    if (sample && (k + 1) % sample == 0 && site[0] >= 0)
+    if (an) {
+      rl_forces Ft = {NULL, NULL, 0.0, {0}};
+      memcpy(Ft.virial, snap.virial, sizeof Ft.virial);
+      analysis_step(an, &info, scene_pressure_out(d, rl_forcefield_pressure(ff, &Ft, info.ke_trans)), &snap, sys);
+    }
+    if (sample && (k + 1) % sample == 0) {
       st = rl_rdf_add_sites(r->rdf, sys, d->box, 0, site[0], 0, site[1]);
+      if (!st && an) st = analysis_sample(an, sys);
+    }
   }
   r->ok = !st;
   r->done = done;
   if (st) snprintf(r->error, sizeof r->error, "%s", rl_last_error());
+  if (an && done > 0) { /* PREFIX.<integrator>.h<h> .results.txt, .rdf.csv, .tcf.csv */
+    char pre[700];
+    snprintf(pre, sizeof pre, "%s.%s.h%g", o->prefix, rl_deck_integrators[r->integ].name,
+             r->h * (d->units == RL_UNITS_REAL ? 1e3 : 1.0));
+    if (analysis_write(an, pre, (sample ? sample : 1) * r->h))
+      fprintf(stderr, "rotleap scan: writing %s.*: %s\n", pre, rl_last_error());
+  }
+  analysis_free(an);
+  free(snap.f);
+  free(snap.k);
   if (done > 1) {
     r->calE = rl_series_rel_fluct(E);
     r->calU = rl_series_rel_fluct(U);
@@ -335,10 +373,11 @@ static void usage(FILE *f)
 {
   fprintf(f,
           "usage: rotleap scan DECK [--timesteps LIST [UNIT]] [--integrators LIST] [--steps N | --time T]\n"
-          "                        [--tolerance X] [--no-plot] [--set section.key=value ...]\n"
+          "                        [--tolerance X] [--analysis] [--no-plot] [--set section.key=value ...]\n"
           "\n"
           "Runs the deck's scene from one shared start (the deck's start after its run.equilibrate relaxation;\n"
-          "give system.start = an equilibrated checkpoint for a careful scan) for every time step and\n"
+          "give system.start = an equilibrated checkpoint for a careful scan: its half-step velocities are\n"
+          "completed to on-step ones with run.timestep, the step of the run that wrote it) for every time step and\n"
           "integrator, in the deck's ensemble, and reports per run: calE, calU and their ratio, the drift of\n"
           "the conserved energy per molecule and ns, the orthonormality error, guarded-solve fallbacks,\n"
           "iterations, the RDF distance (first output.rdf pair, else site 0 - site 0) from the first\n"
@@ -353,6 +392,8 @@ static void usage(FILE *f)
           "  --time T           instead, the same simulated time per run, e.g. \"10 ps\"\n"
           "  --tolerance X      calE/calU tolerance, \"5%%\" or 0.05 (default 5%%)\n"
           "  --no-plot          skip PREFIX.scan_calE.png and PREFIX.scan_pareto.png\n"
+          "  --analysis         also write each run's analysis, as rotleap run does (output.rdf,\n"
+          "                     sample_every): PREFIX.<integrator>.h<h>.results.txt, .rdf.csv, .tcf.csv\n"
           "\n"
           "Writes PREFIX.scan.csv, PREFIX.scan_calE.csv (calE against run length), PREFIX.scan.txt and the\n"
           "plots, PREFIX = output.prefix; each file is replaced atomically after every run.\n");
@@ -362,7 +403,7 @@ int rl_app_scan(int argc, char **argv)
 {
   const char *path = NULL, *ts = NULL, *ts_unit = NULL, *integ = NULL, *steps = NULL, *time = NULL, *tol = NULL;
   char **sets = calloc((size_t)argc + 1, sizeof *sets);
-  int nsets = 0, plot_it = 1;
+  int nsets = 0, plot_it = 1, analysis_it = 0;
   if (!sets) return 1;
   for (int i = 0; i < argc; i++) {
     const char *a = argv[i];
@@ -382,6 +423,7 @@ int rl_app_scan(int argc, char **argv)
         if (!rl_parse_quantity(q, Q_TIME, RL_UNITS_REAL, 0, &x, e, sizeof e)) ts_unit = argv[++i];
       }
     } else if (!strcmp(a, "--no-plot")) plot_it = 0;
+    else if (!strcmp(a, "--analysis")) analysis_it = 1;
     else if (a[0] == '-') { fprintf(stderr, "rotleap scan: unknown option '%s' (rotleap scan --help)\n", a); free(sets); return 2; }
     else if (path) { fprintf(stderr, "rotleap scan: more than one deck ('%s', '%s')\n", path, a); free(sets); return 2; }
     else path = a;
@@ -398,10 +440,20 @@ int rl_app_scan(int argc, char **argv)
   memset(&o, 0, sizeof o);
   o.tolerance = 0.05;
   o.plot = plot_it;
+  o.analysis = analysis_it;
+  o.prefix = d.prefix;
   char err[512] = "";
   int bad = 0;
   if (ts) bad |= parse_timesteps(ts, ts_unit, d.units, &o, err, sizeof err) != 0;
   else { o.h[0] = d.timestep; o.nh = 1; }
+  double w = rl_deck_thermal_omega(&d);
+  for (int j = 0; !bad && j < o.nh; j++)
+    if (o.h[j] * w > 1.0) {
+      snprintf(err, sizeof err, "--timesteps: %g %s is too large for %s at %g %s: h times the thermal angular "
+               "velocity is %.2f > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
+               d.model->name, d.temperature, rl_dim_unit(Q_TEMPERATURE, d.units), o.h[j] * w);
+      bad = 1;
+    }
   if (!bad && integ) bad |= parse_integrators(integ, &o, err, sizeof err) != 0;
   else if (!bad) {
     for (int i = 0; i < rl_deck_nintegrators; i++)
@@ -428,7 +480,7 @@ int rl_app_scan(int argc, char **argv)
   if (bad) { fprintf(stderr, "rotleap scan: %s\n", err); return 2; }
 
   scene s;
-  if (scene_build(&d, &s) || scene_relax(&d, &s)) {
+  if (scene_build(&d, &s) || scene_relax(&d, &s) || scene_onstep(&d, &s)) {
     fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
     scene_free(&s);
     return 1;

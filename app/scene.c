@@ -167,3 +167,21 @@ double scene_rigidity_error(const rl_system *s)
   }
   return worst;
 }
+
+double scene_pressure_out(const rl_deck *d, double p)
+{
+  return d->units == RL_UNITS_REAL ? p * 16.605390671738467 : p; /* kJ/mol/nm^3 -> bar: 1e3/N_A/1e-27/1e5 */
+}
+
+int scene_onstep(const rl_deck *d, scene *s)
+{
+  if (!s->restart) return RL_OK;
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = d->timestep;
+  rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
+  int st = in ? rl_integrator_resume(in, s->step0, s->t0) : RL_EINVAL;
+  if (!st) st = rl_integrator_finish(in);
+  rl_integrator_free(in);
+  return st;
+}

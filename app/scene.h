@@ -41,6 +41,12 @@ void scene_watch_init(scene_watch *w);
 /* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce. */
 int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long step,
                      double h, const char *dt_name);
+/* Pressure from kJ/mol/nm^3 to the deck's output unit (bar for real units). */
+double scene_pressure_out(const rl_deck *d, double p);
+/* A checkpoint stores the half-step v(t - h/2), l(t - h/2) of the run that wrote it; for a new
+ * start (scan) they are completed to on-step values with that run's h = run.timestep.  Nothing
+ * for other starts. */
+int scene_onstep(const rl_deck *d, scene *s);
 /* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */
 double scene_rigidity_error(const rl_system *s);
 #endif

@@ -15,6 +15,10 @@ check "unknown integrator exits 2" '[ $code -eq 2 ]'
 check "unknown integrator is named, known ones listed" 'grep -q "unknown integrator .leapfrog-of-doom. (known: rl rl-exact" err.txt'
 "$rotleap" scan "$deck" --timesteps 1,-2 fs --set output.prefix="$work/u" >out.txt 2>err.txt; code=$?
 check "negative time step refused" '[ $code -eq 2 ] && grep -q "not a positive time step" err.txt'
+"$rotleap" scan "$deck" --timesteps 1,2ps --set output.prefix="$work/u" >out.txt 2>err.txt; code=$?
+check "a step no rotation can follow is refused before running" '[ $code -eq 2 ] && grep -q "1 ps is too large for tip4p at 298 K: h times the thermal angular velocity" err.txt'
+"$rotleap" scan "$deck" --timesteps 1,2fs --steps 3 --no-plot --set output.prefix="$work/unit" >out.txt 2>err.txt; code=$?
+check "the last value's unit applies to the bare ones (1,2fs)" '[ $code -eq 0 ] && cut -d, -f2 "$work/unit.scan.csv" | tr "\n" " " | grep -q "^h_fs 1 2 $"'
 "$rotleap" scan "$deck" --steps 10 --time 1ps --set output.prefix="$work/u" >out.txt 2>err.txt; code=$?
 check "--steps with --time refused" '[ $code -eq 2 ] && grep -q "not both" err.txt'
 "$rotleap" scan "$deck" --tolerance lots --set output.prefix="$work/u" >out.txt 2>err.txt; code=$?
@@ -76,6 +80,13 @@ check "python checks ran (2)" '[ "$(wc -l < py2.txt)" -eq 5 ]'
 "$rotleap" scan "$src/tests/cli/stockmayer_short.ini" --integrators rl,fincham --steps 20 --no-plot \
   --set output.prefix="$work/sm" >out.txt 2>err.txt; code=$?
 check "a baseline on dipoles: the run says why it cannot, the scan goes on" '[ $code -eq 0 ] && grep -q "fincham.*has no baseline for species" err.txt && grep -q "^rl,.*\"ok\"$" "$work/sm.scan.csv"'
+
+# a checkpoint start (half-step v, l completed with run.timestep) and per-run analysis files
+"$rotleap" run "$deck" --set run.steps=50 --set output.prefix="$work/c" >/dev/null 2>&1
+"$rotleap" scan "$deck" --set system.start="$work/c.chk" --set run.equilibrate=0 --timesteps 1,2fs --steps 50 \
+  --analysis --no-plot --set output.rdf=O-O --set output.prefix="$work/an" >out.txt 2>err.txt; code=$?
+check "scan from a checkpoint with --analysis" '[ $code -eq 0 ] && grep -c "\"ok\"$" "$work/an.scan.csv" | grep -q 2'
+check "per-run analysis files" '( for h in 1 2; do for x in results.txt rdf.csv tcf.csv; do [ -s "$work/an.rl.h$h.$x" ] || exit 1; done; done )'
 
 # an unstable step: the run at 20 fs stops with the cause; the 1 fs run is kept; the scan succeeds
 "$rotleap" scan "$deck" --timesteps 1,20 fs --integrators rl --steps 100 --no-plot \
