@@ -154,6 +154,9 @@ static void store(raw_deck *r, const char *section, const char *name, const char
   }
   if (line > 0 && r->line[k] > 0) problem(r, line, "%s.%s given twice (first at line %d)", section, name, r->line[k]);
   free(r->val[k]);
+  r->val[k] = NULL;
+  r->line[k] = 0;
+  if (line < 0 && !value[0]) return; /* --set section.key= : back to the default, as if not given */
   r->val[k] = strdup(value);
   r->line[k] = line;
 }
@@ -440,7 +443,7 @@ void rl_deck_print_keys(FILE *f, int md)
                "`app/deck.c`; `tests` checks that this file matches it.\n\n"
                "A deck is an INI file. Numbers take a unit suffix in real units (`2 fs`, `0.9 nm`, "
                "`9 A`, `298 K`, `1 g/cm3`); a bare number is in the default unit shown. Reduced "
-               "(lj) models take bare numbers only. `--set section.key=value` overrides any key. "
+               "(lj) models take bare numbers only. `--set section.key=value` overrides any key; `--set section.key=` returns it to its default. "
                "Model parameters go in `[model]` (see `rotleap models`).\n");
   for (int k = 0; k < NKEYS; k++) {
     const key_def *K = &keys[k];

@@ -77,6 +77,10 @@ check "the last checkpoint (step 80) is readable and continues" '[ $code -eq 0 ]
 check "no water NVT run wrote NaN" '! grep -qi nan "$work/w10.thermo.csv" "$work/w12.thermo.csv"'
 check "conserved drift reported for a stable run" '"$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=2fs --set run.steps=600 --set output.prefix="$work/w2" >/dev/null 2>&1 && grep -qE "^conserved_drift = -?0\.0" "$work/w2.summary.txt" && ! grep -q "^warning" "$work/w2.summary.txt"'
 
+"$rotleap" run "$src/examples/stockmayer.ini" --set run.ensemble=nve --set run.temperature= --set run.tau= \
+  --set system.temperature=1.35 --set run.steps=10 --set run.equilibrate=0 --set output.prefix="$work/unset" >out.txt 2>err.txt; code=$?
+check "--set key= returns a key to its default (an NVT deck run as NVE)" '[ $code -eq 0 ] && grep -q "status = ok" "$work/unset.summary.txt"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
