@@ -201,8 +201,21 @@ int rl_app_run(const rl_deck *d)
   p.tau = d->tau;
   p.seed = d->thermostat_seed;
   p.force_general = d->force_general;
+  if (!st) in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
+  if (!st && in && s.restart && s.blob_size >= sizeof(run_blob) && !memcmp(s.blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
+    /* a checkpoint of a run with another thermostat (an NVT equilibration before NVE production,
+     * say) is a start, not a continuation: its half-step v, l are completed to on-step values
+     * with run.timestep and the run, its step count and its averages start afresh */
+    run_blob b;
+    memcpy(&b, s.blob, sizeof b);
+    if (b.rng_size != rl_integrator_rng_size(in)) {
+      fprintf(stderr, "rotleap run: %s was written by a run with another thermostat: starting a new run from its "
+                      "state (step 0; v and l completed to on-step with run.timestep = %g)\n", d->start, d->timestep);
+      st = scene_onstep(d, &s);
+      s.restart = 0;
+    }
+  }
   if (!st) {
-    in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
     st = !in ? RL_EINVAL : s.restart ? RL_OK : rl_integrator_init(in);
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }

@@ -81,6 +81,12 @@ check "conserved drift reported for a stable run" '"$rotleap" run "$src/tests/cl
   --set system.temperature=1.35 --set run.steps=10 --set run.equilibrate=0 --set output.prefix="$work/unset" >out.txt 2>err.txt; code=$?
 check "--set key= returns a key to its default (an NVT deck run as NVE)" '[ $code -eq 0 ] && grep -q "status = ok" "$work/unset.summary.txt"'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-bussi --set run.temperature=1.35 --set run.steps=50 \
+  --set output.prefix="$work/eqnvt" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/eqnvt.chk" --set run.steps=30 \
+  --set output.prefix="$work/prodnve" >out.txt 2>err.txt; code=$?
+check "NVE production from an NVT checkpoint starts a new run" '[ $code -eq 0 ] && grep -q "written by a run with another thermostat: starting a new run" err.txt && grep -q "steps = 30 of 30 (this invocation: 30)" "$work/prodnve.summary.txt"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
