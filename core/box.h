@@ -34,4 +34,18 @@ static inline void rl_box_wrap(const rl_box *box, double r[3])
   }
 }
 
+/* The cell (x fastest) of position r in a grid of nc[0] x nc[1] x nc[2] cells over the box. */
+static inline int rl_box_cell_index(const rl_box *box, const double r[3], const int nc[3])
+{
+  double w[3] = {r[0], r[1], r[2]};
+  rl_box_wrap(box, w);
+  int ci[3];
+  for (int c = 0; c < 3; c++) {
+    ci[c] = (int)(w[c] * box->invL[c] * nc[c]);
+    if (ci[c] >= nc[c]) ci[c] = nc[c] - 1;
+    if (ci[c] < 0) ci[c] = 0;
+  }
+  return (ci[2] * nc[1] + ci[1]) * nc[0] + ci[0];
+}
+
 #endif

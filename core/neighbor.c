@@ -105,15 +105,7 @@ int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const d
     cell_of = malloc(sizeof *cell_of * (size_t)(n > 0 ? n : 1));
     if (!cell_of) return rl_error(RL_ENOMEM, "neighbour list: out of memory");
     for (int i = 0; i < n; i++) {
-      double w[3] = {r[i][0], r[i][1], r[i][2]};
-      rl_box_wrap(box, w);
-      int ci[3];
-      for (int c = 0; c < 3; c++) {
-        ci[c] = (int)(w[c] * box->invL[c] * nc[c]);
-        if (ci[c] >= nc[c]) ci[c] = nc[c] - 1;
-        if (ci[c] < 0) ci[c] = 0;
-      }
-      int id = (ci[2] * nc[1] + ci[1]) * nc[0] + ci[0];
+      int id = rl_box_cell_index(box, r[i], nc);
       cell_of[i] = id;
       nl->next[i] = nl->head[id];
       nl->head[id] = i;

@@ -3,53 +3,13 @@
 #include "rotleap/forcefield.h"
 #include "rotleap/error.h"
 
-#include "../core/box.h"
-#include "../core/neighbor.h"
-#include "coulomb_rf.h"
 #include "dipole.h"
-#include "lj.h"
 #include "quadrupole.h"
+#include "forcefield_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-struct rl_forcefield {
-  rl_ff_params p;
-  rl_box box;
-  double kc;               /* Coulomb constant of the unit system                          */
-  int n, nspecies, nsites; /* system sizes at alloc                                        */
-  int ntypes;              /* one type per (species, site)                                */
-  int *type_off;           /* [nspecies] first type of each species                        */
-  int *sp_nsites;          /* [nspecies]                                                   */
-  int *sp_count;           /* [nspecies] bodies                                            */
-  double *sig, *eps, *q, *mu, *Q; /* [ntypes]                                             */
-  int *type_species, *type_site;  /* [ntypes]                                              */
-  rl_lj_coef *lj;          /* [ntypes * ntypes]                                            */
-  rl_rf_coef rf;
-  int any_dipole, any_quad;
-  double extent;           /* max |site - centre| over species (for the site scheme's list) */
-  double rlist, skin, min_distance;
-  double disp_e, disp_w;   /* sum over type pairs of npairs * tail integrals                */
-  /* per-body / per-site workspace */
-  int *body_species;       /* [n]                                                          */
-  int *body_site_off;      /* [n]                                                          */
-  int *body_rot;           /* [n] rot index or -1                                          */
-  int *site_type;          /* [nsites]                                                     */
-  double (*centre)[3];     /* [n]                                                          */
-  double (*axis)[3];       /* [n] body Z in the lab                                        */
-  double (*site)[3];       /* [nsites] lab positions                                       */
-  double (*dsite)[3];      /* [nsites] site - centre (lab)                                 */
-  double (*fs)[3];         /* [nsites] site forces                                         */
-  double (*tq)[3];         /* [n] direct (dipole/quadrupole) torques                       */
-  rl_nlist *nl;
-  rl_ff_energies e;
-};
-
-typedef struct {
-  double lj, coul, dip, quad;
-  double vir[9];
-} rl_acc;
 
 void rl_ff_params_default(rl_ff_params *p)
 {
@@ -67,6 +27,8 @@ void rl_ff_params_default(rl_ff_params *p)
   p->neighbor_list = 1;
   p->skin = -1.0;
   p->min_distance = -1.0;
+  p->kernel = RL_KERNEL_AUTO;
+  p->threads = 0;
 }
 
 void rl_forcefield_free(rl_forcefield *ff)
@@ -75,6 +37,7 @@ void rl_forcefield_free(rl_forcefield *ff)
   free(ff->type_off);
   free(ff->sp_nsites);
   free(ff->sp_count);
+  free(ff->sp_extent);
   free(ff->sig);
   free(ff->eps);
   free(ff->q);
@@ -94,6 +57,7 @@ void rl_forcefield_free(rl_forcefield *ff)
   free(ff->fs);
   free(ff->tq);
   rl_nlist_free(ff->nl);
+  rl_ff_fast_free(ff->fast);
   free(ff);
 }
 
@@ -213,6 +177,15 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
              p->coulomb_constant);
     return NULL;
   }
+  if (p->kernel != RL_KERNEL_AUTO && p->kernel != RL_KERNEL_GENERAL) {
+    rl_error(RL_EINVAL, "forcefield: unknown kernel choice %d (auto %d, general %d)",
+             (int)p->kernel, (int)RL_KERNEL_AUTO, (int)RL_KERNEL_GENERAL);
+    return NULL;
+  }
+  if (p->threads < 0) {
+    rl_error(RL_EINVAL, "forcefield: threads %d must be >= 0 (0: OpenMP's default)", p->threads);
+    return NULL;
+  }
   if (isnan(p->skin) || isinf(p->skin) || isnan(p->min_distance) || isinf(p->min_distance)) {
     rl_error(RL_EINVAL, "forcefield: skin %g and min_distance %g must be finite", p->skin,
              p->min_distance);
@@ -298,6 +271,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
   size_t nt = (size_t)ntypes;
   ff->type_off = xcalloc((size_t)nsp, sizeof(int));
   ff->sp_nsites = xcalloc((size_t)nsp, sizeof(int));
+  ff->sp_extent = xcalloc((size_t)nsp, sizeof(double));
   ff->sig = xcalloc(nt, sizeof(double)); ff->eps = xcalloc(nt, sizeof(double));
   ff->q = xcalloc(nt, sizeof(double)); ff->mu = xcalloc(nt, sizeof(double));
   ff->Q = xcalloc(nt, sizeof(double));
@@ -313,7 +287,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
   ff->site = xcalloc((size_t)nsites, sizeof *ff->site);
   ff->dsite = xcalloc((size_t)nsites, sizeof *ff->dsite);
   ff->fs = xcalloc((size_t)nsites, sizeof *ff->fs);
-  if (!ff->type_off || !ff->sp_nsites || !ff->sig || !ff->eps || !ff->q || !ff->mu || !ff->Q ||
+  if (!ff->type_off || !ff->sp_nsites || !ff->sp_extent || !ff->sig || !ff->eps || !ff->q || !ff->mu || !ff->Q ||
       !ff->type_species || !ff->type_site || !ff->lj || !ff->body_species ||
       !ff->body_site_off || !ff->body_rot || !ff->site_type || !ff->centre || !ff->axis ||
       !ff->tq || !ff->site || !ff->dsite || !ff->fs) {
@@ -347,6 +321,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
         return NULL;
       }
       ff->extent = fmax(ff->extent, ext);
+      ff->sp_extent[k] = ext;
     }
   }
   free(first_body);
@@ -370,6 +345,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     if (!ff->nl) { rl_forcefield_free(ff); return NULL; }
   }
   update_dispersion(ff);
+  if (rl_ff_fast_setup(ff)) { rl_forcefield_free(ff); return NULL; }
   return ff;
 }
 
@@ -389,7 +365,7 @@ int rl_forcefield_set_lj_pair(rl_forcefield *ff, int ka, int a, int kb, int b, d
                     sigma, epsilon);
   lj_mix(ff, ff->type_off[ka] + a, ff->type_off[kb] + b, sigma, epsilon);
   update_dispersion(ff);
-  return RL_OK;
+  return rl_ff_fast_setup(ff); /* an override may break a kernel's site pattern */
 }
 
 int rl_forcefield_set_box(rl_forcefield *ff, const double L[3])
@@ -410,7 +386,15 @@ void rl_forcefield_get_box(const rl_forcefield *ff, double L[3])
   memcpy(L, ff->box.L, sizeof ff->box.L);
 }
 
-long rl_forcefield_rebuilds(const rl_forcefield *ff) { return ff->nl ? ff->nl->builds : 0; }
+long rl_forcefield_rebuilds(const rl_forcefield *ff)
+{
+  return (ff->nl ? ff->nl->builds : 0) + rl_ff_fast_builds(ff->fast);
+}
+const char *rl_forcefield_kernel(const rl_forcefield *ff)
+{
+  return ff->fast ? rl_ff_fast_name(ff->fast) : "general";
+}
+int rl_forcefield_threads(const rl_forcefield *ff) { return ff->fast ? rl_ff_fast_threads(ff->fast) : 1; }
 double rl_forcefield_list_radius(const rl_forcefield *ff) { return ff->rlist; }
 
 void rl_forcefield_energies(const rl_forcefield *ff, rl_ff_energies *e) { *e = ff->e; }
@@ -447,10 +431,12 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
                      const double R[3], rl_acc *acc)
 {
   double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-  if (r2 < ff->min_distance * ff->min_distance)
+  if (r2 < ff->min_distance * ff->min_distance) {
+    if (acc->quiet) { acc->bad = 1; return RL_EINVAL; }
     return rl_error(RL_EINVAL, "forcefield: overlapping sites: site %d of body %d and site %d of "
                     "body %d are %g apart (minimum %g)", sa - ff->body_site_off[i], i,
                     sb - ff->body_site_off[j], j, sqrt(r2), ff->min_distance);
+  }
   int ta = ff->site_type[sa], tb = ff->site_type[sb];
   double f[3] = {0.0, 0.0, 0.0};
   const rl_lj_coef *lj = &ff->lj[ta * ff->ntypes + tb];
@@ -474,21 +460,21 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
       acc->dip += sf ? rl_dipole_dipole_sf(ff->kc, ff->p.cutoff, r, mua, mub, fp, ga, gb)
                      : rl_dipole_dipole_rf(ff->kc, ff->rf.krf, r, mua, mub, fp, ga, gb);
       for (int c = 0; c < 3; c++) f[c] += fp[c];
-      cross_add(ff->tq[i], mua, ga, -1.0);
-      cross_add(ff->tq[j], mub, gb, -1.0);
+      cross_add(acc->tq[i], mua, ga, -1.0);
+      cross_add(acc->tq[j], mub, gb, -1.0);
     }
     if (qa != 0.0 && mb != 0.0) { /* charge at a, dipole at b */
       acc->dip += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, r, qa, mub, fp, gb)
                      : rl_charge_dipole_rf(ff->kc, ff->rf.krf, r, qa, mub, fp, gb);
       for (int c = 0; c < 3; c++) f[c] += fp[c];
-      cross_add(ff->tq[j], mub, gb, -1.0);
+      cross_add(acc->tq[j], mub, gb, -1.0);
     }
     if (ma != 0.0 && qb != 0.0) { /* dipole at a, charge at b: r_charge - r_dipole = -r */
       double rm[3] = {-r[0], -r[1], -r[2]};
       acc->dip += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, rm, qb, mua, fp, ga)
                      : rl_charge_dipole_rf(ff->kc, ff->rf.krf, rm, qb, mua, fp, ga);
       for (int c = 0; c < 3; c++) f[c] -= fp[c]; /* fp is the force on the charge (b) */
-      cross_add(ff->tq[i], mua, ga, -1.0);
+      cross_add(acc->tq[i], mua, ga, -1.0);
     }
   }
   double Qa = ff->Q[ta], Qb = ff->Q[tb];
@@ -496,19 +482,20 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
     double fp[3], ga[3], gb[3];
     acc->quad += rl_quadrupole_quadrupole(ff->kc, r, Qa, ff->axis[i], Qb, ff->axis[j], fp, ga, gb);
     for (int c = 0; c < 3; c++) f[c] += fp[c];
-    cross_add(ff->tq[i], ff->axis[i], ga, -1.0);
-    cross_add(ff->tq[j], ff->axis[j], gb, -1.0);
+    cross_add(acc->tq[i], ff->axis[i], ga, -1.0);
+    cross_add(acc->tq[j], ff->axis[j], gb, -1.0);
   }
   for (int c = 0; c < 3; c++) {
-    ff->fs[sa][c] += f[c];
-    ff->fs[sb][c] -= f[c];
+    acc->fs[sa][c] += f[c];
+    acc->fs[sb][c] -= f[c];
   }
+  const double *Rv = acc->site_virial ? r : R;
   for (int x = 0; x < 3; x++)
-    for (int y = 0; y < 3; y++) acc->vir[3 * x + y] += R[x] * f[y];
+    for (int y = 0; y < 3; y++) acc->vir[3 * x + y] += Rv[x] * f[y];
   return RL_OK;
 }
 
-static int body_pair(rl_forcefield *ff, int i, int j, rl_acc *acc)
+int rl_ff_body_pair(rl_forcefield *ff, int i, int j, rl_acc *acc)
 {
   int ki = ff->body_species[i], kj = ff->body_species[j];
   int ni = ff->sp_nsites[ki], nj = ff->sp_nsites[kj];
@@ -568,6 +555,28 @@ static double intramolecular_rf(rl_forcefield *ff)
   return e;
 }
 
+/* The reference pair loop: every listed (or, without a list, every) body pair through
+ * rl_ff_body_pair, serially, in list order.  `rebuild` forces a fresh list (the fast path keeps
+ * its own list, so after it the reference list may be stale). */
+static int reference_pairs(rl_forcefield *ff, rl_acc *acc, int rebuild)
+{
+  int n = ff->n, st = RL_OK;
+  if (ff->nl) {
+    if (rebuild || rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre,
+                                          ff->nsites, (const double(*)[3])ff->site, NULL)) {
+      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre,
+                          ff->nsites, (const double(*)[3])ff->site);
+      if (st) return st;
+    }
+    for (long p = 0; p < ff->nl->npairs && !st; p++)
+      st = rl_ff_body_pair(ff, ff->nl->pairs[p][0], ff->nl->pairs[p][1], acc);
+  } else {
+    for (int i = 0; i < n && !st; i++)
+      for (int j = i + 1; j < n && !st; j++) st = rl_ff_body_pair(ff, i, j, acc);
+  }
+  return st;
+}
+
 int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *out)
 {
   if (!ff || !sys || !out) return rl_error(RL_EINVAL, "rl_forcefield_compute: NULL argument");
@@ -603,19 +612,16 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
   memset(ff->tq, 0, sizeof *ff->tq * (size_t)n);
   rl_acc acc;
   memset(&acc, 0, sizeof acc);
-  int st = RL_OK;
-  if (ff->nl) {
-    if (rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre, ff->nsites,
-                               (const double(*)[3])ff->site, NULL)) {
-      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre,
-                          ff->nsites, (const double(*)[3])ff->site);
-      if (st) return st;
-    }
-    for (long p = 0; p < ff->nl->npairs && !st; p++)
-      st = body_pair(ff, ff->nl->pairs[p][0], ff->nl->pairs[p][1], &acc);
-  } else {
-    for (int i = 0; i < n && !st; i++)
-      for (int j = i + 1; j < n && !st; j++) st = body_pair(ff, i, j, &acc);
+  acc.fs = ff->fs;
+  acc.tq = ff->tq;
+  int st = ff->fast ? rl_ff_fast_compute(ff, &acc) : 1;
+  if (st > 0) { /* the reference path, or a rerun of it that reports an overlap */
+    memset(ff->fs, 0, sizeof *ff->fs * (size_t)ff->nsites);
+    memset(ff->tq, 0, sizeof *ff->tq * (size_t)n);
+    memset(&acc, 0, sizeof acc);
+    acc.fs = ff->fs;
+    acc.tq = ff->tq;
+    st = reference_pairs(ff, &acc, ff->fast != NULL);
   }
   if (st) return st;
   double e_intra = ff->p.intramolecular_rf ? intramolecular_rf(ff) : 0.0;

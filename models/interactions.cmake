@@ -7,4 +7,9 @@ target_sources(rotleap PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/dipole.c
   ${CMAKE_CURRENT_LIST_DIR}/quadrupole.c
   ${CMAKE_CURRENT_LIST_DIR}/forcefield.c
+  ${CMAKE_CURRENT_LIST_DIR}/ff_fast.c
 )
+# The specialised kernels: `omp simd` loops (honoured even without OpenMP threads) and sqrt
+# without errno, so the inner loops vectorise.  Neither changes a result.
+set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/ff_fast.c PROPERTIES
+  COMPILE_OPTIONS "-fopenmp-simd;-fno-math-errno")

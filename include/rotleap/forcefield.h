@@ -53,6 +53,32 @@ typedef enum {
   RL_DIPOLE_SF = 1  /* shifted force (Allen & Germano 2006, LAMMPS lj/sf/dipole/sf)             */
 } rl_dipole_method;
 
+typedef enum {
+  RL_KERNEL_AUTO = 0,   /* specialised pair kernels where a species' site pattern allows (below),
+                           threaded with OpenMP; the reference routine for every other pair     */
+  RL_KERNEL_GENERAL = 1 /* the reference path only: one general site-site routine, serial       */
+} rl_kernel_choice;
+
+/* Kernel choice (p.kernel = RL_KERNEL_AUTO, with the neighbour list on).  The choice is made
+ * once, at rl_forcefield_alloc (and again after rl_forcefield_set_lj_pair), from each species'
+ * site pattern; pairs of two bodies of one such species use its kernel, every other pair the
+ * general site-site routine:
+ *   "tip4p"      4 sites: one LJ site without charge, three charges without LJ, no dipoles or
+ *                quadrupoles (TIP4P, TIP4P-Ew, TIP4P/2005): 1 LJ + 9 charge pairs, no site loop
+ *   "charge-lj"  any other species with only LJ and charges on at most 8 sites (SPC/E, TIP3P,
+ *                linear CO2, CH4, ...): every site pair, LJ and reaction field together
+ *   "stockmayer" one site at the centre with LJ and a point dipole, no charge (Stockmayer):
+ *                LJ + dipole-dipole (RF or SF), no site loop
+ * The results are those of the general routine up to round-off (tests/interactions/
+ * test_ff_fast.c: <= 1e-12 relative), overlaps are reported with the same message, and both
+ * cutoff schemes and all LJ truncations are supported.  Without a neighbour list
+ * (neighbor_list = 0) the reference path runs.
+ *
+ * Threads: the pair loop runs on `threads` OpenMP threads (0: omp_get_max_threads()), each
+ * with its own force buffers, summed in thread order.  For a fixed thread count the results are
+ * bit-for-bit reproducible; a different thread count sums in another order and changes them
+ * at round-off (about 1e-15 relative).  Built without OpenMP, everything runs on one thread. */
+
 typedef struct {
   double box[3];                  /* orthorhombic edges Lx, Ly, Lz (> 0)                        */
   double cutoff;                  /* rc (> 0, <= half the shortest edge)                        */
@@ -74,6 +100,9 @@ typedef struct {
   double skin;                    /* Verlet skin (>= 0); < 0 (default): 0.1 cutoff              */
   double min_distance;            /* site pairs closer than this are an error (overlap);
                                      < 0 (default): 1e-3 cutoff                                 */
+  rl_kernel_choice kernel;        /* default RL_KERNEL_AUTO (see above)                         */
+  int threads;                    /* OpenMP threads for the pair loop; 0 (default): OpenMP's
+                                     default (OMP_NUM_THREADS or the cores)                     */
 } rl_ff_params;
 
 /* Energies of the last compute, split by term.  Sum = total = the energy added to rl_forces. */
@@ -131,6 +160,10 @@ double rl_forcefield_pressure(const rl_forcefield *ff, const rl_forces *f, doubl
 
 /* Neighbour-list builds so far (0 with neighbor_list = 0), and the list radius in use. */
 long rl_forcefield_rebuilds(const rl_forcefield *ff);
+/* The kernels in use, e.g. "tip4p", "stockmayer+general", "general" (the reference path), and
+ * the number of threads of the pair loop (1 for the reference path). */
+const char *rl_forcefield_kernel(const rl_forcefield *ff);
+int rl_forcefield_threads(const rl_forcefield *ff);
 double rl_forcefield_list_radius(const rl_forcefield *ff);
 
 #ifdef __cplusplus

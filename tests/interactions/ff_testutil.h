@@ -222,6 +222,25 @@ static inline void ff_result_free(ff_result *res)
   free(res->k);
 }
 
+/* Largest |a_i| and largest |a_i - b_i| over n vectors. */
+static inline double ff_maxnorm(const double (*a)[3], int n)
+{
+  double m = 0.0;
+  for (int i = 0; i < n; i++)
+    m = fmax(m, sqrt(a[i][0] * a[i][0] + a[i][1] * a[i][1] + a[i][2] * a[i][2]));
+  return m;
+}
+
+static inline double ff_maxdiff(const double (*a)[3], const double (*b)[3], int n)
+{
+  double m = 0.0;
+  for (int i = 0; i < n; i++) {
+    double d[3] = {a[i][0] - b[i][0], a[i][1] - b[i][1], a[i][2] - b[i][2]};
+    m = fmax(m, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+  }
+  return m;
+}
+
 /* Rotation matrix exp(eps [n]x) (Rodrigues), n a unit vector. */
 static inline void ff_rotation(const double n[3], double eps, double R[9])
 {

@@ -56,24 +56,6 @@ static void liquid_build(liquid *lq, gsl_rng *rng, int nw, int nd, int ni)
   free(r);
 }
 
-static double maxnorm(const double (*a)[3], int n)
-{
-  double m = 0.0;
-  for (int i = 0; i < n; i++)
-    m = fmax(m, sqrt(a[i][0] * a[i][0] + a[i][1] * a[i][1] + a[i][2] * a[i][2]));
-  return m;
-}
-
-static double maxdiff(const double (*a)[3], const double (*b)[3], int n)
-{
-  double m = 0.0;
-  for (int i = 0; i < n; i++) {
-    double d[3] = {a[i][0] - b[i][0], a[i][1] - b[i][1], a[i][2] - b[i][2]};
-    m = fmax(m, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
-  }
-  return m;
-}
-
 static void compare(rl_forcefield *list, rl_forcefield *brute, rl_system *sys, const char *what)
 {
   ff_result a, b;
@@ -83,11 +65,11 @@ static void compare(rl_forcefield *list, rl_forcefield *brute, rl_system *sys, c
   snprintf(name, sizeof name, "nlist %s: |E_list - E_brute| / |E_brute|", what);
   FF_CHECK_LE(name, fabs(a.out.energy - b.out.energy) / fabs(b.out.energy), 1e-12);
   snprintf(name, sizeof name, "nlist %s: max |f_list - f_brute| / max |f|", what);
-  FF_CHECK_LE(name, maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
-                        maxnorm((const double(*)[3])b.f, b.n), 1e-12);
+  FF_CHECK_LE(name, ff_maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
+                        ff_maxnorm((const double(*)[3])b.f, b.n), 1e-12);
   snprintf(name, sizeof name, "nlist %s: max |k_list - k_brute| / max |k|", what);
-  FF_CHECK_LE(name, maxdiff((const double(*)[3])a.k, (const double(*)[3])b.k, a.nrot) /
-                        maxnorm((const double(*)[3])b.k, b.nrot), 1e-12);
+  FF_CHECK_LE(name, ff_maxdiff((const double(*)[3])a.k, (const double(*)[3])b.k, a.nrot) /
+                        ff_maxnorm((const double(*)[3])b.k, b.nrot), 1e-12);
   double vd = 0.0, vs = 0.0;
   for (int c = 0; c < 9; c++) {
     vd = fmax(vd, fabs(a.out.virial[c] - b.out.virial[c]));
@@ -179,8 +161,8 @@ static void run_scheme(rl_cutoff_scheme scheme, unsigned long seed)
     ff_result_compute(&a, list, sys);
     ff_result_compute(&b, brute, sys);
     double ee = fabs(a.out.energy - b.out.energy) / fabs(b.out.energy);
-    double fe = maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
-                maxnorm((const double(*)[3])b.f, b.n);
+    double fe = ff_maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
+                ff_maxnorm((const double(*)[3])b.f, b.n);
     ff_result_free(&a);
     ff_result_free(&b);
     snprintf(what, sizeof what, "nlist %s cutoff, walk step %2d: max(rel dE, rel df)", sn, step);

@@ -1,0 +1,330 @@
+/* bench/ffbench: the cost of a whole MD step with the force field (issue 8).
+ *
+ *   ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve STEPS2]
+ *       MODEL tip4p: TIP4P, 298 K, 1 g/cm3, RF eps_rf 78.3, site cutoff 0.9 nm, plain LJ, h 2 fs.
+ *       MODEL stockmayer: rho* 0.8, T* 1.35, mu*^2 3, I* 0.025, cutoff 2.5, plain LJ and plain
+ *       dipole truncation (RF with eps_rf = 1; LAMMPS lj/cut/dipole/cut), h = 0.002.
+ *       Builds a lattice with random orientations, relaxes it (Bussi), then times STEPS steps and
+ *       prints one line of key=value: ms per step, the force field's share of the step (the
+ *       provider is wrapped and timed), memory per molecule (resident set growth / N), pairs.
+ *       --dump FILE writes the relaxed state for the OpenMM / LAMMPS drivers (bench/openmm_tip4p.py, bench/lammps_stockmayer.py);
+ *       --nve S2 then runs S2 NVE steps and reports the energy drift and fluctuation.
+ *   ffbench scaling MODEL THREADS [NMAX]
+ *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
+ *       side (alternating, best of 3), the log-log slope of the auto kernel, memory per molecule.
+ *       Writes bench/scaling_MODEL.csv (or $ROTLEAP_BENCH_CSV).
+ * Read ratios: the machine is shared. */
+#include <rotleap/catalog.h>
+#include <rotleap/forcefield.h>
+#include <rotleap/rotleap.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static double rss_bytes(void)
+{
+  long pages = 0, res = 0;
+  FILE *f = fopen("/proc/self/statm", "r");
+  if (!f) return 0.0;
+  if (fscanf(f, "%ld %ld", &pages, &res) != 2) res = 0;
+  fclose(f);
+  return (double)res * (double)sysconf(_SC_PAGESIZE);
+}
+
+/* The force field wrapped: time spent in it. */
+typedef struct {
+  rl_forcefield *ff;
+  double t;
+} timed_ff;
+
+static int timed_compute(void *ctx, const rl_system *sys, rl_forces *out)
+{
+  timed_ff *w = ctx;
+  double t0 = now();
+  int st = rl_forcefield_compute(w->ff, sys, out);
+  w->t += now() - t0;
+  return st;
+}
+
+typedef struct {
+  int tip4p;
+  rl_system *sys;
+  rl_forcefield *ff;
+  rl_integrator *in;
+  timed_ff w;
+  rl_molecule m;
+  double L, h, T0;
+  double mem_per_molecule;
+} bench_sys;
+
+static void die(const char *what)
+{
+  fprintf(stderr, "ffbench: %s: %s\n", what, rl_last_error());
+  exit(1);
+}
+
+static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel_choice kernel)
+{
+  memset(b, 0, sizeof *b);
+  b->tip4p = strcmp(model, "tip4p") == 0;
+  if (!b->tip4p && strcmp(model, "stockmayer") != 0) { fprintf(stderr, "ffbench: model tip4p|stockmayer\n"); exit(2); }
+  double rss0 = rss_bytes();
+  const rl_model *md = rl_catalog_find(model);
+  if (!md || rl_model_build(md, NULL, 0, &b->m)) die("model");
+  rl_species_desc d;
+  rl_molecule_species(&b->m, &d);
+  b->sys = rl_system_alloc(md->units);
+  if (rl_system_add_species(b->sys, &d, n, NULL)) die("species");
+  double rho = b->tip4p ? 1.0e-21 / (b->m.mass * 1.66053906660e-24) /* per nm3 at 1 g/cm3 */ : 0.8;
+  b->L = cbrt(n / rho);
+  b->T0 = b->tip4p ? 298.0 : 1.35;
+  b->h = b->tip4p ? 0.002 : 0.002;
+  double kT = b->T0 * rl_units_kB(md->units);
+  int side = (int)ceil(cbrt((double)n) - 1e-9);
+  double a = b->L / side;
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(r, 2026);
+  for (int i = 0; i < n; i++) {
+    double x[3] = {a * (i % side + 0.5), a * ((i / side) % side + 0.5), a * (i / (side * side) + 0.5)};
+    double q[4], nq = 0.0, A[9], v[3], l[3];
+    for (int k = 0; k < 4; k++) { q[k] = gsl_ran_gaussian(r, 1); nq += q[k] * q[k]; }
+    for (int k = 0; k < 4; k++) q[k] /= sqrt(nq);
+    rl_quat_to_matrix(q, A);
+    for (int c = 0; c < 3; c++) {
+      v[c] = gsl_ran_gaussian(r, sqrt(kT / b->m.mass));
+      l[c] = gsl_ran_gaussian(r, sqrt(kT * b->m.inertia[1]));
+    }
+    rl_system_set_position(b->sys, i, x);
+    rl_system_set_velocity(b->sys, i, v);
+    if (b->m.kind == RL_KIND_DIPOLE) {
+      double rho3[3] = {A[6], A[7], A[8]}, dd = l[0] * A[6] + l[1] * A[7] + l[2] * A[8];
+      for (int c = 0; c < 3; c++) l[c] -= dd * A[6 + c];
+      rl_system_set_axis(b->sys, i, rho3);
+    } else {
+      rl_system_set_orientation(b->sys, i, A);
+    }
+    rl_system_set_angmom(b->sys, i, l);
+  }
+  gsl_rng_free(r);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = b->L;
+  p.kernel = kernel;
+  p.threads = threads;
+  if (b->tip4p) {
+    p.cutoff = 0.9;
+    p.eps_rf = 78.3;
+    p.coulomb_constant = 138.93545764438198; /* OpenMM 7.7's */
+  } else {
+    p.cutoff = 2.5;
+    p.eps_rf = 1.0; /* plain truncation of the dipole terms, as lj/cut/dipole/cut */
+  }
+  rl_species_ff sf = rl_molecule_ff(&b->m);
+  b->ff = rl_forcefield_alloc(b->sys, &p, &sf, 1);
+  if (!b->ff) die("forcefield");
+  b->w.ff = b->ff;
+  rl_integrator_params ip;
+  rl_integrator_params_default(&ip);
+  ip.h = b->tip4p ? 0.0005 : 0.0005; /* relaxation from the lattice at a short step */
+  ip.thermostat = RL_THERMO_BUSSI;
+  ip.T0 = b->T0;
+  ip.tau = 20 * ip.h;
+  ip.seed = 7;
+  b->in = rl_integrator_alloc(b->sys, &ip, (rl_force_provider){timed_compute, &b->w});
+  if (!b->in || rl_integrator_init(b->in)) die("integrator");
+  b->mem_per_molecule = (rss_bytes() - rss0) / n;
+}
+
+/* Continue at the production step (NVE or Bussi) from the relaxed state. */
+static void restart(bench_sys *b, int nve)
+{
+  rl_integrator_free(b->in);
+  rl_integrator_params ip;
+  rl_integrator_params_default(&ip);
+  ip.h = b->h;
+  if (!nve) {
+    ip.thermostat = RL_THERMO_BUSSI;
+    ip.T0 = b->T0;
+    ip.tau = 50 * ip.h;
+    ip.seed = 8;
+  }
+  b->in = rl_integrator_alloc(b->sys, &ip, (rl_force_provider){timed_compute, &b->w});
+  if (!b->in || rl_integrator_init(b->in)) die("integrator");
+}
+
+static void run(bench_sys *b, int steps, rl_step_info *last)
+{
+  rl_step_info info;
+  for (int s = 0; s < steps; s++)
+    if (rl_integrator_step(b->in, &info)) die("step");
+  if (last) *last = info;
+}
+
+static void teardown(bench_sys *b)
+{
+  rl_integrator_free(b->in);
+  rl_forcefield_free(b->ff);
+  rl_system_free(b->sys);
+}
+
+/* Timed steps: returns seconds per step, *share = force field time / step time. */
+static double timed(bench_sys *b, int steps, double *share)
+{
+  b->w.t = 0.0;
+  double t0 = now();
+  run(b, steps, NULL);
+  double t = now() - t0;
+  if (share) *share = b->w.t / t;
+  return t / steps;
+}
+
+static void dump(bench_sys *b, const char *path)
+{
+  FILE *f = fopen(path, "w");
+  if (!f) { perror(path); exit(1); }
+  int n = rl_system_count(b->sys), ns = rl_system_nsites(b->sys);
+  double(*s)[3] = malloc(sizeof *s * (size_t)ns);
+  rl_system_site_positions(b->sys, s);
+  fprintf(f, "%s %d %d %.17g\n", b->tip4p ? "tip4p" : "stockmayer", n, ns / n, b->L);
+  for (int i = 0; i < n; i++) {
+    double r[3], v[3], l[3], ax[3];
+    rl_system_get_position(b->sys, i, r);
+    rl_system_get_velocity(b->sys, i, v);
+    rl_system_get_angmom(b->sys, i, l);
+    rl_system_get_axis(b->sys, i, ax);
+    fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", r[0], r[1],
+            r[2], v[0], v[1], v[2], l[0] / b->m.inertia[0], l[1] / b->m.inertia[0],
+            l[2] / b->m.inertia[0], ax[0], ax[1], ax[2]);
+    for (int a = 0; a < ns / n; a++)
+      fprintf(f, " %.17g %.17g %.17g", s[i * (ns / n) + a][0], s[i * (ns / n) + a][1], s[i * (ns / n) + a][2]);
+    fprintf(f, "\n");
+  }
+  free(s);
+  fclose(f);
+}
+
+static int cmd_time(int argc, char **argv)
+{
+  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S]\n"); return 2; }
+  const char *model = argv[2];
+  int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0;
+  rl_kernel_choice kernel = RL_KERNEL_AUTO;
+  const char *dumpfile = NULL;
+  for (int k = 6; k < argc; k++) {
+    if (!strcmp(argv[k], "general")) kernel = RL_KERNEL_GENERAL;
+    else if (!strcmp(argv[k], "--dump") && k + 1 < argc) dumpfile = argv[++k];
+    else if (!strcmp(argv[k], "--nve") && k + 1 < argc) nve = atoi(argv[++k]);
+  }
+  bench_sys b;
+  setup(&b, model, n, threads, kernel);
+  int relax = n >= 16384 ? 20 : 200;
+  run(&b, relax, NULL);
+  restart(&b, nve > 0);
+  run(&b, 5, NULL); /* warm-up at the production step */
+  double share, t = timed(&b, steps, &share);
+  rl_ff_energies e;
+  rl_forcefield_energies(b.ff, &e);
+  printf("model=%s N=%d threads=%d kernel=%s ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+         "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
+         model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), 1e3 * t, share,
+         1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
+  if (dumpfile) {
+    /* the energy of exactly the dumped configuration */
+    rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}};
+    if (rl_forcefield_compute(b.ff, b.sys, &F)) die("compute");
+    rl_forcefield_energies(b.ff, &e);
+    printf("dump=%s U=%.15g U_lj=%.15g U_coulomb=%.15g U_dipolar=%.15g\n", dumpfile, e.total, e.lj,
+           e.coulomb, e.dipolar);
+    free(F.f);
+    free(F.k);
+    dump(&b, dumpfile);
+  }
+  if (nve > 0) {
+    rl_step_info info;
+    double e0 = 0.0, emin = INFINITY, emax = -INFINITY, s1 = 0.0, s2 = 0.0;
+    for (int s = 0; s < nve; s++) {
+      if (rl_integrator_step(b.in, &info)) die("step");
+      if (s == 0) e0 = info.total;
+      emin = fmin(emin, info.total);
+      emax = fmax(emax, info.total);
+      s1 += info.total;
+      s2 += info.total * info.total;
+    }
+    double mean = s1 / nve, sd = sqrt(fmax(0.0, s2 / nve - mean * mean));
+    printf("nve_steps=%d dt=%g drift_per_molecule=%.6e sd_per_molecule=%.6e range_per_molecule=%.6e\n",
+           nve, b.h, (info.total - e0) / n, sd / n, (emax - emin) / n);
+  }
+  teardown(&b);
+  return 0;
+}
+
+static int cmd_scaling(int argc, char **argv)
+{
+  if (argc < 4) { fprintf(stderr, "usage: ffbench scaling MODEL THREADS [NMAX]\n"); return 2; }
+  const char *model = argv[2];
+  int threads = atoi(argv[3]), nmax = argc > 4 ? atoi(argv[4]) : 65536;
+  char csvname[256];
+  snprintf(csvname, sizeof csvname, "bench/scaling_%s.csv", model);
+  const char *cn = getenv("ROTLEAP_BENCH_CSV") ? getenv("ROTLEAP_BENCH_CSV") : csvname;
+  FILE *csv = fopen(cn, "w");
+  if (csv) fprintf(csv, "model,N,threads,auto_us_per_molecule_step,general_us_per_molecule_step,speedup,ff_share,mem_per_molecule\n");
+  printf("%s, %d thread(s): cost per molecule-step against N (best of 3 alternating rounds)\n\n", model, threads);
+  printf("%8s %14s %14s %8s %9s %12s\n", "N", "auto us", "general us", "speedup", "ff share", "bytes/mol");
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int m = 0;
+  for (int n = 256; n <= nmax; n *= 2) {
+    bench_sys a, g;
+    setup(&a, model, n, threads, RL_KERNEL_AUTO);
+    double mem = a.mem_per_molecule;
+    int relax = n >= 16384 ? 10 : 50;
+    run(&a, relax, NULL);
+    restart(&a, 0);
+    int general = n <= 16384; /* the reference path is slow: up to 16384 */
+    if (general) {
+      setup(&g, model, n, 1, RL_KERNEL_GENERAL);
+      run(&g, relax, NULL);
+      restart(&g, 0);
+    }
+    int steps = (int)fmax(3.0, 200000.0 / n);
+    double ta = INFINITY, tg = INFINITY, share = 0.0;
+    for (int round = 0; round < 3; round++) {
+      double sh, t = timed(&a, steps, &sh);
+      if (t < ta) { ta = t; share = sh; }
+      if (general) tg = fmin(tg, timed(&g, (steps + 3) / 4, NULL));
+    }
+    double ua = 1e6 * ta / n, ug = general ? 1e6 * tg / n : NAN;
+    printf("%8d %14.3f %14.3f %8.2f %9.3f %12.0f\n", n, ua, ug, ug / ua, share, mem);
+    if (csv) fprintf(csv, "%s,%d,%d,%.4f,%.4f,%.3f,%.4f,%.0f\n", model, n, threads, ua, ug, ug / ua, share, mem);
+    double x = log((double)n), y = log(ta);
+    sx += x; sy += y; sxx += x * x; sxy += x * y; m++;
+    teardown(&a);
+    if (general) teardown(&g);
+  }
+  double slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
+  printf("\nlog-log slope of time per step against N (auto kernels): %.3f (target <= 1.05: %s)\n", slope,
+         slope <= 1.05 ? "met" : "MISSED");
+  if (csv) { fprintf(csv, "# slope,%.4f\n", slope); fclose(csv); printf("written: %s\n", cn); }
+  return 0;
+}
+
+int main(int argc, char **argv)
+{
+  if (argc > 1 && !strcmp(argv[1], "time")) return cmd_time(argc, argv);
+  if (argc > 1 && !strcmp(argv[1], "scaling")) return cmd_scaling(argc, argv);
+  fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S]\n"
+                  "       ffbench scaling MODEL THREADS [NMAX]\n");
+  return 2;
+}

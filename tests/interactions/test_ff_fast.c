@@ -1,0 +1,396 @@
+/* The specialised, threaded kernels (p.kernel = RL_KERNEL_AUTO) against the reference path
+ * (RL_KERNEL_GENERAL) on random periodic liquids: TIP4P-like water ("tip4p"), point dipoles
+ * ("stockmayer", reaction field, plain truncation and shifted force), linear CO2 and ions
+ * ("charge-lj"), and a mixture of all of them with general cross pairs.  Both cutoff schemes,
+ * all four LJ truncations, a box whose half edge equals the cutoff (site images differ from the
+ * centre image), 1 against 2 threads, reproducibility for a fixed thread count, the kernel
+ * choice from site patterns, and the overlap error message. */
+#include "ff_testutil.h"
+
+typedef struct {
+  ff_test_species sp[4];
+  rl_species_ff sff[4];
+  int nsp;
+  rl_system *sys;
+  double L;
+} scene;
+
+/* Random liquid: counts[k] bodies of sp[k], centres at least dmin apart, number density rho. */
+static void scene_build(scene *s, gsl_rng *rng, rl_units units, const int *counts, double rho,
+                        double dmin, double Lfix)
+{
+  s->sys = rl_system_alloc(units);
+  int n = 0;
+  for (int k = 0; k < s->nsp; k++) {
+    s->sp[k].desc.sites = &s->sp[k].sites[0][0];
+    assert_int_equal(rl_system_add_species(s->sys, &s->sp[k].desc, counts[k], NULL), RL_OK);
+    s->sff[k] = ff_test_species_ff(&s->sp[k]);
+    n += counts[k];
+  }
+  s->L = Lfix > 0.0 ? Lfix : cbrt(n / rho);
+  double(*r)[3] = malloc(sizeof *r * (size_t)n);
+  for (int i = 0; i < n; i++) {
+    for (int tries = 0;; tries++) {
+      assert_true(tries < 1000000);
+      double x[3];
+      for (int c = 0; c < 3; c++) x[c] = gsl_ran_flat(rng, -0.5 * s->L, 1.5 * s->L); /* unwrapped */
+      int ok = 1;
+      for (int j = 0; j < i && ok; j++) {
+        double d2 = 0.0;
+        for (int c = 0; c < 3; c++) {
+          double d = x[c] - r[j][c];
+          d -= s->L * nearbyint(d / s->L);
+          d2 += d * d;
+        }
+        ok = d2 >= dmin * dmin;
+      }
+      if (ok) { memcpy(r[i], x, sizeof x); break; }
+    }
+    assert_int_equal(rl_system_set_position(s->sys, i, r[i]), RL_OK);
+    ff_random_orientation(s->sys, i, rng);
+  }
+  free(r);
+}
+
+/* Largest relative difference of everything a compute returns (0 when bit-identical). */
+static double compare(rl_forcefield *fa, rl_forcefield *fb, rl_system *sys, const char *what,
+                      double tol)
+{
+  ff_result a, b;
+  ff_result_compute(&a, fa, sys);
+  ff_result_compute(&b, fb, sys);
+  rl_ff_energies ea, eb;
+  rl_forcefield_energies(fa, &ea);
+  rl_forcefield_energies(fb, &eb);
+  double scale = fabs(eb.lj) + fabs(eb.coulomb) + fabs(eb.dipolar) + fabs(eb.quadrupolar);
+  double de = fabs(ea.total - eb.total);
+  de = fmax(de, fabs(ea.lj - eb.lj));
+  de = fmax(de, fabs(ea.coulomb - eb.coulomb));
+  de = fmax(de, fabs(ea.dipolar - eb.dipolar));
+  de = fmax(de, fabs(ea.quadrupolar - eb.quadrupolar));
+  double worst = 0.0;
+  char name[240];
+  snprintf(name, sizeof name, "%s: energies by term, max |dE| / sum |E_term|", what);
+  FF_CHECK_LE(name, de / scale, tol);
+  worst = fmax(worst, de / scale);
+  double df = ff_maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
+              ff_maxnorm((const double(*)[3])b.f, b.n);
+  snprintf(name, sizeof name, "%s: max |df| / max |f|", what);
+  FF_CHECK_LE(name, df, tol);
+  worst = fmax(worst, df);
+  if (b.nrot > 0) {
+    double dk = ff_maxdiff((const double(*)[3])a.k, (const double(*)[3])b.k, a.nrot) /
+                ff_maxnorm((const double(*)[3])b.k, b.nrot);
+    snprintf(name, sizeof name, "%s: max |dk| / max |k|", what);
+    FF_CHECK_LE(name, dk, tol);
+    worst = fmax(worst, dk);
+  }
+  double vd = 0.0, vs = 0.0;
+  for (int c = 0; c < 9; c++) {
+    vd = fmax(vd, fabs(a.out.virial[c] - b.out.virial[c]));
+    vs = fmax(vs, fabs(b.out.virial[c]));
+  }
+  snprintf(name, sizeof name, "%s: max |dW| / max |W|", what);
+  FF_CHECK_LE(name, vd / vs, tol);
+  worst = fmax(worst, vd / vs);
+  ff_result_free(&a);
+  ff_result_free(&b);
+  return worst;
+}
+
+static rl_forcefield *make(scene *s, const rl_ff_params *p0, rl_kernel_choice kernel, int threads)
+{
+  rl_ff_params p = *p0;
+  p.kernel = kernel;
+  p.threads = threads;
+  rl_forcefield *ff = rl_forcefield_alloc(s->sys, &p, s->sff, s->nsp);
+  if (!ff) fprintf(stderr, "alloc: %s\n", rl_last_error());
+  assert_non_null(ff);
+  return ff;
+}
+
+static const char *trunc_name[4] = {"plain", "shifted", "shifted-force", "switched"};
+
+/* Auto vs general for both schemes and every truncation; the auto kernel's name is checked. */
+static void sweep(scene *s, rl_ff_params *p, const char *label, const char *kernel_name)
+{
+  for (int scheme = 0; scheme < 2; scheme++)
+    for (int tr = 0; tr < 4; tr++) {
+      p->scheme = (rl_cutoff_scheme)scheme;
+      p->lj_truncation = (rl_lj_truncation)tr;
+      p->r_switch = 0.8 * p->cutoff;
+      rl_forcefield *fa = make(s, p, RL_KERNEL_AUTO, 2), *fg = make(s, p, RL_KERNEL_GENERAL, 0);
+      char what[200];
+      snprintf(what, sizeof what, "%s, %s cutoff, LJ %s", label, scheme ? "molecule" : "site",
+               trunc_name[tr]);
+      if (scheme == 0 && tr == 0) {
+        char nm[240];
+        snprintf(nm, sizeof nm, "%s: kernel '%s' chosen (expected '%s')", label,
+                 rl_forcefield_kernel(fa), kernel_name);
+        FF_CHECK_TRUE(nm, strcmp(rl_forcefield_kernel(fa), kernel_name) == 0);
+        FF_CHECK_TRUE("reference path is named 'general'",
+                      strcmp(rl_forcefield_kernel(fg), "general") == 0);
+      }
+      compare(fa, fg, s->sys, what, 1e-12);
+      rl_forcefield_free(fa);
+      rl_forcefield_free(fg);
+    }
+}
+
+static void test_tip4p(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  scene s = {.nsp = 1};
+  ff_water(&s.sp[0]);
+  int cnt[1] = {400};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = s.L;
+  p.cutoff = 0.7;
+  sweep(&s, &p, "tip4p liquid (400)", "tip4p");
+  p.eps_rf = INFINITY;
+  p.scheme = RL_CUTOFF_SITE;
+  p.lj_truncation = RL_LJ_PLAIN;
+  rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 1), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+  compare(fa, fg, s.sys, "tip4p liquid, eps_rf = inf, 1 thread", 1e-12);
+  rl_forcefield_free(fa);
+  rl_forcefield_free(fg);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+/* Half the box edge equals the cutoff: site pairs whose minimum image is not the centres'. */
+static void test_periodic_edge(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 12);
+  scene s = {.nsp = 1};
+  ff_water(&s.sp[0]);
+  int cnt[1] = {216};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 0.0, 0.25, 1.8);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = 1.8;
+  p.cutoff = 0.9;
+  sweep(&s, &p, "tip4p, L = 2 rc", "tip4p");
+  /* a non-cubic box, shortest edge 2 rc */
+  rl_system_free(s.sys);
+  s = (scene){.nsp = 1};
+  ff_water(&s.sp[0]);
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 0.0, 0.25, 1.8);
+  p.box[1] = 2.3;
+  p.box[2] = 1.9;
+  p.scheme = RL_CUTOFF_SITE;
+  rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+  compare(fa, fg, s.sys, "tip4p, box 1.8 x 2.3 x 1.9, rc 0.9", 1e-12);
+  rl_forcefield_free(fa);
+  rl_forcefield_free(fg);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+static void test_stockmayer(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 13);
+  scene s = {.nsp = 1};
+  ff_stockmayer(&s.sp[0], 0.05);
+  int cnt[1] = {500};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 25.0, 0.27, 0.0);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = s.L;
+  p.cutoff = 0.75;
+  p.eps_rf = 1.0; /* plain truncation (LAMMPS lj/cut/dipole/cut) */
+  sweep(&s, &p, "stockmayer, RF eps_rf = 1", "stockmayer");
+  p.eps_rf = 78.3;
+  sweep(&s, &p, "stockmayer, RF eps_rf = 78.3", "stockmayer");
+  p.dipole_method = RL_DIPOLE_SF;
+  sweep(&s, &p, "stockmayer, shifted force", "stockmayer");
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+static void test_charge_lj(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 14);
+  scene s = {.nsp = 1};
+  ff_co2(&s.sp[0]);
+  int cnt[1] = {300};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 12.0, 0.33, 0.0);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = s.L;
+  p.cutoff = 0.8;
+  sweep(&s, &p, "linear co2 (300)", "charge-lj");
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+/* Water + dipoles + ions + CO2: kernel rows for like pairs, the reference routine for the rest. */
+static void test_mixture(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 15);
+  scene s = {.nsp = 4};
+  ff_water(&s.sp[0]);
+  ff_stockmayer(&s.sp[1], 0.04);
+  ff_ion(&s.sp[2], 0.7);
+  ff_co2(&s.sp[3]);
+  int cnt[4] = {350, 60, 20, 40};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 30.0, 0.26, 0.0);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = s.L;
+  p.cutoff = 0.7;
+  p.dispersion_correction = 1;
+  sweep(&s, &p, "mixture water/dipole/ion/co2", "tip4p+stockmayer+charge-lj+general");
+
+  /* threads: 1 vs 2 to round-off; a fixed count reproduces itself bit for bit */
+  p.scheme = RL_CUTOFF_SITE;
+  p.lj_truncation = RL_LJ_SHIFTED;
+  rl_forcefield *f1 = make(&s, &p, RL_KERNEL_AUTO, 1), *f2 = make(&s, &p, RL_KERNEL_AUTO, 2),
+                *f2b = make(&s, &p, RL_KERNEL_AUTO, 2), *f3 = make(&s, &p, RL_KERNEL_AUTO, 3);
+  FF_CHECK_TRUE("threads = 2 is used", rl_forcefield_threads(f2) == 2);
+  compare(f1, f2, s.sys, "mixture, 1 thread vs 2 threads", 1e-13);
+  compare(f2, f3, s.sys, "mixture, 2 threads vs 3 threads", 1e-13);
+  double w = compare(f2, f2b, s.sys, "mixture, 2 threads twice (reproducible)", 0.0);
+  FF_CHECK_TRUE("mixture, 2 threads twice: bit-identical", w == 0.0);
+  rl_forcefield_free(f1);
+  rl_forcefield_free(f2);
+  rl_forcefield_free(f2b);
+  rl_forcefield_free(f3);
+
+  /* the list is reused and rebuilt as the reference's is */
+  rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+  compare(fa, fg, s.sys, "mixture, before moves", 1e-12);
+  int n = rl_system_count(s.sys);
+  for (int step = 0; step < 6; step++) {
+    for (int i = 0; i < n; i++) {
+      double r[3];
+      rl_system_get_position(s.sys, i, r);
+      for (int c = 0; c < 3; c++) r[c] += gsl_ran_flat(rng, -0.012, 0.012);
+      rl_system_set_position(s.sys, i, r);
+    }
+    char what[80];
+    snprintf(what, sizeof what, "mixture, random walk step %d", step + 1);
+    compare(fa, fg, s.sys, what, 1e-12);
+  }
+  FF_CHECK_TRUE("mixture: the kernels' list was rebuilt during the walk",
+                rl_forcefield_rebuilds(fa) > 1);
+  rl_forcefield_free(fa);
+  rl_forcefield_free(fg);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+/* Kernel choice follows the site pattern; an LJ override that breaks it falls back. */
+static void test_choice(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 16);
+  scene s = {.nsp = 1};
+  ff_water(&s.sp[0]);
+  int cnt[1] = {200};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = s.L;
+  p.cutoff = 0.65;
+  rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+  FF_CHECK_TRUE("water: tip4p kernel", strcmp(rl_forcefield_kernel(fa), "tip4p") == 0);
+  /* LJ between H sites: no longer the tip4p pattern, but still LJ + charges */
+  assert_int_equal(rl_forcefield_set_lj_pair(fa, 0, 1, 0, 2, 0.1, 0.05), RL_OK);
+  assert_int_equal(rl_forcefield_set_lj_pair(fg, 0, 1, 0, 2, 0.1, 0.05), RL_OK);
+  FF_CHECK_TRUE("water with H1-H2 LJ override: charge-lj kernel",
+                strcmp(rl_forcefield_kernel(fa), "charge-lj") == 0);
+  compare(fa, fg, s.sys, "water with an H1-H2 LJ override", 1e-12);
+  rl_forcefield_free(fa);
+  rl_forcefield_free(fg);
+  p.neighbor_list = 0;
+  fa = make(&s, &p, RL_KERNEL_AUTO, 2);
+  FF_CHECK_TRUE("no neighbour list: the reference path",
+                strcmp(rl_forcefield_kernel(fa), "general") == 0);
+  rl_forcefield_free(fa);
+  p.neighbor_list = 1;
+  p.kernel = (rl_kernel_choice)7;
+  FF_CHECK_TRUE("unknown kernel choice is an error", rl_forcefield_alloc(s.sys, &p, s.sff, 1) == NULL);
+  FF_CHECK_TRUE("... named", strstr(rl_last_error(), "unknown kernel choice 7") != NULL);
+  p.kernel = RL_KERNEL_AUTO;
+  p.threads = -1;
+  FF_CHECK_TRUE("negative thread count is an error", rl_forcefield_alloc(s.sys, &p, s.sff, 1) == NULL);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+/* Overlapping sites: the same status and message as the reference path. */
+static void test_overlap(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 17);
+  for (int kind = 0; kind < 2; kind++) {
+    scene s = {.nsp = 1};
+    if (kind == 0) ff_water(&s.sp[0]);
+    else ff_stockmayer(&s.sp[0], 0.05);
+    int cnt[1] = {150};
+    scene_build(&s, rng, RL_UNITS_REAL, cnt, 25.0, 0.27, 0.0);
+    rl_ff_params p;
+    rl_ff_params_default(&p);
+    p.box[0] = p.box[1] = p.box[2] = s.L;
+    p.cutoff = 0.6;
+    /* put body 7 exactly on body 3 */
+    double r[3];
+    rl_system_get_position(s.sys, 3, r);
+    rl_system_set_position(s.sys, 7, r);
+    if (kind == 0) {
+      double A[9];
+      rl_system_get_orientation(s.sys, 3, A);
+      rl_system_set_orientation(s.sys, 7, A);
+    }
+    for (int scheme = 0; scheme < 2; scheme++) {
+      p.scheme = (rl_cutoff_scheme)scheme;
+      char msg_a[512], msg_g[512];
+      int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
+      double(*f)[3] = calloc((size_t)n, sizeof *f), (*k)[3] = calloc((size_t)nr + 1, sizeof *k);
+      rl_forces out = {f, k, 0.0, {0}};
+      rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+      int sa = rl_forcefield_compute(fa, s.sys, &out);
+      snprintf(msg_a, sizeof msg_a, "%s", rl_last_error());
+      int sg = rl_forcefield_compute(fg, s.sys, &out);
+      snprintf(msg_g, sizeof msg_g, "%s", rl_last_error());
+      char name[200];
+      snprintf(name, sizeof name, "overlap (%s, %s cutoff): same status and message as general",
+               kind ? "dipoles" : "water", scheme ? "molecule" : "site");
+      printf("  auto:    %s\n  general: %s\n", msg_a, msg_g);
+      FF_CHECK_TRUE(name, sa == RL_EINVAL && sg == RL_EINVAL && strcmp(msg_a, msg_g) == 0 &&
+                              strstr(msg_a, "overlapping sites") != NULL);
+      rl_forcefield_free(fa);
+      rl_forcefield_free(fg);
+      free(f);
+      free(k);
+    }
+    rl_system_free(s.sys);
+  }
+  gsl_rng_free(rng);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_tip4p),   cmocka_unit_test(test_periodic_edge),
+      cmocka_unit_test(test_stockmayer), cmocka_unit_test(test_charge_lj),
+      cmocka_unit_test(test_mixture), cmocka_unit_test(test_choice),
+      cmocka_unit_test(test_overlap),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
