@@ -25,8 +25,8 @@ typedef struct {
 
 enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
-  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN,
-  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TSEED, K_EQSTEPS, K_EQDT,
+  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL,
+  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_PREFIX, K_THERMO, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_PROGRESS, NKEYS
 };
 
@@ -49,6 +49,7 @@ static const key_def keys[NKEYS] = {
     [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting)"},
     [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles: reaction field or shifted force"},
     [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff"},
+    [K_KERNEL] = {"interactions", "kernel", K_CHOICE, Q_NONE, "auto", "auto|general", "auto: pair kernels specialised by site pattern (TIP4P, charges+LJ, Stockmayer), threaded; general: the serial reference routine (docs/interactions.md)"},
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
     [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion|rl-hybrid|fincham|no-squish", "revised leapfrog: guarded cubic (rl), exact solve, quaternion variant; baselines (matrix bodies only): the paper's hybrid, Fincham's implicit quaternion leapfrog, NO_SQUISH (docs/integrators.md)"},
@@ -58,6 +59,7 @@ static const key_def keys[NKEYS] = {
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
+    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop; 0: OMP_NUM_THREADS if set, else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count"},
     [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
@@ -361,6 +363,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->ff.eps_rf = number(&r, K_EPSRF, u, 1, 78.3);
   if (!(d->ff.eps_rf >= 1.0)) problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
   d->ff.dipole_method = choice(&r, K_DIPOLE) ? RL_DIPOLE_SF : RL_DIPOLE_RF;
+  d->ff.kernel = choice(&r, K_KERNEL) ? RL_KERNEL_GENERAL : RL_KERNEL_AUTO;
   if (r.val[K_SKIN]) {
     d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
     if (!(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
@@ -402,6 +405,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
+  d->ff.threads = (int)integer(&r, K_THREADS, 0, 0);
   /* [output] */
   if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
   else {

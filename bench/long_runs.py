@@ -21,6 +21,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rlfiles import keyvals as summary  # noqa: E402
+
 SCENES = {
     "stockmayer": dict(deck="examples/stockmayer.ini", h="0.002", eq="--set run.steps=20000",
                        unit="reduced (eps per molecule per tau)", per_ns=1.0),
@@ -35,15 +38,6 @@ def sh(args, log):
         p = subprocess.run(args, stdout=f, stderr=subprocess.STDOUT)
     if p.returncode:
         sys.exit("failed: %s (see %s)" % (" ".join(args), log))
-
-
-def summary(path):
-    out = {}
-    for line in open(path):
-        if "=" in line and not line.startswith("#"):
-            k, v = line.split("=", 1)
-            out[k.strip()] = v.strip()
-    return out
 
 
 def slope(t, e):

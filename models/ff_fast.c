@@ -505,7 +505,10 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   if (ff->p.kernel == RL_KERNEL_GENERAL || !ff->p.neighbor_list) return RL_OK;
   rl_ff_fast *f = calloc(1, sizeof *f);
   if (!f) return rl_error(RL_ENOMEM, "forcefield: out of memory");
-  int T = ff->p.threads > 0 ? ff->p.threads : omp_get_max_threads();
+  /* 0: OMP_NUM_THREADS if set, else one thread: threads are asked for, not assumed (as in
+   * LAMMPS); on a shared 2-core machine two spinning threads ran 10x slower than one */
+  const char *env = getenv("OMP_NUM_THREADS");
+  int T = ff->p.threads > 0 ? ff->p.threads : env && *env ? omp_get_max_threads() : 1;
 #ifndef _OPENMP
   T = 1;
 #endif

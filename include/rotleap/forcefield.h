@@ -74,7 +74,8 @@ typedef enum {
  * cutoff schemes and all LJ truncations are supported.  Without a neighbour list
  * (neighbor_list = 0) the reference path runs.
  *
- * Threads: the pair loop runs on `threads` OpenMP threads (0: omp_get_max_threads()), each
+ * Threads: the pair loop runs on `threads` OpenMP threads (0: OMP_NUM_THREADS if it is set,
+ * else 1 -- threads are asked for, not assumed, as in LAMMPS), each
  * with its own force buffers, summed in thread order.  For a fixed thread count the results are
  * bit-for-bit reproducible; a different thread count sums in another order and changes them
  * at round-off (about 1e-15 relative).  Built without OpenMP, everything runs on one thread. */
@@ -101,8 +102,8 @@ typedef struct {
   double min_distance;            /* site pairs closer than this are an error (overlap);
                                      < 0 (default): 1e-3 cutoff                                 */
   rl_kernel_choice kernel;        /* default RL_KERNEL_AUTO (see above)                         */
-  int threads;                    /* OpenMP threads for the pair loop; 0 (default): OpenMP's
-                                     default (OMP_NUM_THREADS or the cores)                     */
+  int threads;                    /* OpenMP threads for the pair loop; 0 (default):
+                                     OMP_NUM_THREADS if set, else 1                            */
 } rl_ff_params;
 
 /* Energies of the last compute, split by term.  Sum = total = the energy added to rl_forces. */

@@ -87,6 +87,14 @@ check "--set key= returns a key to its default (an NVT deck run as NVE)" '[ $cod
   --set output.prefix="$work/prodnve" >out.txt 2>err.txt; code=$?
 check "NVE production from an NVT checkpoint starts a new run" '[ $code -eq 0 ] && grep -q "written by a run with another thermostat: starting a new run" err.txt && grep -q "steps = 30 of 30 (this invocation: 30)" "$work/prodnve.summary.txt"'
 
+for v in "interactions.kernel=general" "interactions.kernel=auto" "run.threads=2"; do
+  "$rotleap" energy "$src/tests/cli/water_scan.ini" --set "$v" --json > "energy_$v.json" 2>err.txt
+done
+check "kernel = general, auto and 2 threads give one energy (1e-12)" '/usr/bin/python3 -c "
+import json, sys
+e = [json.load(open(\"energy_%s.json\" % v))[\"energy\"][\"total\"] for v in (\"interactions.kernel=general\", \"interactions.kernel=auto\", \"run.threads=2\")]
+sys.exit(0 if max(abs(x - e[0]) for x in e) <= 1e-12 * abs(e[0]) else 1)"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
