@@ -346,9 +346,11 @@ def analyse(run, eq_ps, nblocks):
             B[key].append(np.mean([rows[k][key] for k in ks]))
     ts = np.array([rows[k]["t"] for k in range(k0 + 1, k0 + 1 + nprod)])
     cons = np.array([rows[k]["cons"] for k in range(k0 + 1, k0 + 1 + nprod)])
+    utot = np.array([rows[k]["U"] for k in range(k0 + 1, k0 + 1 + nprod)])
     out.update(ok=True, frames=int(traj.n_frames), frames_total=int(k0 + nprod), block_ps=bl * FRAME_PS,
                max_com_jump_nm=jump, r=[round(float(x), 5) for x in r],
                conserved_drift=float(np.polyfit(ts, cons, 1)[0]) / N * 1e3,  # kJ/mol per ns per molecule
+               U_var_per_N=float(utot.var()) / N,  # canonical: d<U>/dT = var(U) / (k_B T^2)
                blocks={k: [float(x) for x in B[k]] for k in ("U", "T", "Tt", "Tr", "D", "tau1", "tau2",
                                                              "oo_h", "oo_r", "hh_h")},
                scalars={k: block_stats(B[k]) for k in ("U", "T", "Tt", "Tr", "D", "tau1", "tau2",
