@@ -491,8 +491,11 @@ def main():
     elapsed = time.time() - t0
     import mdtraj as md
     import openmm as mm
+    argv = [a for k, a in enumerate(sys.argv[1:]) if a != "--reanalyse" and
+            (k == 0 or sys.argv[k] != "--reanalyse") and a != "--keep"]
     meta = dict(generated_by="/usr/bin/python3 validate/nvt_structure.py " + " ".join(
-                    a if not os.path.isabs(a) else os.path.relpath(a, ROOT) for a in sys.argv[1:]),
+                    a if not os.path.isabs(a) else os.path.relpath(a, ROOT) for a in argv),
+                reanalysed=bool(args.reanalyse),
                 date=time.strftime("%Y-%m-%d %H:%M"), quick=args.quick, molecules=N, box_nm=box,
                 cutoff_nm=CUTOFF, eps_rf=EPS_RF, temperature_K=T_K, eq_ps=eq, prod_ps=prod, blocks=nblocks,
                 frame_ps=FRAME_PS, tau_bussi_ps=TAU_BUSSI, nh_collision_per_ps=NH_FREQ, rdf_bin_nm=RDF_BIN,
@@ -685,8 +688,10 @@ def report_lines(data, made):
     w("## 3. Structure and dynamics (part 3)")
     w("")
     w("`%s` (%s; wall time **%.0f s = %.1f min**, of which %.0f s simulation, two runs at a time, and the "
-      "rest MDTraj analysis)%s."
+      "rest MDTraj analysis)%s%s."
       % (m["generated_by"].strip(), m["date"], m["wall_s"], m["wall_s"] / 60, m["wall_sim_s"],
+         "; the analysis was re-run on the same kept trajectories with `--reanalyse` after a change to the "
+         "analysis code, so the analysis part of the time is the re-run's" if m.get("reanalysed") else "",
          " — **--quick: a smoke test, not the result**" if m["quick"] else ""))
     w("")
     w("* **System:** part 2's: %d TIP4P in a cubic box of %.5f nm (1 g/cm³), site-based reaction field "
@@ -802,36 +807,147 @@ def report_lines(data, made):
 
 
 def findings(data):
+    """Statements computed from the data; each names its evidence."""
     m = data["meta"]
     ok = [r for r in data["runs"] if r["analysis"].get("ok")]
     ref = next((r for r in ok if r["code"] == "openmm"), None)
     labels = {k: lab for k, lab, *_ in OBS}
+    T0 = m["temperature_K"]
+    zt = m["z_tol"]
     out = []
+    sc = lambda r, k: r["analysis"]["scalars"][k]
+    zz = lambda r, k: (r.get("z") or {}).get(k, float("nan"))
+    rl = [r for r in ok if r["code"] == "rotleap"]
     b = largest(data)
     if b:
         z, r, key = b
-        out.append("* **Largest deviation:** %s of %s: %s against OpenMM's %s, z = %+.2f%s."
-                   % (labels[key], r["label"], pm(r["analysis"]["scalars"][key], "%.4g"),
-                      pm(ref["analysis"]["scalars"][key], "%.4g"), r["z"][key],
-                      " — beyond the tolerance |z| ≤ %g" % m["z_tol"] if z > m["z_tol"] else ", within the tolerance"))
-    beyond = [(r["label"], labels[k], r["z"][k]) for r in ok if r.get("z") for k in labels
-              if math.isfinite(r["z"][k]) and abs(r["z"][k]) > m["z_tol"]]
-    out.append("* **Beyond |z| > %g:** %s." % (m["z_tol"], "; ".join("%s at %s (%+.1f)" % (k, l, z) for l, k, z in beyond)
-                                                  if beyond else "none"))
-    h2 = next((r for r in ok if r["code"] == "rotleap" and r["h_fs"] == 2 and r["thermostat"] == "bussi"), None)
+        out.append("* **Largest deviation:** %s of %s: %s against OpenMM's %s, z = %+.1f%s."
+                   % (labels[key], r["label"].replace("h=", "h = ") + " fs", pm(sc(r, key), "%.4g"),
+                      pm(sc(ref, key), "%.4g"), r["z"][key],
+                      " — beyond the tolerance |z| ≤ %g; explained below" % zt if z > zt else ", within the tolerance"))
+    beyond = [(r, k) for r in rl for k in labels if math.isfinite(zz(r, k)) and abs(zz(r, k)) > zt]
+    out.append("* **Beyond the tolerance (|z| > %g):** %s." % (zt, "; ".join(
+        "%s at %s fs (%+.1f)" % (labels[k], r["label"].replace("h=", "h = "), r["z"][k]) for r, k in beyond)
+        if beyond else "none"))
+    bys = lambda th, h: next((r for r in rl if r["thermostat"] == th and abs(r["h_fs"] - h) < 1e-9), None)
+    h2 = bys("bussi", 2)
     if h2 and h2.get("z"):
-        zs = [abs(h2["z"][k]) for k in labels if math.isfinite(h2["z"][k])]
-        out.append("* **rotleap at 2 fs against OpenMM at 2 fs:** max |z| = %.2f over %s; RDF χ²/bin O–O %.2f, "
-                   "H–H %.2f. %s"
-                   % (max(zs), ", ".join(labels), h2["rdf_cmp"]["gOO"]["chi2"], h2["rdf_cmp"]["gHH"]["chi2"],
-                      "Same step, different integrators and thermostats: agreement within error, as expected."
-                      if max(zs) <= m["z_tol"] else "A disagreement at the same step: see below."))
-    rows = []
-    for r in ok:
-        s = r["analysis"]["scalars"]
-        rows.append("%s %.1f/%.1f" % (r["label"], s["Tt"][0], s["Tr"][0]))
-    out.append("* **T_trans/T_rot (K):** %s." % "; ".join(rows))
+        zs = {k: abs(h2["z"][k]) for k in labels if math.isfinite(h2["z"][k])}
+        out.append("* **rotleap at 2 fs against OpenMM at 2 fs** (same step; different integrators, rotation "
+                   "schemes and thermostats): max |z| = %.1f (%s) over the %d observables; RDFs as wholes χ²/bin "
+                   "O–O %.2f, H–H %.2f; T_trans %.1f K and T_rot %.1f K against OpenMM's %.1f and %.1f K. %s"
+                   % (max(zs.values()), labels[max(zs, key=zs.get)], len(zs), h2["rdf_cmp"]["gOO"]["chi2"],
+                      h2["rdf_cmp"]["gHH"]["chi2"], sc(h2, "Tt")[0], sc(h2, "Tr")[0], sc(ref, "Tt")[0], sc(ref, "Tr")[0],
+                      "**Agreement within the statistical error**, as it must be if rotleap integrates the same "
+                      "dynamics." if max(zs.values()) <= zt else "**A disagreement at the same step** (see below)."))
+    # the thermostats' temperature estimators and the configurational temperature
+    var = ref["analysis"].get("U_var_per_N") if ref else None
+    if var:
+        c = var / (KB * T0 * T0)  # d<U/N>/dT, kJ/mol/K per molecule (canonical fluctuation formula)
+        Uo, so = sc(ref, "U")
+        rows = []
+        for r in rl:
+            U, su = sc(r, "U")
+            r["_Tconf"] = (T0 + (U - Uo) / c, math.hypot(su, so) / c)
+            rows.append("%s %g fs: T %.1f, T_trans %.1f, T_rot %.1f, T_conf %.0f ± %.0f"
+                        % ("Bussi" if r["thermostat"] == "bussi" else "isokinetic", r["h_fs"], sc(r, "T")[0],
+                           sc(r, "Tt")[0], sc(r, "Tr")[0], r["_Tconf"][0], r["_Tconf"][1]))
+        out.append("* **Which temperature the configurations have.** OpenMM's U/N fluctuations give d⟨U/N⟩/dT = "
+                   "var(U)/(N k_B T²) = %.3f kJ/mol/K (canonical fluctuation formula), so a run's U/N translates into "
+                   "a configurational temperature T_conf ≈ %g K + (U/N − U/N_OpenMM)/(%.3f kJ/mol/K). Per run (K): %s. "
+                   "OpenMM: T_trans %.1f, T_rot %.1f."
+                   % (c, T0, c, "; ".join(rows), sc(ref, "Tt")[0], sc(ref, "Tr")[0]))
+        bl = [r for r in rl if r["thermostat"] == "bussi"]
+        iso = [r for r in rl if r["thermostat"] == "isokinetic"]
+        out.append("* **Why the large steps deviate: the two thermostats hold different kinetic-energy "
+                   "estimators at T0, and at h = 8–10 fs these estimators are far from the configurational "
+                   "temperature.** rotleap's Bussi rescales the mid-step velocities and angular momenta (their "
+                   "kinetic energy is held at 298 K on average); the paper's isokinetic scheme holds the on-step "
+                   "kinetic energy of eqs. 11–12 (the mean of the two half-step values) at 298 K. For a leapfrog "
+                   "in equilibrium ⟨K_mid⟩ − ⟨K_on⟩ = (h²/8)⟨F·M⁻¹F⟩ (+ the same with torques and inertia), which "
+                   "grows as h² and is dominated by the librations (TIP4P librational periods ≈ 50–70 fs, so "
+                   "ωh ≈ 1 at 10 fs). Holding K_mid at T0 (Bussi) therefore leaves the on-step T below T0, "
+                   "holding K_on at T0 (isokinetic) leaves K_mid above it, and the configurations sit at neither "
+                   "estimator's value. Observed T_conf: %s for Bussi at %s fs and %s for isokinetic at %s fs%s. "
+                   "On-step T_rot − T_trans = %s K (the 'rotational cooling' of the on-step estimator grows with "
+                   "h: the rotational half kicks carry most of the (h²/8) term). Structure and dynamics follow "
+                   "T_conf: %s"
+                   % (", ".join("%.0f" % r["_Tconf"][0] for r in bl), ", ".join("%g" % r["h_fs"] for r in bl),
+                      ", ".join("%.0f" % r["_Tconf"][0] for r in iso), ", ".join("%g" % r["h_fs"] for r in iso),
+                      " (so the isokinetic runs are hotter than 298 K, as the mechanism predicts)"
+                      if iso and all(r["_Tconf"][0] > T0 + 3 * r["_Tconf"][1] for r in iso) else "",
+                      ", ".join("%+.0f (%s %g fs)" % (sc(r, "Tr")[0] - sc(r, "Tt")[0], "Bussi" if r["thermostat"] == "bussi"
+                                                      else "iso", r["h_fs"]) for r in rl),
+                      consistency(rl, ref)))
+    # the paper's statements
+    big = [r for r in rl if r["h_fs"] >= 8]
+    if big:
+        out.append("* **The paper's RDF statement** (RDFs at 8–10 fs indistinguishable from 2 fs): O–O χ²/bin "
+                   "against OpenMM %s (h = 2 fs rotleap: %.2f); first O–O peak height z %s. %s"
+                   % (", ".join("%.1f (%s %g fs)" % (r["rdf_cmp"]["gOO"]["chi2"], "Bussi" if r["thermostat"] == "bussi"
+                                                     else "iso", r["h_fs"]) for r in big),
+                      h2["rdf_cmp"]["gOO"]["chi2"] if h2 else float("nan"),
+                      ", ".join("%+.1f" % zz(r, "oo_h") for r in big),
+                      "On the scale of a figure the RDFs overlay (plot), and the peak positions agree within "
+                      "error; the differences are in the first peak's height and the first minimum, i.e. the "
+                      "T_conf shift, and they are resolved here because 60 ps of 256 molecules give block "
+                      "errors of about %.3f on the O–O peak; the paper's figure could not show them."
+                      % sc(ref, "oo_h")[1] if any(abs(zz(r, "oo_h")) > zt or r["rdf_cmp"]["gOO"]["chi2"] > 2 for r in big)
+                      else "Confirmed: no significant difference."))
+        out.append("* **The paper's dipole-ACF statement** (deviations from 8 fs up): τ1 z against OpenMM %s; τ2 %s. %s"
+                   % (", ".join("%+.1f (%s %g fs)" % (zz(r, "tau1"), "Bussi" if r["thermostat"] == "bussi" else "iso",
+                                                      r["h_fs"]) for r in rl),
+                      ", ".join("%+.1f" % zz(r, "tau2") for r in rl),
+                      "Confirmed in kind: P1/P2 deviate beyond error at h ≥ 8 fs and not at h ≤ 5 fs."
+                      if all(abs(zz(r, "tau1")) <= zt for r in rl if r["h_fs"] <= 5) and
+                      any(abs(zz(r, "tau1")) > zt for r in big) else
+                      "The pattern differs from the paper's; the T_conf column above gives the reason per run."))
+    hot = [r for r in rl if r["thermostat"] == "bussi" and r["h_fs"] >= 8]
+    if hot:
+        out.append("* **Energy input at the largest steps.** Drift of the conserved quantity (kJ/mol/ns per molecule): "
+                   "%s; OpenMM %+.2f. A positive drift is energy the integrator puts in that the thermostat "
+                   "has to take out; with τ = %g ps Bussi removes (K − K0)/τ, so a large input raises the steady "
+                   "kinetic energy: at 10 fs this is what %s."
+                   % (", ".join("%s %g fs %+.1f" % ("Bussi" if r["thermostat"] == "bussi" else "iso", r["h_fs"],
+                                                    r["analysis"]["conserved_drift"]) for r in rl),
+                      ref["analysis"]["conserved_drift"], m["tau_bussi_ps"],
+                      "lifts the Bussi run's T above 298 K (T = %.1f ± %.1f K)" % tuple(sc(hot[-1], "T"))
+                      if sc(hot[-1], "T")[0] > T0 + 3 * sc(hot[-1], "T")[1] else
+                      "would show as a Bussi T above 298 K; it does not here (T = %.1f ± %.1f K)" % tuple(sc(hot[-1], "T"))))
+    own = [(r, r.get("own_D", "")) for r in rl if r.get("own_D")]
+    if own:
+        out.append("* **Cross-check of the analysis:** rotleap's own Einstein D (its `results.txt`, whole run "
+                   "including the equilibration, its own lag window) against D here: %s (×1e-5 cm²/s). The CTest "
+                   "`validate_nvt_analysis` checks this script's MSD and P1/P2 against rotleap's estimators on "
+                   "one trajectory to float32 round-off."
+                   % "; ".join("%s %g fs %.2f vs %.2f" % ("Bussi" if r["thermostat"] == "bussi" else "iso", r["h_fs"],
+                                                         1e3 * float(d.split()[0]), sc(r, "D")[0]) for r, d in own))
     return out
+
+
+def consistency(rl, ref):
+    """Do D, tau1 and the O-O peak move with T_conf the way a hotter or colder liquid does?"""
+    good, bad = [], []
+    for r in rl:
+        if "_Tconf" not in r:
+            continue
+        t, e = r["_Tconf"]
+        if abs(t - 298.0) < 3 * e:
+            continue
+        sgn = 1 if t > 298 else -1
+        dD = r["analysis"]["scalars"]["D"][0] - ref["analysis"]["scalars"]["D"][0]
+        dt = r["analysis"]["scalars"]["tau1"][0] - ref["analysis"]["scalars"]["tau1"][0]
+        dg = r["analysis"]["scalars"]["oo_h"][0] - ref["analysis"]["scalars"]["oo_h"][0]
+        name = "%s %g fs" % ("Bussi" if r["thermostat"] == "bussi" else "iso", r["h_fs"])
+        if sgn * dD > 0 and sgn * dt < 0 and sgn * dg < 0:
+            good.append(name)
+        else:
+            bad.append(name)
+    txt = ("in every run whose T_conf differs from 298 K by more than 3σ (%s) a hotter liquid diffuses faster, "
+           "reorients faster and has a lower first O–O peak, and a colder one the reverse." % ", ".join(good)) if good and not bad else \
+          ("as expected for %s; NOT for %s (D, τ1 and the O–O peak do not all move the way T_conf says)."
+           % (", ".join(good) or "no run", ", ".join(bad))) if bad else "no run's T_conf differs from 298 K by more than 3σ."
+    return txt
 
 
 if __name__ == "__main__":
