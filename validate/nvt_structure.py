@@ -7,7 +7,7 @@ Run (from the repository root, after building rotleap):
 Defaults: 4 ps equilibration + 60 ps production per run.  Measured: 1227 s on this 2-core machine
 while other jobs ran (1-minute load averages 3-9); about 8 minutes on 2 idle cores (estimated from
 part 2's unloaded ~8 ms/step);
---quick (1 + 10 ps, 5 blocks) about 2 minutes and only a smoke test.
+--quick (1 + 10 ps, 5 blocks): a smoke test, 291 s on the shared machine.
 
 System: exactly part 2's (validate/nve_conservation.py): 256 TIP4P, 1 g/cm3, site-based reaction
 field (each site pair cut at its own minimum-image distance) rc = 0.9 nm, eps_rf = 78.3, plain LJ,
