@@ -119,8 +119,11 @@ static int traj_open(traj *t, const rl_deck *d, scene *s, long first)
     snprintf(t->path, sizeof t->path, "%s.dcd", d->prefix);
     const rl_molecule *mols[1] = {&s->mol};
     if (rl_pdb_write(top, s->sys, mols, d->box)) return 1;
-    t->dcd = s->restart ? rl_dcd_append(t->path, s->sys, first / t->every)
-                        : rl_dcd_create(t->path, s->sys, first + t->every, t->every, d->timestep, "rotleap");
+    /* a continuation appends to its DCD; where there is none yet (the first run wrote no
+     * trajectory, or another prefix), a new one starts at this run's first frame */
+    int append = s->restart && access(t->path, F_OK) == 0;
+    t->dcd = append ? rl_dcd_append(t->path, s->sys, first / t->every)
+                    : rl_dcd_create(t->path, s->sys, first + t->every, t->every, d->timestep, "rotleap");
     return t->dcd ? 0 : 1;
   }
   snprintf(t->path, sizeof t->path, "%s.xyz", d->prefix);

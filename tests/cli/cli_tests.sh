@@ -95,6 +95,11 @@ import json, sys
 e = [json.load(open(\"energy_%s.json\" % v))[\"energy\"][\"total\"] for v in (\"interactions.kernel=general\", \"interactions.kernel=auto\", \"run.threads=2\")]
 sys.exit(0 if max(abs(x - e[0]) for x in e) <= 1e-12 * abs(e[0]) else 1)"'
 
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set run.steps=20 --set output.prefix="$work/dc1" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set system.start="$work/dc1.chk" --set run.steps=40 \
+  --set output.trajectory_every=10 --set output.prefix="$work/dc2" >out.txt 2>err.txt; code=$?
+check "a continuation with no DCD yet starts one" '[ $code -eq 0 ] && [ -s "$work/dc2.dcd" ]'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
