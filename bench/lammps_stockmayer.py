@@ -20,22 +20,16 @@ import math
 import os
 import re
 import subprocess
+import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from rlfiles import tokens as kv_of  # noqa: E402
+
 MU = math.sqrt(3.0)
 DIAM = 0.5
 DENS = 1.0 / (math.pi / 6.0 * DIAM ** 3)  # mass 1
-
-
-def kv_of(out):
-    kv = {}
-    for line in out.splitlines():
-        for tok in line.split():
-            if "=" in tok:
-                k, v = tok.split("=", 1)
-                kv[k] = v
-    return kv
 
 
 def rotleap(ffbench, n, threads, steps, dump=None, nve=0):

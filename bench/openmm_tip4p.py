@@ -23,6 +23,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "validate"))
 import watermodels  # noqa: E402
 
+sys.path.insert(0, HERE)
+from rlfiles import tokens  # noqa: E402
+
 mm = watermodels.mm
 try:
     from openmm import unit
@@ -38,14 +41,7 @@ def rotleap_run(ffbench, n, threads, steps, dump=None):
     cmd = [ffbench, "time", "tip4p", str(n), str(threads), str(steps)]
     if dump:
         cmd += ["--dump", dump]
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-    kv = {}
-    for line in out.splitlines():
-        for tok in line.split():
-            if "=" in tok:
-                k, v = tok.split("=", 1)
-                kv[k] = v
-    return kv
+    return tokens(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
 
 
 def read_dump(path):

@@ -10,3 +10,14 @@ def keyvals(path):
                 k, v = line.split("=", 1)
                 out[k.strip()] = v.strip()
     return out
+
+
+def tokens(text):
+    """'model=tip4p N=216 ms_per_step=1.5 ...' lines (bench/ffbench's output) -> {key: value text}."""
+    kv = {}
+    for line in text.splitlines():
+        for tok in line.split():
+            if "=" in tok:
+                k, v = tok.split("=", 1)
+                kv[k] = v
+    return kv

@@ -15,6 +15,22 @@ static const double E1 = 4.0, A2 = 0.25, E2 = 1.0, B2 = 1.0;
 /* a water-like asymmetric body: three sites, centre of mass at the origin */
 static const double SITES[NS][3] = {{0.0, 0.0, -0.0656}, {0.4, 0.0, 0.5204}, {-0.4, 0.0, 0.5204}};
 
+/* An initialised integrator for sys: step h, method m, thermostat th at T0, forces by f. */
+static inline rl_integrator *start_integrator(rl_system *sys, double h, rl_rot_method m, rl_thermostat th,
+                                              double T0, rl_force_fn f)
+{
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = h;
+  p.method = m;
+  p.thermostat = th;
+  p.T0 = T0;
+  rl_integrator *in = rl_integrator_alloc(sys, &p, (rl_force_provider){f, NULL});
+  assert_non_null(in);
+  assert_int_equal(rl_integrator_init(in), RL_OK);
+  return in;
+}
+
 static inline int smooth_forces(void *ctx, const rl_system *sys, rl_forces *out)
 {
   (void)ctx;
@@ -73,15 +89,7 @@ static inline cluster make_cluster(double h, rl_rot_method m, rl_thermostat th, 
     rl_system_set_velocity(c.sys, i, v);
   }
   gsl_rng_free(r);
-  rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = h;
-  p.method = m;
-  p.thermostat = th;
-  p.T0 = T0;
-  c.in = rl_integrator_alloc(c.sys, &p, (rl_force_provider){smooth_forces, NULL});
-  assert_non_null(c.in);
-  assert_int_equal(rl_integrator_init(c.in), RL_OK);
+  c.in = start_integrator(c.sys, h, m, th, T0, smooth_forces);
   return c;
 }
 

@@ -19,15 +19,7 @@ static top make_body(rl_kind kind, const double J[3], const double L[3], double 
   assert_int_equal(rl_system_add_species(t.sys, &d, 1, NULL), RL_OK);
   rl_system_set_removed_dof(t.sys, 0);
   assert_int_equal(rl_system_set_angmom(t.sys, 0, L), RL_OK);
-  rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = h;
-  p.method = m;
-  p.thermostat = th;
-  p.T0 = T0;
-  t.in = rl_integrator_alloc(t.sys, &p, (rl_force_provider){zero_forces, NULL});
-  assert_non_null(t.in);
-  assert_int_equal(rl_integrator_init(t.in), RL_OK);
+  t.in = start_integrator(t.sys, h, m, th, T0, zero_forces);
   return t;
 }
 
