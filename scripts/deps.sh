@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # Install the Debian 12 packages rotleap needs (as root; uses sudo otherwise).  Skips apt when
-# everything is already installed.  Usage: scripts/deps.sh [build|test|validate]
+# everything is already installed.  Usage: scripts/deps.sh [build|example|test|validate|bench]
 set -euo pipefail
 build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMake, GSL, INI decks
 testdeps=(libcmocka-dev python3 python3-mdtraj)               # unit tests; JSON check; MDTraj reads our DCD
 example=(python3 python3-matplotlib)                          # PNG plots of the default job
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
+bench=(lammps openmpi-bin)                                    # LAMMPS side-by-side benchmark
 want=("${build[@]}")
 case "${1:-build}" in
   build) ;;
   example) want+=("${example[@]}") ;;
   test) want+=("${testdeps[@]}") ;;
   validate) want+=("${testdeps[@]}" "${validate[@]}") ;;
-  *) echo "usage: $0 [build|example|test|validate]" >&2; exit 2 ;;
+  bench) want+=("${example[@]}" "${validate[@]}" "${bench[@]}") ;;
+  *) echo "usage: $0 [build|example|test|validate|bench]" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${want[@]}"; do
