@@ -10,7 +10,6 @@ rl_nlist *rl_nlist_alloc(double skin)
   rl_nlist *nl = calloc(1, sizeof *nl);
   if (!nl) { rl_error(RL_ENOMEM, "rl_nlist_alloc: out of memory"); return NULL; }
   nl->n = -1;
-  nl->nsites = -1;
   nl->skin = skin > 0.0 ? skin : 0.0;
   return nl;
 }
@@ -19,7 +18,6 @@ void rl_nlist_free(rl_nlist *nl)
 {
   if (!nl) return;
   free(nl->r0);
-  free(nl->s0);
   free(nl->pairs);
   free(nl->head);
   free(nl->next);
@@ -36,13 +34,12 @@ static double disp2(const rl_box *box, const double a[3], const double b[3])
 }
 
 int rl_nlist_needs_rebuild(const rl_nlist *nl, const rl_box *box, int n, const double (*r)[3],
-                           int nsites, const double (*s)[3], double *maxdisp)
+                           double *maxdisp)
 {
   if (maxdisp) *maxdisp = INFINITY;
-  if (nl->n < 0 || nl->n != n || nl->nsites != nsites) return 1;
+  if (nl->n < 0 || nl->n != n) return 1;
   double m2 = 0.0;
   for (int i = 0; i < n; i++) m2 = fmax(m2, disp2(box, r[i], nl->r0[i]));
-  for (int a = 0; a < nsites; a++) m2 = fmax(m2, disp2(box, s[a], nl->s0[a]));
   double m = sqrt(m2);
   if (maxdisp) *maxdisp = m;
   return !(2.0 * m <= nl->skin) || (nl->skin == 0.0 && m > 0.0);
@@ -63,15 +60,12 @@ static int push_pair(rl_nlist *nl, int i, int j)
   return RL_OK;
 }
 
-int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const double (*r)[3],
-                   int nsites, const double (*s)[3])
+int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const double (*r)[3])
 {
-  if (n != nl->n || nsites != nl->nsites || !nl->r0) {
+  if (n != nl->n || !nl->r0) {
     double(*r0)[3] = realloc(nl->r0, sizeof *r0 * (size_t)(n > 0 ? n : 1));
-    if (r0) nl->r0 = r0;
-    double(*s0)[3] = realloc(nl->s0, sizeof *s0 * (size_t)(nsites > 0 ? nsites : 1));
-    if (s0) nl->s0 = s0;
-    if (!r0 || !s0) return rl_error(RL_ENOMEM, "neighbour list: out of memory for %d bodies", n);
+    if (!r0) return rl_error(RL_ENOMEM, "neighbour list: out of memory for %d bodies", n);
+    nl->r0 = r0;
   }
   nl->npairs = 0;
   nl->rlist = rlist;
@@ -128,9 +122,7 @@ int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const d
     free(cell_of);
   }
   if (n > 0) memcpy(nl->r0, r, sizeof *nl->r0 * (size_t)n);
-  if (nsites > 0) memcpy(nl->s0, s, sizeof *nl->s0 * (size_t)nsites);
   nl->n = n;
-  nl->nsites = nsites;
   nl->builds++;
   return RL_OK;
 }

@@ -50,7 +50,7 @@
  * x + 1.5 2^52 has unit spacing, so the sum rounds x to the nearest integer (ties to even). */
 #define RL_RND(x) (((x) + 6755399441055744.0) - 6755399441055744.0)
 
-enum { K_NONE = 0, K_SITES = 1, K_DIPOLE = 2 };
+enum { K_NONE = 0, K_SITES = 1, K_DIPOLE = 2, K_TIP4P = 3 };
 enum { T_LJ = 0, T_COUL = 1, T_BOTH = 2 };
 
 typedef struct {
@@ -65,9 +65,11 @@ typedef void (*row_fn)(const rl_forcefield *ff, const fast_species *K, int i, co
 
 struct fast_species {
   int kind, ns, nterms;
-  fast_term t[RL_FAST_MAXT];
+  fast_term t[RL_FAST_MAXT];     /* tip4p: t[0] the LJ term, t[1 + 3 p + q] charge p, q  */
+  int perm[RL_FAST_MAXS];        /* batch slot s holds site perm[s] (tip4p: LJ site first) */
+  double extent;                 /* max |site - centre|                                  */
   double mu;                     /* stockmayer: dipole moment                          */
-  row_fn row;
+  row_fn row[3];                 /* by separation mode (P_SITE, P_SHIFT, P_MOL)         */
 };
 
 typedef struct {
@@ -92,6 +94,7 @@ struct rl_ff_fast {
   double (*tqbuf)[3];            /* [(nthreads - 1) n]                                  */
   rl_acc *acc;                   /* [nthreads]                                          */
   int *status;                   /* [nthreads]                                          */
+  int *mode;                     /* [nspecies] separation mode of this compute          */
 };
 
 #ifndef _OPENMP
@@ -101,18 +104,31 @@ static int omp_get_thread_num(void) { return 0; }
 
 /* ------------------------------------------------------------------------ LJ and RF */
 
-RL_INLINE double lj_eval(const int trunc, const fast_term *T, double rc, double rsw, double r2,
+/* The LJ coefficients of one term, copied by value into the loop: a load through a pointer
+ * inside an `omp simd` loop becomes a masked load after if-conversion, which AVX2 lacks and
+ * which stopped GCC 12 from vectorising the whole loop. */
+typedef struct {
+  double c6, c12, eshift, fshift;
+} lj_consts;
+
+RL_INLINE lj_consts lj_of(const fast_term *T)
+{
+  lj_consts c = {T->c6, T->c12, T->eshift, T->fshift};
+  return c;
+}
+
+RL_INLINE double lj_eval(const int trunc, const lj_consts C, double rc, double rsw, double r2,
                          double *fr)
 { /* rl_lj_pair, branch-free */
   double ir2 = 1.0 / r2, ir6 = ir2 * ir2 * ir2;
-  double u = (T->c12 * ir6 - T->c6) * ir6;
-  double f = (12.0 * T->c12 * ir6 - 6.0 * T->c6) * ir6 * ir2;
+  double u = (C.c12 * ir6 - C.c6) * ir6;
+  double f = (12.0 * C.c12 * ir6 - 6.0 * C.c6) * ir6 * ir2;
   if (trunc == RL_LJ_SHIFTED) {
-    u -= T->eshift;
+    u -= C.eshift;
   } else if (trunc == RL_LJ_SHIFTED_FORCE) {
     double r = sqrt(r2);
-    u -= T->eshift + (r - rc) * T->fshift;
-    f += T->fshift / r;
+    u -= C.eshift + (r - rc) * C.fshift;
+    f += C.fshift / r;
   } else if (trunc == RL_LJ_SWITCHED) {
     double r = sqrt(r2);
     double w = rc - rsw, x = (r - rsw) / w;
@@ -129,58 +145,183 @@ RL_INLINE double lj_eval(const int trunc, const fast_term *T, double rc, double 
   return u;
 }
 
-/* ------------------------------------------------------------------------ site kernels */
+/* ------------------------------------------------------------------------ batches */
+
+/* How a kernel forms site separations r = (site a of i) - (site b of j):
+ *   P_SITE   site cutoff, each site pair's own minimum image (needed in small boxes);
+ *   P_SHIFT  site cutoff, r = R + d_a - d_b with R the centres' minimum image.  When every
+ *            edge L >= 2 (rc + 2 extent) this is the site pair's minimum image whenever either
+ *            is inside the cutoff (|r - r_min| = |n L| < L/2 + 2 extent + rc <= L forces n = 0),
+ *            so the same pairs interact, with three fewer roundings per term;
+ *   P_MOL    molecule cutoff: r = R + d_a - d_b, and the pair interacts iff |R| < rc. */
+enum { P_SITE = 0, P_SHIFT = 1, P_MOL = 2 };
+
+/* Batches are padded to a multiple of the widest vector (8 doubles, AVX-512), so the vector
+ * loops never run a scalar remainder; padding lanes carry weight 0. */
+#define RL_FAST_W 8
 
 typedef struct {
   double L[3], iL[3], rc, rc2, rsw, md2, krf, crf;
 } box_consts;
+
+/* A batch of up to RL_FAST_B neighbours of body i, structure of arrays.  Neighbours whose
+ * centres are farther than the pruning radius (rc, plus twice the species' extent for a site
+ * cutoff) are dropped when the batch is filled: the list's skin and extent padding hold about
+ * twice as many pairs as interact. */
+typedef struct {
+  int n, np;                               /* neighbours kept; padded length               */
+  int idx[RL_FAST_B];
+  /* 64-byte aligned rows (each a multiple of 64 bytes): otherwise GCC peels scalar
+   * iterations to align the vector stores, and those ran a third of the time */
+  _Alignas(64) double w[RL_FAST_B];        /* 1 for a neighbour, 0 for padding              */
+  double R[3][RL_FAST_B];                  /* centre_i - centre_j, minimum image            */
+  double x[RL_FAST_MAXS][3][RL_FAST_B];    /* j's sites: lab (P_SITE), else site - centre   */    /* j's sites: lab (P_SITE), else site - centre   */
+  double f[RL_FAST_MAXS][3][RL_FAST_B];    /* forces on j's sites                            */
+  double g[RL_FAST_MAXS][3][RL_FAST_B];    /* tip4p: forces on i's sites from each j         */
+  double m[3][RL_FAST_B];                  /* stockmayer: j's dipole                          */
+  double t[3][RL_FAST_B];                  /* stockmayer: torques on j                       */
+} batch;
+
+static box_consts consts_of(const rl_forcefield *ff)
+{
+  const double rc = ff->p.cutoff, md = ff->min_distance;
+  box_consts B = {{ff->box.L[0], ff->box.L[1], ff->box.L[2]},
+                  {ff->box.invL[0], ff->box.invL[1], ff->box.invL[2]},
+                  rc, rc * rc, ff->p.r_switch, md * md, ff->rf.krf, ff->rf.crf};
+  return B;
+}
+
+/* Fill b with the next neighbours of row nbr[*pos .. len) within the pruning radius
+ * (squared: rp2); advance *pos.  Slot s holds site K->perm[s] of each body (DIP: the
+ * dipoles too).  ZERO: clear the forces (for kernels that add to them). */
+RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO,
+                          const rl_forcefield *ff, const box_consts *B, int i, const int *nbr,
+                          int len, int *pos, const fast_species *K, double rp2, batch *b)
+{
+  const double cx = ff->centre[i][0], cy = ff->centre[i][1], cz = ff->centre[i][2];
+  const int ns = K->ns;
+  const double mu = K->mu;
+  int n = 0, p = *pos;
+  for (; p < len && n < RL_FAST_B; p++) {
+    const int j = nbr[p];
+    double X = cx - ff->centre[j][0], Y = cy - ff->centre[j][1], Z = cz - ff->centre[j][2];
+    X -= B->L[0] * RL_RND(X * B->iL[0]);
+    Y -= B->L[1] * RL_RND(Y * B->iL[1]);
+    Z -= B->L[2] * RL_RND(Z * B->iL[2]);
+    /* branch-free: every candidate is written to slot n, which only a kept one keeps (a
+     * branch on the distance was mispredicted for a good fraction of the candidates) */
+    b->idx[n] = j;
+    b->w[n] = 1.0;
+    b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
+    const int oj = ff->body_site_off[j];
+    for (int s = 0; s < ns; s++)
+      for (int c = 0; c < 3; c++)
+        b->x[s][c][n] = MODE == P_SITE ? ff->site[oj + K->perm[s]][c] : ff->dsite[oj + K->perm[s]][c];
+    if (DIP)
+      for (int c = 0; c < 3; c++) b->m[c][n] = mu * ff->axis[j][c];
+    n += X * X + Y * Y + Z * Z < rp2;
+  }
+  *pos = p;
+  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
+  for (int k = n; k < np; k++) { /* padding: a copy of the first neighbour, weight 0 */
+    b->idx[k] = b->idx[0];
+    b->w[k] = 0.0;
+    for (int c = 0; c < 3; c++) b->R[c][k] = b->R[c][0];
+    for (int s = 0; s < ns; s++)
+      for (int c = 0; c < 3; c++) b->x[s][c][k] = b->x[s][c][0];
+    if (DIP)
+      for (int c = 0; c < 3; c++) b->m[c][k] = b->m[c][0];
+  }
+  if (ZERO) /* the term loops add to f; the fused kernels store every f (and t) */
+    for (int s = 0; s < ns; s++)
+      for (int c = 0; c < 3; c++) memset(b->f[s][c], 0, sizeof(double) * (size_t)np);
+  b->n = n;
+  b->np = np;
+}
+
+/* Add the batch's forces (and torques) on the neighbours. */
+RL_INLINE void batch_scatter(const int DIP, const rl_forcefield *ff, const batch *b,
+                             const fast_species *K, double (*fs)[3], double (*tq)[3])
+{
+  for (int k = 0; k < b->n; k++) {
+    const int j = b->idx[k], oj = ff->body_site_off[j];
+    for (int s = 0; s < K->ns; s++)
+      for (int c = 0; c < 3; c++) fs[oj + K->perm[s]][c] += b->f[s][c][k];
+    if (DIP)
+      for (int c = 0; c < 3; c++) tq[j][c] += b->t[c][k];
+  }
+}
+
+/* r = (site of i at a[]) - (site s of neighbour k), by MODE. */
+RL_INLINE void sep(const int MODE, const box_consts *B, double ax, double ay, double az,
+                   const batch *b, int s, int k, double *dx, double *dy, double *dz)
+{
+  double x, y, z;
+  if (MODE == P_SITE) {
+    x = ax - b->x[s][0][k]; y = ay - b->x[s][1][k]; z = az - b->x[s][2][k];
+    x -= B->L[0] * RL_RND(x * B->iL[0]);
+    y -= B->L[1] * RL_RND(y * B->iL[1]);
+    z -= B->L[2] * RL_RND(z * B->iL[2]);
+  } else {
+    x = b->R[0][k] + ax - b->x[s][0][k];
+    y = b->R[1][k] + ay - b->x[s][1][k];
+    z = b->R[2][k] + az - b->x[s][2][k];
+  }
+  *dx = x; *dy = y; *dz = z;
+}
+
+/* The cutoff factor of a site pair (1 inside, 0 outside or padding): the cutoff as a factor,
+ * not a select, because GCC 12 turns `s += c ? u : 0` into a conditional update of the
+ * reduction, which AVX2 cannot if-convert. */
+RL_INLINE double inside(const int MODE, const box_consts *B, const batch *b, int k, double r2)
+{
+  return MODE == P_MOL ? b->w[k] : b->w[k] * (r2 < B->rc2 ? 1.0 : 0.0);
+}
+
+/* The site position of i that sep() expects: lab (P_SITE) or relative to the centre. */
+RL_INLINE const double *site_of_i(const int MODE, const rl_forcefield *ff, int s)
+{
+  return MODE == P_SITE ? ff->site[s] : ff->dsite[s];
+}
+
+/* ------------------------------------------------------------------------ site kernels */
 
 typedef struct {
   double fx, fy, fz, elj, ecoul, bad, w[6];
 } term_sums;
 
 /* One term (site a of body i, site b of every neighbour in the batch) over the batch.
- * WHAT: T_LJ, T_COUL or T_BOTH.  Branch-free: the cutoff and the other masks are selects. */
-RL_INLINE void term_loop(const int SCHEME, const int TRUNC, const int WHAT, const box_consts *B,
-                         const fast_term *T, const double *pa, double (*xb)[RL_FAST_B],
-                         double (*fb)[RL_FAST_B], double (*Rb)[RL_FAST_B], const double *inb,
-                         int nb, term_sums *s)
+ * WHAT: T_LJ, T_COUL or T_BOTH.  Branch-free: the cutoff and the padding are factors. */
+RL_INLINE void term_loop(const int MODE, const int TRUNC, const int WHAT, const box_consts *B,
+                         const fast_term *T, const double *pa, batch *b, term_sums *s)
 {
-  const double Lx = B->L[0], Ly = B->L[1], Lz = B->L[2];
-  const double iLx = B->iL[0], iLy = B->iL[1], iLz = B->iL[2];
-  const double rc = B->rc, rc2 = B->rc2, rsw = B->rsw, md2 = B->md2, krf = B->krf, crf = B->crf;
+  const double rc = B->rc, rsw = B->rsw, md2 = B->md2, krf = B->krf, crf = B->crf;
   const double ax = pa[0], ay = pa[1], az = pa[2], qq = T->qq;
+  const lj_consts C = lj_of(T);
+  const int sb = T->b, np = b->np;
   double fax = 0.0, fay = 0.0, faz = 0.0, elj = 0.0, ecoul = 0.0, bad = 0.0;
   double w0 = 0.0, w1 = 0.0, w2 = 0.0, w3 = 0.0, w4 = 0.0, w5 = 0.0;
-  double *fbx = fb[0], *fby = fb[1], *fbz = fb[2];
-  const double *bx = xb[0], *by = xb[1], *bz = xb[2];
+  double *fbx = b->f[sb][0], *fby = b->f[sb][1], *fbz = b->f[sb][2];
 #pragma omp simd reduction(+ : fax, fay, faz, elj, ecoul, bad, w0, w1, w2, w3, w4, w5)
-  for (int k = 0; k < nb; k++) {
+  for (int k = 0; k < np; k++) {
     double dx, dy, dz;
-    if (SCHEME == RL_CUTOFF_SITE) {
-      dx = ax - bx[k]; dy = ay - by[k]; dz = az - bz[k];
-      dx -= Lx * RL_RND(dx * iLx);
-      dy -= Ly * RL_RND(dy * iLy);
-      dz -= Lz * RL_RND(dz * iLz);
-    } else { /* r = R + d_a - d_b */
-      dx = Rb[0][k] + ax - bx[k]; dy = Rb[1][k] + ay - by[k]; dz = Rb[2][k] + az - bz[k];
-    }
+    sep(MODE, B, ax, ay, az, b, sb, k, &dx, &dy, &dz);
     double r2 = dx * dx + dy * dy + dz * dz;
-    const int in = SCHEME == RL_CUTOFF_SITE ? r2 < rc2 : inb[k] != 0.0;
-    bad += in && r2 < md2 ? 1.0 : 0.0;
+    const double in = inside(MODE, B, b, k, r2);
+    bad += in * (r2 < md2 ? 1.0 : 0.0);
     double fx = 0.0, fy = 0.0, fz = 0.0;
     if (WHAT != T_COUL) {
-      double fr, u = lj_eval(TRUNC, T, rc, rsw, r2, &fr);
-      fr = in ? fr : 0.0;
-      elj += in ? u : 0.0;
+      double fr, u = lj_eval(TRUNC, C, rc, rsw, r2, &fr);
+      fr *= in;
+      elj += in * u;
       fx += fr * dx; fy += fr * dy; fz += fr * dz;
     }
     if (WHAT != T_LJ) { /* rl_coulomb_rf_pair */
       double ir = 1.0 / sqrt(r2);
       double fr = qq * (ir * ir * ir - 2.0 * krf);
       double u = qq * (ir + krf * r2 - crf);
-      fr = in ? fr : 0.0;
-      ecoul += in ? u : 0.0;
+      fr *= in;
+      ecoul += in * u;
       fx += fr * dx; fy += fr * dy; fz += fr * dz;
     }
     fax += fx; fay += fy; faz += fz;
@@ -192,119 +333,180 @@ RL_INLINE void term_loop(const int SCHEME, const int TRUNC, const int WHAT, cons
   s->w[0] = w0; s->w[1] = w1; s->w[2] = w2; s->w[3] = w3; s->w[4] = w4; s->w[5] = w5;
 }
 
-/* One row of a site-kernel species: body i against nbr[0..len) (same species).
- * SCHEME: RL_CUTOFF_SITE or RL_CUTOFF_MOLECULE; TRUNC: the LJ truncation. */
-RL_INLINE void sites_row(const int SCHEME, const int TRUNC, const rl_forcefield *ff,
+/* Add a row's sums to the thread's accumulators (site virial, symmetric). */
+static inline void acc_add(rl_acc *acc, double elj, double ecoul, const double w[6], double bad)
+{
+  acc->lj += elj;
+  acc->coul += ecoul;
+  acc->vir[0] += w[0]; acc->vir[1] += w[1]; acc->vir[2] += w[2];
+  acc->vir[3] += w[1]; acc->vir[4] += w[3]; acc->vir[5] += w[4];
+  acc->vir[6] += w[2]; acc->vir[7] += w[4]; acc->vir[8] += w[5];
+  acc->bad |= bad != 0.0;
+}
+
+/* The pruning radius of a species' rows, squared. */
+RL_INLINE double prune2(const int MODE, const box_consts *B, const fast_species *K)
+{
+  const double rp = MODE == P_MOL ? B->rc : B->rc + 2.0 * K->extent;
+  return rp * rp;
+}
+
+/* One row of a site-kernel species ("charge-lj"): body i against nbr[0..len) (same species),
+ * one loop per term. */
+RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *ff,
                          const fast_species *K, int i, const int *nbr, int len,
                          double (*fs)[3], rl_acc *acc)
 {
-  const int ns = K->ns;
-  const int oi = ff->body_site_off[i];
-  const double Lx = ff->box.L[0], Ly = ff->box.L[1], Lz = ff->box.L[2];
-  const double iLx = ff->box.invL[0], iLy = ff->box.invL[1], iLz = ff->box.invL[2];
-  const double rc = ff->p.cutoff, rc2 = rc * rc, rsw = ff->p.r_switch;
-  const double md2 = ff->min_distance * ff->min_distance;
-  const double krf = ff->rf.krf, crf = ff->rf.crf;
-  double xs[RL_FAST_MAXS][3][RL_FAST_B], fj[RL_FAST_MAXS][3][RL_FAST_B];
-  double Rb[3][RL_FAST_B], inb[RL_FAST_B];
+  const int ns = K->ns, oi = ff->body_site_off[i];
+  const box_consts B = consts_of(ff);
+  const double rp2 = prune2(MODE, &B, K);
+  batch b;
   double fi[RL_FAST_MAXS][3];
   memset(fi, 0, sizeof fi);
-  double elj = 0.0, ecoul = 0.0, w0 = 0.0, w1 = 0.0, w2 = 0.0, w3 = 0.0, w4 = 0.0, w5 = 0.0;
-  double bad = 0.0;
-  const box_consts bx = {{Lx, Ly, Lz}, {iLx, iLy, iLz}, rc, rc2, rsw, md2, krf, crf};
-  for (int base = 0; base < len; base += RL_FAST_B) {
-    int nb = len - base < RL_FAST_B ? len - base : RL_FAST_B;
-    for (int k = 0; k < nb; k++) { /* gather */
-      int j = nbr[base + k], oj = ff->body_site_off[j];
-      for (int b = 0; b < ns; b++)
-        for (int c = 0; c < 3; c++) {
-          xs[b][c][k] = SCHEME == RL_CUTOFF_SITE ? ff->site[oj + b][c] : ff->dsite[oj + b][c];
-          fj[b][c][k] = 0.0;
-        }
-      if (SCHEME == RL_CUTOFF_MOLECULE)
-        for (int c = 0; c < 3; c++) Rb[c][k] = ff->centre[i][c] - ff->centre[j][c];
-    }
-    if (SCHEME == RL_CUTOFF_MOLECULE) {
-#pragma omp simd
-      for (int k = 0; k < nb; k++) {
-        double X = Rb[0][k], Y = Rb[1][k], Z = Rb[2][k];
-        X -= Lx * RL_RND(X * iLx);
-        Y -= Ly * RL_RND(Y * iLy);
-        Z -= Lz * RL_RND(Z * iLz);
-        Rb[0][k] = X; Rb[1][k] = Y; Rb[2][k] = Z;
-        inb[k] = X * X + Y * Y + Z * Z < rc2 ? 1.0 : 0.0;
-      }
-    }
+  double elj = 0.0, ecoul = 0.0, w[6] = {0}, bad = 0.0;
+  for (int pos = 0; pos < len;) {
+    batch_fill(MODE, 0, 1, ff, &B, i, nbr, len, &pos, K, rp2, &b); /* K->perm: identity */
+    if (b.n == 0) continue;
     for (int t = 0; t < K->nterms; t++) {
       const fast_term *T = &K->t[t];
-      const double *pa = SCHEME == RL_CUTOFF_SITE ? ff->site[oi + T->a] : ff->dsite[oi + T->a];
+      const double *pa = site_of_i(MODE, ff, oi + T->a);
       term_sums s = {0};
-      if (T->what == T_LJ) term_loop(SCHEME, TRUNC, T_LJ, &bx, T, pa, xs[T->b], fj[T->b], Rb, inb, nb, &s);
-      else if (T->what == T_COUL) term_loop(SCHEME, TRUNC, T_COUL, &bx, T, pa, xs[T->b], fj[T->b], Rb, inb, nb, &s);
-      else term_loop(SCHEME, TRUNC, T_BOTH, &bx, T, pa, xs[T->b], fj[T->b], Rb, inb, nb, &s);
+      if (T->what == T_LJ) term_loop(MODE, TRUNC, T_LJ, &B, T, pa, &b, &s);
+      else if (T->what == T_COUL) term_loop(MODE, TRUNC, T_COUL, &B, T, pa, &b, &s);
+      else term_loop(MODE, TRUNC, T_BOTH, &B, T, pa, &b, &s);
       fi[T->a][0] += s.fx; fi[T->a][1] += s.fy; fi[T->a][2] += s.fz;
       elj += s.elj; ecoul += s.ecoul; bad += s.bad;
-      w0 += s.w[0]; w1 += s.w[1]; w2 += s.w[2]; w3 += s.w[3]; w4 += s.w[4]; w5 += s.w[5];
+      for (int c = 0; c < 6; c++) w[c] += s.w[c];
     }
-    for (int k = 0; k < nb; k++) { /* scatter */
-      int oj = ff->body_site_off[nbr[base + k]];
-      for (int b = 0; b < ns; b++)
-        for (int c = 0; c < 3; c++) fs[oj + b][c] += fj[b][c][k];
-    }
+    batch_scatter(0, ff, &b, K, fs, NULL);
   }
   for (int a = 0; a < ns; a++)
     for (int c = 0; c < 3; c++) fs[oi + a][c] += fi[a][c];
-  acc->lj += elj;
-  acc->coul += ecoul;
-  acc->vir[0] += w0; acc->vir[1] += w1; acc->vir[2] += w2;
-  acc->vir[3] += w1; acc->vir[4] += w3; acc->vir[5] += w4;
-  acc->vir[6] += w2; acc->vir[7] += w4; acc->vir[8] += w5;
-  acc->bad |= bad != 0.0;
+  acc_add(acc, elj, ecoul, w, bad);
+}
+
+/* ------------------------------------------------------------------------ TIP4P kernel */
+
+/* One LJ site without charge and three charges without LJ (TIP4P and its reparametrisations):
+ * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
+ * + 9 Coulomb terms run in one loop, so each neighbour's sites are loaded once and its forces
+ * stored once.  Each term is the reference arithmetic. */
+RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *ff,
+                         const fast_species *K, int i, const int *nbr, int len,
+                         double (*fs)[3], rl_acc *acc)
+{
+  const int oi = ff->body_site_off[i];
+  const box_consts B = consts_of(ff);
+  const double rp2 = prune2(MODE, &B, K);
+  const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
+  const lj_consts C = lj_of(&K->t[0]);
+  double a[4][3], qq[3][3];
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) a[s][c] = site_of_i(MODE, ff, oi + K->perm[s])[c];
+  for (int p = 0; p < 3; p++)
+    for (int q = 0; q < 3; q++) qq[p][q] = K->t[1 + 3 * p + q].qq;
+  batch b;
+  double fi[4][3] = {{0}};
+  double elj = 0.0, ecoul = 0.0, bad = 0.0;
+  double w0 = 0.0, w1 = 0.0, w2 = 0.0, w3 = 0.0, w4 = 0.0, w5 = 0.0;
+  for (int pos = 0; pos < len;) {
+    batch_fill(MODE, 0, 0, ff, &B, i, nbr, len, &pos, K, rp2, &b);
+    if (b.n == 0) continue;
+    const int np = b.np;
+#pragma omp simd reduction(+ : elj, ecoul, bad, w0, w1, w2, w3, w4, w5)
+    for (int k = 0; k < np; k++) {
+      double gi[4][3] = {{0}}, gj[4][3] = {{0}};
+      { /* LJ between the LJ sites */
+        double dx, dy, dz;
+        sep(MODE, &B, a[0][0], a[0][1], a[0][2], &b, 0, k, &dx, &dy, &dz);
+        double r2 = dx * dx + dy * dy + dz * dz;
+        const double in = inside(MODE, &B, &b, k, r2);
+        bad += in * (r2 < md2 ? 1.0 : 0.0);
+        double fr, u = lj_eval(TRUNC, C, rc, rsw, r2, &fr);
+        fr *= in;
+        elj += in * u;
+        const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
+        gi[0][0] += fx; gi[0][1] += fy; gi[0][2] += fz;
+        gj[0][0] -= fx; gj[0][1] -= fy; gj[0][2] -= fz;
+        w0 += dx * fx; w1 += dx * fy; w2 += dx * fz;
+        w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
+      }
+      /* the term loops must be unrolled before the k loop can be vectorised */
+#pragma GCC unroll 3
+      for (int p = 0; p < 3; p++)
+#pragma GCC unroll 3
+        for (int q = 0; q < 3; q++) { /* rl_coulomb_rf_pair */
+          double dx, dy, dz;
+          sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
+          double r2 = dx * dx + dy * dy + dz * dz;
+          const double in = inside(MODE, &B, &b, k, r2);
+          bad += in * (r2 < md2 ? 1.0 : 0.0);
+          double ir = 1.0 / sqrt(r2);
+          double fr = qq[p][q] * (ir * ir * ir - 2.0 * krf);
+          double u = qq[p][q] * (ir + krf * r2 - crf);
+          fr *= in;
+          ecoul += in * u;
+          const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
+          gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
+          gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
+          w0 += dx * fx; w1 += dx * fy; w2 += dx * fz;
+          w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
+        }
+#pragma GCC unroll 4
+      for (int s = 0; s < 4; s++)
+#pragma GCC unroll 3
+        for (int c = 0; c < 3; c++) {
+          b.f[s][c][k] = gj[s][c];
+          b.g[s][c][k] = gi[s][c];
+        }
+    }
+    for (int s = 0; s < 4; s++)
+      for (int c = 0; c < 3; c++) {
+        double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+        for (int k = 0; k < np; k++) sum += b.g[s][c][k];
+        fi[s][c] += sum;
+      }
+    batch_scatter(0, ff, &b, K, fs, NULL);
+  }
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += fi[s][c];
+  const double w[6] = {w0, w1, w2, w3, w4, w5};
+  acc_add(acc, elj, ecoul, w, bad);
 }
 
 /* ------------------------------------------------------------------- Stockmayer kernel */
 
-/* LJ + point dipoles, one site at the centre (r = the centres' minimum image for both cutoff
- * schemes).  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf). */
+/* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
+ * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf). */
 RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *ff,
                           const fast_species *K, int i, const int *nbr, int len,
                           double (*fs)[3], double (*tq)[3], rl_acc *acc)
 {
   const int oi = ff->body_site_off[i];
-  const double Lx = ff->box.L[0], Ly = ff->box.L[1], Lz = ff->box.L[2];
-  const double iLx = ff->box.invL[0], iLy = ff->box.invL[1], iLz = ff->box.invL[2];
-  const double rc = ff->p.cutoff, rc2 = rc * rc, rsw = ff->p.r_switch;
-  const double md2 = ff->min_distance * ff->min_distance;
+  const box_consts B = consts_of(ff);
+  const double rc = B.rc, rc2 = B.rc2, rsw = B.rsw, md2 = B.md2;
   const double kc = ff->kc, krf = ff->rf.krf, mu = K->mu;
-  const fast_term *T = &K->t[0];
-  const double cx = ff->site[oi][0], cy = ff->site[oi][1], cz = ff->site[oi][2];
+  const lj_consts C = lj_of(&K->t[0]);
   const double mix = mu * ff->axis[i][0], miy = mu * ff->axis[i][1], miz = mu * ff->axis[i][2];
-  double xb[3][RL_FAST_B], mj[3][RL_FAST_B], fj[3][RL_FAST_B], tj[3][RL_FAST_B];
+  batch b;
   double fix = 0.0, fiy = 0.0, fiz = 0.0, tix = 0.0, tiy = 0.0, tiz = 0.0;
   double elj = 0.0, edip = 0.0;
   double w0 = 0, w1 = 0, w2 = 0, w3 = 0, w4 = 0, w5 = 0, w6 = 0, w7 = 0, w8 = 0;
   double bad = 0.0;
-  for (int base = 0; base < len; base += RL_FAST_B) {
-    int nb = len - base < RL_FAST_B ? len - base : RL_FAST_B;
-    for (int k = 0; k < nb; k++) {
-      int j = nbr[base + k], oj = ff->body_site_off[j];
-      for (int c = 0; c < 3; c++) {
-        xb[c][k] = ff->site[oj][c];
-        mj[c][k] = mu * ff->axis[j][c];
-      }
-    }
+  for (int pos = 0; pos < len;) {
+    batch_fill(P_MOL, 1, 0, ff, &B, i, nbr, len, &pos, K, rc2, &b);
+    if (b.n == 0) continue;
+    const int np = b.np;
 #pragma omp simd reduction(+ : fix, fiy, fiz, tix, tiy, tiz, elj, edip, w0, w1, w2, w3, w4, w5, w6, w7, w8, bad)
-    for (int k = 0; k < nb; k++) {
-      double rx = cx - xb[0][k], ry = cy - xb[1][k], rz = cz - xb[2][k];
-      rx -= Lx * RL_RND(rx * iLx);
-      ry -= Ly * RL_RND(ry * iLy);
-      rz -= Lz * RL_RND(rz * iLz);
+    for (int k = 0; k < np; k++) {
+      const double rx = b.R[0][k], ry = b.R[1][k], rz = b.R[2][k];
       double r2 = rx * rx + ry * ry + rz * rz;
-      const int in = r2 < rc2;
-      bad += in && r2 < md2 ? 1.0 : 0.0;
-      double frl, ul = lj_eval(TRUNC, T, rc, rsw, r2, &frl);
+      const double in = b.w[k] * (r2 < rc2 ? 1.0 : 0.0);
+      bad += in * (r2 < md2 ? 1.0 : 0.0);
+      double frl, ul = lj_eval(TRUNC, C, rc, rsw, r2, &frl);
       /* dd_plain (dipole.c) */
-      const double mjx = mj[0][k], mjy = mj[1][k], mjz = mj[2][k];
+      const double mjx = b.m[0][k], mjy = b.m[1][k], mjz = b.m[2][k];
       double ir2 = 1.0 / r2, ir = sqrt(ir2), ir3 = ir * ir2, ir5 = ir3 * ir2;
       double pij = mix * mjx + miy * mjy + miz * mjz;
       double pi = mix * rx + miy * ry + miz * rz;
@@ -338,30 +540,24 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
       }
       double fx = frl * rx, fy = frl * ry, fz = frl * rz; /* site_pair: LJ, then the dipoles */
       fx += fpx; fy += fpy; fz += fpz;
-      fx = in ? fx : 0.0; fy = in ? fy : 0.0; fz = in ? fz : 0.0;
-      gix = in ? gix : 0.0; giy = in ? giy : 0.0; giz = in ? giz : 0.0;
-      gjx = in ? gjx : 0.0; gjy = in ? gjy : 0.0; gjz = in ? gjz : 0.0;
-      elj += in ? ul : 0.0;
-      edip += in ? ud : 0.0;
+      fx *= in; fy *= in; fz *= in;
+      gix *= in; giy *= in; giz *= in;
+      gjx *= in; gjy *= in; gjz *= in;
+      elj += in * ul;
+      edip += in * ud;
       fix += fx; fiy += fy; fiz += fz;
-      fj[0][k] = -fx; fj[1][k] = -fy; fj[2][k] = -fz;
+      b.f[0][0][k] = -fx; b.f[0][1][k] = -fy; b.f[0][2][k] = -fz;
       tix -= miy * giz - miz * giy; /* torque -mu x g */
       tiy -= miz * gix - mix * giz;
       tiz -= mix * giy - miy * gix;
-      tj[0][k] = -(mjy * gjz - mjz * gjy);
-      tj[1][k] = -(mjz * gjx - mjx * gjz);
-      tj[2][k] = -(mjx * gjy - mjy * gjx);
+      b.t[0][k] = -(mjy * gjz - mjz * gjy);
+      b.t[1][k] = -(mjz * gjx - mjx * gjz);
+      b.t[2][k] = -(mjx * gjy - mjy * gjx);
       w0 += rx * fx; w1 += rx * fy; w2 += rx * fz;
       w3 += ry * fx; w4 += ry * fy; w5 += ry * fz;
       w6 += rz * fx; w7 += rz * fy; w8 += rz * fz;
     }
-    for (int k = 0; k < nb; k++) {
-      int j = nbr[base + k], oj = ff->body_site_off[j];
-      for (int c = 0; c < 3; c++) {
-        fs[oj][c] += fj[c][k];
-        tq[j][c] += tj[c][k];
-      }
-    }
+    batch_scatter(1, ff, &b, K, fs, tq);
   }
   fs[oi][0] += fix; fs[oi][1] += fiy; fs[oi][2] += fiz;
   tq[i][0] += tix; tq[i][1] += tiy; tq[i][2] += tiz;
@@ -373,42 +569,44 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
   acc->bad |= bad != 0.0;
 }
 
-/* Instances: one function per (scheme, truncation) and (dipole method, truncation), each
+/* Instances: one function per (mode, truncation) and (dipole method, truncation), each
  * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time. */
-#define SITES_FN(NAME, SCHEME, TRUNC)                                                          \
+#define ROW_FN(NAME, BODY)                                                                     \
   RL_CLONES static void NAME(const rl_forcefield *ff, const fast_species *K, int i,            \
                              const int *nbr, int len, double (*fs)[3], double (*tq)[3],        \
                              rl_acc *acc)                                                      \
   {                                                                                            \
     (void)tq;                                                                                  \
-    sites_row(SCHEME, TRUNC, ff, K, i, nbr, len, fs, acc);                                     \
+    BODY;                                                                                      \
   }
-SITES_FN(sites_s0, RL_CUTOFF_SITE, RL_LJ_PLAIN)
-SITES_FN(sites_s1, RL_CUTOFF_SITE, RL_LJ_SHIFTED)
-SITES_FN(sites_s2, RL_CUTOFF_SITE, RL_LJ_SHIFTED_FORCE)
-SITES_FN(sites_s3, RL_CUTOFF_SITE, RL_LJ_SWITCHED)
-SITES_FN(sites_m0, RL_CUTOFF_MOLECULE, RL_LJ_PLAIN)
-SITES_FN(sites_m1, RL_CUTOFF_MOLECULE, RL_LJ_SHIFTED)
-SITES_FN(sites_m2, RL_CUTOFF_MOLECULE, RL_LJ_SHIFTED_FORCE)
-SITES_FN(sites_m3, RL_CUTOFF_MOLECULE, RL_LJ_SWITCHED)
-#define DIPOLE_FN(NAME, DSF, TRUNC)                                                            \
-  RL_CLONES static void NAME(const rl_forcefield *ff, const fast_species *K, int i,            \
-                             const int *nbr, int len, double (*fs)[3], double (*tq)[3],        \
-                             rl_acc *acc)                                                      \
-  {                                                                                            \
-    dipole_row(DSF, TRUNC, ff, K, i, nbr, len, fs, tq, acc);                                   \
-  }
-DIPOLE_FN(dip_r0, 0, RL_LJ_PLAIN)
-DIPOLE_FN(dip_r1, 0, RL_LJ_SHIFTED)
-DIPOLE_FN(dip_r2, 0, RL_LJ_SHIFTED_FORCE)
-DIPOLE_FN(dip_r3, 0, RL_LJ_SWITCHED)
-DIPOLE_FN(dip_f0, 1, RL_LJ_PLAIN)
-DIPOLE_FN(dip_f1, 1, RL_LJ_SHIFTED)
-DIPOLE_FN(dip_f2, 1, RL_LJ_SHIFTED_FORCE)
-DIPOLE_FN(dip_f3, 1, RL_LJ_SWITCHED)
+#define SITES4(M, P)                                                                           \
+  ROW_FN(sites_##M##0, sites_row(P, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, acc))               \
+  ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, acc))         \
+  ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, acc))              \
+  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, acc))               \
+  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, acc))         \
+  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, acc))
+SITES4(s, P_SITE)
+SITES4(h, P_SHIFT)
+SITES4(m, P_MOL)
+ROW_FN(dip_r0, dipole_row(0, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r1, dipole_row(0, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r2, dipole_row(0, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r3, dipole_row(0, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f0, dipole_row(1, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, tq, acc))
 
-static const row_fn sites_fns[2][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
+/* [mode][truncation] */
+static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
+                                       {sites_h0, sites_h1, sites_h2, sites_h3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
+static const row_fn tip4p_fns[3][4] = {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
+                                       {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
+                                       {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}};
 static const row_fn dipole_fns[2][4] = {{dip_r0, dip_r1, dip_r2, dip_r3},
                                         {dip_f0, dip_f1, dip_f2, dip_f3}};
 
@@ -430,26 +628,28 @@ static void classify(const rl_forcefield *ff, int k, fast_species *K)
   memset(K, 0, sizeof *K);
   int ns = ff->sp_nsites[k], o = ff->type_off[k];
   if (ns < 1 || ns > RL_FAST_MAXS || ff->sp_count[k] < 2) return;
-  int ndip = 0, nq = 0, nlj = 0, nquad = 0;
+  int ndip = 0, nq = 0, nquad = 0;
   for (int a = 0; a < ns; a++) {
     ndip += ff->mu[o + a] != 0.0;
     nquad += ff->Q[o + a] != 0.0;
     nq += ff->q[o + a] != 0.0;
   }
-  for (int a = 0; a < ns; a++)
-    for (int b = 0; b < ns; b++) nlj += ff->lj[(o + a) * ff->ntypes + o + b].epsilon != 0.0;
   if (nquad) return;
   K->ns = ns;
+  K->extent = ff->sp_extent[k];
+  for (int a = 0; a < ns; a++) K->perm[a] = a;
   if (ndip) { /* stockmayer: one site at the centre, LJ + dipole, no charge */
     if (ns != 1 || nq || ff->sp_extent[k] != 0.0) { K->ns = 0; return; }
     K->kind = K_DIPOLE;
     K->mu = ff->mu[o];
     K->nterms = 1;
     term_set(ff, o, o, &K->t[0]);
-    K->row = dipole_fns[ff->p.dipole_method == RL_DIPOLE_SF][ff->p.lj_truncation];
+    for (int m = 0; m < 3; m++)
+      K->row[m] = dipole_fns[ff->p.dipole_method == RL_DIPOLE_SF][ff->p.lj_truncation];
     return;
   }
   K->kind = K_SITES;
+  int nlj = 0, ncoul = 0, nboth = 0, ljsite = -1;
   for (int a = 0; a < ns; a++)
     for (int b = 0; b < ns; b++) {
       int lj = ff->lj[(o + a) * ff->ntypes + o + b].epsilon != 0.0;
@@ -459,25 +659,39 @@ static void classify(const rl_forcefield *ff, int k, fast_species *K)
       T->a = a;
       T->b = b;
       T->what = lj && qq ? T_BOTH : lj ? T_LJ : T_COUL;
+      nlj += T->what == T_LJ;
+      ncoul += T->what == T_COUL;
+      nboth += T->what == T_BOTH;
+      if (T->what == T_LJ && a == b) ljsite = a;
       term_set(ff, o + a, o + b, T);
     }
-  K->row = sites_fns[ff->p.scheme == RL_CUTOFF_MOLECULE][ff->p.lj_truncation];
-  (void)nlj;
+  for (int m = 0; m < 3; m++) K->row[m] = sites_fns[m][ff->p.lj_truncation];
+  /* TIP4P pattern: one LJ site (with itself only, no charge), three charges without LJ */
+  if (ns == 4 && nlj == 1 && ljsite >= 0 && ncoul == 9 && nboth == 0) {
+    K->kind = K_TIP4P;
+    int s = 1;
+    K->perm[0] = ljsite;
+    for (int a = 0; a < 4; a++)
+      if (a != ljsite) K->perm[s++] = a;
+    term_set(ff, o + ljsite, o + ljsite, &K->t[0]);
+    K->t[0].a = K->t[0].b = 0;
+    K->t[0].what = T_LJ;
+    for (int p = 0; p < 3; p++)
+      for (int q = 0; q < 3; q++) {
+        fast_term *T = &K->t[1 + 3 * p + q];
+        term_set(ff, o + K->perm[1 + p], o + K->perm[1 + q], T);
+        T->a = 1 + p;
+        T->b = 1 + q;
+        T->what = T_COUL;
+      }
+    for (int m = 0; m < 3; m++) K->row[m] = tip4p_fns[m][ff->p.lj_truncation];
+  }
 }
 
-static const char *species_name(const rl_forcefield *ff, int k, const fast_species *K)
+static const char *species_name(const fast_species *K)
 {
-  if (K->kind == K_DIPOLE) return "stockmayer";
-  if (K->kind != K_SITES) return NULL;
-  (void)ff;
-  (void)k;
-  int lj = 0, q = 0;
-  for (int t = 0; t < K->nterms; t++) {
-    lj += K->t[t].what == T_LJ;
-    q += K->t[t].what == T_COUL;
-  }
-  if (K->ns == 4 && K->nterms == 10 && lj == 1 && q == 9) return "tip4p";
-  return "charge-lj";
+  return K->kind == K_DIPOLE ? "stockmayer" : K->kind == K_TIP4P ? "tip4p"
+                                            : K->kind == K_SITES ? "charge-lj" : NULL;
 }
 
 void rl_ff_fast_free(rl_ff_fast *f)
@@ -494,6 +708,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->fsbuf); free(f->tqbuf);
   free(f->acc);
   free(f->status);
+  free(f->mode);
   free(f);
 }
 
@@ -523,6 +738,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->tr = calloc((size_t)T, sizeof *f->tr);
   f->acc = calloc((size_t)T, sizeof *f->acc);
   f->status = calloc((size_t)T, sizeof *f->status);
+  f->mode = calloc((size_t)(ff->nspecies > 0 ? ff->nspecies : 1), sizeof *f->mode);
   f->cell_of = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   f->cell_body = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   if (T > 1) {
@@ -530,7 +746,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
   if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->tr || !f->acc ||
-      !f->status || !f->cell_of || !f->cell_body || (T > 1 && (!f->fsbuf || !f->tqbuf))) {
+      !f->status || !f->mode || !f->cell_of || !f->cell_body || (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
   }
@@ -544,7 +760,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   for (int k = 0; k < ff->nspecies; k++) {
     classify(ff, k, &f->sk[k]);
     if (ff->sp_count[k] == 0 || ff->sp_nsites[k] == 0) continue;
-    const char *nm = species_name(ff, k, &f->sk[k]);
+    const char *nm = species_name(&f->sk[k]);
     if (!nm) { general = 1; continue; }
     if (!strstr(f->namebuf, nm)) {
       int w = snprintf(p, left, "%s%s", used ? "+" : "", nm);
@@ -701,17 +917,13 @@ static int build(rl_forcefield *ff)
   while (t <= T) f->tlo[t++] = n;
   /* positions at this build, for the rebuild test */
   rl_nlist *chk = f->chk;
-  if (chk->n != n || chk->nsites != ff->nsites || !chk->r0) {
+  if (chk->n != n || !chk->r0) {
     double(*r0)[3] = realloc(chk->r0, sizeof *r0 * (size_t)(n > 0 ? n : 1));
-    if (r0) chk->r0 = r0;
-    double(*s0)[3] = realloc(chk->s0, sizeof *s0 * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
-    if (s0) chk->s0 = s0;
-    if (!r0 || !s0) return rl_error(RL_ENOMEM, "neighbour list: out of memory for %d bodies", n);
+    if (!r0) return rl_error(RL_ENOMEM, "neighbour list: out of memory for %d bodies", n);
+    chk->r0 = r0;
   }
   if (n > 0) memcpy(chk->r0, ff->centre, sizeof *chk->r0 * (size_t)n);
-  if (ff->nsites > 0) memcpy(chk->s0, ff->site, sizeof *chk->s0 * (size_t)ff->nsites);
   chk->n = n;
-  chk->nsites = ff->nsites;
   chk->rlist = rl;
   chk->npairs = nf + ng;
   chk->builds++;
@@ -728,11 +940,18 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   for (int i = 0; i < n; i++)
     for (int c = 0; c < 3; c++)
       if (fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12) return 1;
-  if (rl_nlist_needs_rebuild(f->chk, &ff->box, n, (const double(*)[3])ff->centre, ns,
-                             (const double(*)[3])ff->site, NULL) ||
+  if (rl_nlist_needs_rebuild(f->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL) ||
       f->chk->rlist != ff->rlist) {
     int st = build(ff);
     if (st) return st;
+  }
+  /* each species' separation mode (see P_SHIFT): the molecular shift where the box allows */
+  int *mode = f->mode;
+  for (int k = 0; k < ff->nspecies; k++) {
+    const double need = 2.0 * (ff->p.cutoff + 2.0 * f->sk[k].extent);
+    mode[k] = ff->p.scheme == RL_CUTOFF_MOLECULE ? P_MOL
+              : ff->box.L[0] >= need && ff->box.L[1] >= need && ff->box.L[2] >= need ? P_SHIFT
+                                                                                     : P_SITE;
   }
 #pragma omp parallel num_threads(T)
   {
@@ -751,9 +970,10 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     a->quiet = 1;
     int st = RL_OK;
     for (int i = f->tlo[t]; i < f->tlo[t + 1] && !st && !a->bad; i++) {
-      const fast_species *K = &f->sk[ff->body_species[i]];
+      const int k = ff->body_species[i];
+      const fast_species *K = &f->sk[k];
       int fl = f->fstart[i + 1] - f->fstart[i];
-      if (fl > 0) K->row(ff, K, i, f->fnbr + f->fstart[i], fl, fs, tq, a);
+      if (fl > 0) K->row[mode[k]](ff, K, i, f->fnbr + f->fstart[i], fl, fs, tq, a);
       for (int m = f->gstart[i]; m < f->gstart[i + 1] && !st; m++)
         st = rl_ff_body_pair(ff, i, f->gnbr[m], a);
     }

@@ -562,10 +562,9 @@ static int reference_pairs(rl_forcefield *ff, rl_acc *acc, int rebuild)
 {
   int n = ff->n, st = RL_OK;
   if (ff->nl) {
-    if (rebuild || rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre,
-                                          ff->nsites, (const double(*)[3])ff->site, NULL)) {
-      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre,
-                          ff->nsites, (const double(*)[3])ff->site);
+    if (rebuild ||
+        rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre, NULL)) {
+      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre);
       if (st) return st;
     }
     for (long p = 0; p < ff->nl->npairs && !st; p++)

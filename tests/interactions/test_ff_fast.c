@@ -3,7 +3,8 @@
  * ("stockmayer", reaction field, plain truncation and shifted force), linear CO2 and ions
  * ("charge-lj"), and a mixture of all of them with general cross pairs.  Both cutoff schemes,
  * all four LJ truncations, a box whose half edge equals the cutoff (site images differ from the
- * centre image), 1 against 2 threads, reproducibility for a fixed thread count, the kernel
+ * centre image) and larger boxes (the kernels shift sites by the centres' image), a TIP4P whose
+ * LJ site is listed last, 1 against 2 threads, reproducibility for a fixed thread count, the kernel
  * choice from site patterns, and the overlap error message. */
 #include "ff_testutil.h"
 
@@ -189,6 +190,40 @@ static void test_periodic_edge(void **state)
   compare(fa, fg, s.sys, "tip4p, box 1.8 x 2.3 x 1.9, rc 0.9", 1e-12);
   rl_forcefield_free(fa);
   rl_forcefield_free(fg);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
+/* The TIP4P kernel gathers the LJ site into slot 0 whatever its place in the species: here
+ * the sites are listed M, H, H, O.  And the site kernel ("charge-lj") in a box whose half edge
+ * equals the cutoff, where each site pair takes its own minimum image. */
+static void test_site_order_and_small_box(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 15);
+  scene s = {.nsp = 1};
+  ff_species_init(&s.sp[0], "water-mhho", RL_KIND_ASYMMETRIC, 18.0, 0.6, 1.2, 1.5, 4);
+  ff_site(&s.sp[0], 0, 0, 0, 0.0084, 0, 0, -1.04);
+  ff_site(&s.sp[0], 1, 0.0757, 0, 0.0520, 0, 0, 0.52);
+  ff_site(&s.sp[0], 2, -0.0757, 0, 0.0520, 0, 0, 0.52);
+  ff_site(&s.sp[0], 3, 0, 0, -0.0066, 0.3154, 0.6485, 0.0);
+  int cnt[1] = {400};
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = s.L;
+  p.cutoff = 0.7;
+  sweep(&s, &p, "tip4p listed M, H, H, O (400)", "tip4p");
+  rl_system_free(s.sys);
+
+  s = (scene){.nsp = 1};
+  ff_co2(&s.sp[0]);
+  int cc[1] = {60};
+  scene_build(&s, rng, RL_UNITS_REAL, cc, 0.0, 0.33, 1.6);
+  p.box[0] = p.box[1] = p.box[2] = 1.6;
+  p.cutoff = 0.8;
+  sweep(&s, &p, "linear co2, L = 2 rc", "charge-lj");
   rl_system_free(s.sys);
   gsl_rng_free(rng);
 }
@@ -390,7 +425,7 @@ int main(void)
       cmocka_unit_test(test_tip4p),   cmocka_unit_test(test_periodic_edge),
       cmocka_unit_test(test_stockmayer), cmocka_unit_test(test_charge_lj),
       cmocka_unit_test(test_mixture), cmocka_unit_test(test_choice),
-      cmocka_unit_test(test_overlap),
+      cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
