@@ -10,12 +10,18 @@
  * species, quadrupoles, charge-dipole, LJ overrides that break a pattern) through the reference
  * routine rl_ff_body_pair.
  *
- * Layout: a molecule-pair Verlet list in CSR form (row i: the j > i within rlist), split at
- * build time into kernel rows and reference rows.  A kernel walks a row in batches of RL_FAST_B
- * neighbours: it copies their sites into structure-of-arrays buffers, then runs one
- * branch-free loop per term over the batch (`omp simd`, masks as selects), then scatters the
- * forces.  Each term is the reference arithmetic (same formulas, same operation order per site
- * pair); the sums run in another order, so results agree to round-off.
+ * Layout: at each list build the bodies are ranked in cell order (x fastest); the kernels read
+ * copies of centres, axes and sites in that order, refreshed every step, so a row's neighbours
+ * lie in a few contiguous runs of memory and consecutive rows share them (`ffbench scaling`
+ * shows the cost per molecule against N).  The molecule-pair Verlet list is in CSR
+ * form (row m: the ranks above m within rlist), split at build time into kernel rows and
+ * reference rows.  A kernel walks a row in batches of RL_FAST_B neighbours: it keeps those
+ * within the centres' interaction range (the list holds about twice as many), copies their
+ * sites into structure-of-arrays buffers padded to 8 lanes, runs branch-free `omp simd` loops
+ * (the cutoff as a 0/1 factor), then scatters the forces.  TIP4P runs its 10 terms in one
+ * loop; "charge-lj" one loop per term.  Each term is the reference arithmetic (same formulas,
+ * same operation order per site pair); separations and sums are formed in another order, so
+ * results agree to round-off.
  *
  * Threads: rows are split into contiguous ranges of nearly equal cost, one per thread; each
  * thread adds into its own site-force and torque buffers; the buffers and the per-thread energy
@@ -59,9 +65,18 @@ typedef struct {
   double c6, c12, eshift, fshift; /* LJ (rl_lj_coef)                                    */
 } fast_term;
 
+/* What the kernels read: the bodies in the list's (spatial) order, see rl_ff_fast. */
+typedef struct {
+  double (*c)[3];                /* [n] centres                                          */
+  double (*ax)[3];               /* [n] body Z axes                                      */
+  double (*site)[3];             /* [nsites] lab sites                                   */
+  double (*dsite)[3];            /* [nsites] site - centre                               */
+  int *soff;                     /* [n] first site                                       */
+} kview;
+
 typedef struct fast_species fast_species;
-typedef void (*row_fn)(const rl_forcefield *ff, const fast_species *K, int i, const int *nbr,
-                       int len, double (*fs)[3], double (*tq)[3], rl_acc *acc);
+typedef void (*row_fn)(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,
+                       const int *nbr, int len, double (*fs)[3], double (*tq)[3], rl_acc *acc);
 
 struct fast_species {
   int kind, ns, nterms;
@@ -95,6 +110,14 @@ struct rl_ff_fast {
   rl_acc *acc;                   /* [nthreads]                                          */
   int *status;                   /* [nthreads]                                          */
   int *mode;                     /* [nspecies] separation mode of this compute          */
+  /* Spatial order: at each build the bodies are ranked by cell (x fastest), and the kernels
+   * work on copies in that order (V, refreshed every step), so a row's neighbours sit in a
+   * few contiguous runs of memory and consecutive rows share them.  Kernel rows and their
+   * neighbours are ranks; reference rows are ranks with body neighbours. */
+  int *ord, *rank;               /* [n] body of each rank; rank of each body            */
+  kview V;
+  double (*pfs)[3];              /* [nthreads nsites] kernel site forces, rank order    */
+  double (*ptq)[3];              /* [nthreads n] kernel torques, rank order             */
 };
 
 #ifndef _OPENMP
@@ -175,7 +198,7 @@ typedef struct {
    * iterations to align the vector stores, and those ran a third of the time */
   _Alignas(64) double w[RL_FAST_B];        /* 1 for a neighbour, 0 for padding              */
   double R[3][RL_FAST_B];                  /* centre_i - centre_j, minimum image            */
-  double x[RL_FAST_MAXS][3][RL_FAST_B];    /* j's sites: lab (P_SITE), else site - centre   */    /* j's sites: lab (P_SITE), else site - centre   */
+  double x[RL_FAST_MAXS][3][RL_FAST_B];    /* j's sites: lab (P_SITE), else site - centre   */
   double f[RL_FAST_MAXS][3][RL_FAST_B];    /* forces on j's sites                            */
   double g[RL_FAST_MAXS][3][RL_FAST_B];    /* tip4p: forces on i's sites from each j         */
   double m[3][RL_FAST_B];                  /* stockmayer: j's dipole                          */
@@ -194,17 +217,17 @@ static box_consts consts_of(const rl_forcefield *ff)
 /* Fill b with the next neighbours of row nbr[*pos .. len) within the pruning radius
  * (squared: rp2); advance *pos.  Slot s holds site K->perm[s] of each body (DIP: the
  * dipoles too).  ZERO: clear the forces (for kernels that add to them). */
-RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO,
-                          const rl_forcefield *ff, const box_consts *B, int i, const int *nbr,
-                          int len, int *pos, const fast_species *K, double rp2, batch *b)
+RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const kview *V,
+                          const box_consts *B, int i, const int *nbr, int len, int *pos,
+                          const fast_species *K, double rp2, batch *b)
 {
-  const double cx = ff->centre[i][0], cy = ff->centre[i][1], cz = ff->centre[i][2];
+  const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
   const int ns = K->ns;
   const double mu = K->mu;
   int n = 0, p = *pos;
   for (; p < len && n < RL_FAST_B; p++) {
     const int j = nbr[p];
-    double X = cx - ff->centre[j][0], Y = cy - ff->centre[j][1], Z = cz - ff->centre[j][2];
+    double X = cx - V->c[j][0], Y = cy - V->c[j][1], Z = cz - V->c[j][2];
     X -= B->L[0] * RL_RND(X * B->iL[0]);
     Y -= B->L[1] * RL_RND(Y * B->iL[1]);
     Z -= B->L[2] * RL_RND(Z * B->iL[2]);
@@ -213,12 +236,12 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO,
     b->idx[n] = j;
     b->w[n] = 1.0;
     b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
-    const int oj = ff->body_site_off[j];
+    const int oj = V->soff[j];
     for (int s = 0; s < ns; s++)
       for (int c = 0; c < 3; c++)
-        b->x[s][c][n] = MODE == P_SITE ? ff->site[oj + K->perm[s]][c] : ff->dsite[oj + K->perm[s]][c];
+        b->x[s][c][n] = MODE == P_SITE ? V->site[oj + K->perm[s]][c] : V->dsite[oj + K->perm[s]][c];
     if (DIP)
-      for (int c = 0; c < 3; c++) b->m[c][n] = mu * ff->axis[j][c];
+      for (int c = 0; c < 3; c++) b->m[c][n] = mu * V->ax[j][c];
     n += X * X + Y * Y + Z * Z < rp2;
   }
   *pos = p;
@@ -240,11 +263,11 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO,
 }
 
 /* Add the batch's forces (and torques) on the neighbours. */
-RL_INLINE void batch_scatter(const int DIP, const rl_forcefield *ff, const batch *b,
+RL_INLINE void batch_scatter(const int DIP, const kview *V, const batch *b,
                              const fast_species *K, double (*fs)[3], double (*tq)[3])
 {
   for (int k = 0; k < b->n; k++) {
-    const int j = b->idx[k], oj = ff->body_site_off[j];
+    const int j = b->idx[k], oj = V->soff[j];
     for (int s = 0; s < K->ns; s++)
       for (int c = 0; c < 3; c++) fs[oj + K->perm[s]][c] += b->f[s][c][k];
     if (DIP)
@@ -279,9 +302,9 @@ RL_INLINE double inside(const int MODE, const box_consts *B, const batch *b, int
 }
 
 /* The site position of i that sep() expects: lab (P_SITE) or relative to the centre. */
-RL_INLINE const double *site_of_i(const int MODE, const rl_forcefield *ff, int s)
+RL_INLINE const double *site_of_i(const int MODE, const kview *V, int s)
 {
-  return MODE == P_SITE ? ff->site[s] : ff->dsite[s];
+  return MODE == P_SITE ? V->site[s] : V->dsite[s];
 }
 
 /* ------------------------------------------------------------------------ site kernels */
@@ -351,13 +374,13 @@ RL_INLINE double prune2(const int MODE, const box_consts *B, const fast_species 
   return rp * rp;
 }
 
-/* One row of a site-kernel species ("charge-lj"): body i against nbr[0..len) (same species),
- * one loop per term. */
-RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *ff,
+/* One row of a site-kernel species ("charge-lj"): rank i against the ranks nbr[0..len) (same
+ * species), one loop per term. */
+RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *ff, const kview *V,
                          const fast_species *K, int i, const int *nbr, int len,
                          double (*fs)[3], rl_acc *acc)
 {
-  const int ns = K->ns, oi = ff->body_site_off[i];
+  const int ns = K->ns, oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rp2 = prune2(MODE, &B, K);
   batch b;
@@ -365,11 +388,11 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
   memset(fi, 0, sizeof fi);
   double elj = 0.0, ecoul = 0.0, w[6] = {0}, bad = 0.0;
   for (int pos = 0; pos < len;) {
-    batch_fill(MODE, 0, 1, ff, &B, i, nbr, len, &pos, K, rp2, &b); /* K->perm: identity */
+    batch_fill(MODE, 0, 1, V, &B, i, nbr, len, &pos, K, rp2, &b); /* K->perm: identity */
     if (b.n == 0) continue;
     for (int t = 0; t < K->nterms; t++) {
       const fast_term *T = &K->t[t];
-      const double *pa = site_of_i(MODE, ff, oi + T->a);
+      const double *pa = site_of_i(MODE, V, oi + T->a);
       term_sums s = {0};
       if (T->what == T_LJ) term_loop(MODE, TRUNC, T_LJ, &B, T, pa, &b, &s);
       else if (T->what == T_COUL) term_loop(MODE, TRUNC, T_COUL, &B, T, pa, &b, &s);
@@ -378,7 +401,7 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
       elj += s.elj; ecoul += s.ecoul; bad += s.bad;
       for (int c = 0; c < 6; c++) w[c] += s.w[c];
     }
-    batch_scatter(0, ff, &b, K, fs, NULL);
+    batch_scatter(0, V, &b, K, fs, NULL);
   }
   for (int a = 0; a < ns; a++)
     for (int c = 0; c < 3; c++) fs[oi + a][c] += fi[a][c];
@@ -391,18 +414,18 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
  * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
  * + 9 Coulomb terms run in one loop, so each neighbour's sites are loaded once and its forces
  * stored once.  Each term is the reference arithmetic. */
-RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *ff,
+RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *ff, const kview *V,
                          const fast_species *K, int i, const int *nbr, int len,
                          double (*fs)[3], rl_acc *acc)
 {
-  const int oi = ff->body_site_off[i];
+  const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rp2 = prune2(MODE, &B, K);
   const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
   const lj_consts C = lj_of(&K->t[0]);
   double a[4][3], qq[3][3];
   for (int s = 0; s < 4; s++)
-    for (int c = 0; c < 3; c++) a[s][c] = site_of_i(MODE, ff, oi + K->perm[s])[c];
+    for (int c = 0; c < 3; c++) a[s][c] = site_of_i(MODE, V, oi + K->perm[s])[c];
   for (int p = 0; p < 3; p++)
     for (int q = 0; q < 3; q++) qq[p][q] = K->t[1 + 3 * p + q].qq;
   batch b;
@@ -410,7 +433,7 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
   double elj = 0.0, ecoul = 0.0, bad = 0.0;
   double w0 = 0.0, w1 = 0.0, w2 = 0.0, w3 = 0.0, w4 = 0.0, w5 = 0.0;
   for (int pos = 0; pos < len;) {
-    batch_fill(MODE, 0, 0, ff, &B, i, nbr, len, &pos, K, rp2, &b);
+    batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, &b);
     if (b.n == 0) continue;
     const int np = b.np;
 #pragma omp simd reduction(+ : elj, ecoul, bad, w0, w1, w2, w3, w4, w5)
@@ -467,7 +490,7 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
         for (int k = 0; k < np; k++) sum += b.g[s][c][k];
         fi[s][c] += sum;
       }
-    batch_scatter(0, ff, &b, K, fs, NULL);
+    batch_scatter(0, V, &b, K, fs, NULL);
   }
   for (int s = 0; s < 4; s++)
     for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += fi[s][c];
@@ -479,23 +502,23 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
 
 /* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
  * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf). */
-RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *ff,
+RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *ff, const kview *V,
                           const fast_species *K, int i, const int *nbr, int len,
                           double (*fs)[3], double (*tq)[3], rl_acc *acc)
 {
-  const int oi = ff->body_site_off[i];
+  const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rc = B.rc, rc2 = B.rc2, rsw = B.rsw, md2 = B.md2;
   const double kc = ff->kc, krf = ff->rf.krf, mu = K->mu;
   const lj_consts C = lj_of(&K->t[0]);
-  const double mix = mu * ff->axis[i][0], miy = mu * ff->axis[i][1], miz = mu * ff->axis[i][2];
+  const double mix = mu * V->ax[i][0], miy = mu * V->ax[i][1], miz = mu * V->ax[i][2];
   batch b;
   double fix = 0.0, fiy = 0.0, fiz = 0.0, tix = 0.0, tiy = 0.0, tiz = 0.0;
   double elj = 0.0, edip = 0.0;
   double w0 = 0, w1 = 0, w2 = 0, w3 = 0, w4 = 0, w5 = 0, w6 = 0, w7 = 0, w8 = 0;
   double bad = 0.0;
   for (int pos = 0; pos < len;) {
-    batch_fill(P_MOL, 1, 0, ff, &B, i, nbr, len, &pos, K, rc2, &b);
+    batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, &b);
     if (b.n == 0) continue;
     const int np = b.np;
 #pragma omp simd reduction(+ : fix, fiy, fiz, tix, tiy, tiz, elj, edip, w0, w1, w2, w3, w4, w5, w6, w7, w8, bad)
@@ -557,7 +580,7 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
       w3 += ry * fx; w4 += ry * fy; w5 += ry * fz;
       w6 += rz * fx; w7 += rz * fy; w8 += rz * fz;
     }
-    batch_scatter(1, ff, &b, K, fs, tq);
+    batch_scatter(1, V, &b, K, fs, tq);
   }
   fs[oi][0] += fix; fs[oi][1] += fiy; fs[oi][2] += fiz;
   tq[i][0] += tix; tq[i][1] += tiy; tq[i][2] += tiz;
@@ -572,33 +595,33 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
 /* Instances: one function per (mode, truncation) and (dipole method, truncation), each
  * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time. */
 #define ROW_FN(NAME, BODY)                                                                     \
-  RL_CLONES static void NAME(const rl_forcefield *ff, const fast_species *K, int i,            \
-                             const int *nbr, int len, double (*fs)[3], double (*tq)[3],        \
-                             rl_acc *acc)                                                      \
+  RL_CLONES static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K,   \
+                             int i, const int *nbr, int len, double (*fs)[3],                  \
+                             double (*tq)[3], rl_acc *acc)                                     \
   {                                                                                            \
     (void)tq;                                                                                  \
     BODY;                                                                                      \
   }
 #define SITES4(M, P)                                                                           \
-  ROW_FN(sites_##M##0, sites_row(P, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, acc))                 \
-  ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, acc))               \
-  ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, acc))         \
-  ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, acc))              \
-  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, acc))                 \
-  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, acc))               \
-  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, acc))         \
-  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, acc))
+  ROW_FN(sites_##M##0, sites_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
+  ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
+  ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))              \
+  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
+  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
+  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)
-ROW_FN(dip_r0, dipole_row(0, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_r1, dipole_row(0, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_r2, dipole_row(0, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_r3, dipole_row(0, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f0, dipole_row(1, RL_LJ_PLAIN, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r0, dipole_row(0, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r1, dipole_row(0, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r2, dipole_row(0, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r3, dipole_row(0, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f0, dipole_row(1, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
 
 /* [mode][truncation] */
 static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
@@ -709,6 +732,9 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->acc);
   free(f->status);
   free(f->mode);
+  free(f->ord); free(f->rank);
+  free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff);
+  free(f->pfs); free(f->ptq);
   free(f);
 }
 
@@ -741,12 +767,24 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->mode = calloc((size_t)(ff->nspecies > 0 ? ff->nspecies : 1), sizeof *f->mode);
   f->cell_of = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   f->cell_body = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  const size_t n1 = (size_t)(n > 0 ? n : 1), s1 = (size_t)(ff->nsites > 0 ? ff->nsites : 1);
+  f->ord = malloc(sizeof(int) * n1);
+  f->rank = malloc(sizeof(int) * n1);
+  f->V.soff = malloc(sizeof(int) * n1);
+  f->V.c = malloc(sizeof *f->V.c * n1);
+  f->V.ax = malloc(sizeof *f->V.ax * n1);
+  f->V.site = malloc(sizeof *f->V.site * s1);
+  f->V.dsite = malloc(sizeof *f->V.dsite * s1);
+  f->pfs = malloc(sizeof *f->pfs * s1 * (size_t)T);
+  f->ptq = malloc(sizeof *f->ptq * n1 * (size_t)T);
   if (T > 1) {
     f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
   if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->tr || !f->acc ||
-      !f->status || !f->mode || !f->cell_of || !f->cell_body || (T > 1 && (!f->fsbuf || !f->tqbuf))) {
+      !f->status || !f->mode || !f->ord || !f->rank || !f->V.soff || !f->V.c || !f->V.ax ||
+      !f->V.site || !f->V.dsite || !f->pfs || !f->ptq || !f->cell_of || !f->cell_body ||
+      (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
   }
@@ -824,15 +862,25 @@ static int build(rl_forcefield *ff)
     for (int c = ncell; c > 0; c--) f->cell_start[c] = f->cell_start[c - 1];
     f->cell_start[0] = 0;
   }
-  /* rows: thread t scans i in [n t / T, n (t+1) / T); row lengths go to fstart/gstart[i+1] */
+  /* the spatial order (cell_body lists the bodies cell by cell), its inverse, and the first
+   * site of each rank in the kernels' copies */
+  for (int m = 0; m < n; m++) f->ord[m] = cells ? f->cell_body[m] : m;
+  for (int m = 0, o = 0; m < n; m++) {
+    f->rank[f->ord[m]] = m;
+    f->V.soff[m] = o;
+    o += ff->sp_nsites[ff->body_species[f->ord[m]]];
+  }
+  /* rows: thread t scans ranks m in [n t / T, n (t+1) / T); body i = ord[m] lists the j of
+   * higher rank, kernel pairs by rank, reference pairs by body; lengths go to f/gstart[m+1] */
   int fail = 0;
 #pragma omp parallel num_threads(T) reduction(| : fail)
   {
     int t = omp_get_thread_num();
     thread_rows *tr = &f->tr[t];
     tr->fn = tr->gn = 0;
-    int i0 = (int)((long)n * t / T), i1 = (int)((long)n * (t + 1) / T);
-    for (int i = i0; i < i1 && !fail; i++) {
+    int m0 = (int)((long)n * t / T), m1 = (int)((long)n * (t + 1) / T);
+    for (int mi = m0; mi < m1 && !fail; mi++) {
+      const int i = f->ord[mi];
       int ki = ff->body_species[i];
       int fast_i = f->sk[ki].kind != K_NONE;
       long f0 = tr->fn, g0 = tr->gn;
@@ -849,17 +897,19 @@ static int build(rl_forcefield *ff)
                 int cc = (z * nc[1] + y) * nc[0] + x;
                 for (int m = f->cell_start[cc]; m < f->cell_start[cc + 1]; m++) {
                   int j = f->cell_body[m];
-                  if (j <= i || ff->sp_nsites[ff->body_species[j]] == 0) continue;
+                  if (m <= mi || ff->sp_nsites[ff->body_species[j]] == 0) continue;
                   double d[3] = {ri[0] - ff->centre[j][0], ri[1] - ff->centre[j][1],
                                  ri[2] - ff->centre[j][2]};
                   rl_box_minimum_image(box, d);
                   if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rl2) continue;
-                  if (fast_i && ff->body_species[j] == ki) fail |= push(&tr->f, &tr->fcap, &tr->fn, j);
-                  else fail |= push(&tr->g, &tr->gcap, &tr->gn, j);
+                  if (fast_i && ff->body_species[j] == ki)
+                    fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
+                  else
+                    fail |= push(&tr->g, &tr->gcap, &tr->gn, j);
                 }
               }
         } else {
-          for (int j = i + 1; j < n && !fail; j++) {
+          for (int j = i + 1; j < n && !fail; j++) { /* ord = identity */
             if (ff->sp_nsites[ff->body_species[j]] == 0) continue;
             double d[3] = {ri[0] - ff->centre[j][0], ri[1] - ff->centre[j][1],
                            ri[2] - ff->centre[j][2]};
@@ -870,8 +920,8 @@ static int build(rl_forcefield *ff)
           }
         }
       }
-      f->fstart[i + 1] = (int)(tr->fn - f0);
-      f->gstart[i + 1] = (int)(tr->gn - g0);
+      f->fstart[mi + 1] = (int)(tr->fn - f0);
+      f->gstart[mi + 1] = (int)(tr->gn - g0);
     }
   }
   if (fail) return rl_error(RL_ENOMEM, "neighbour list: out of memory");
@@ -901,7 +951,7 @@ static int build(rl_forcefield *ff)
   /* compute ranges: equal shares of cost (kernel terms per pair; 16 for a reference pair) */
   double total = 0.0;
   for (int i = 0; i < n; i++) {
-    const fast_species *K = &f->sk[ff->body_species[i]];
+    const fast_species *K = &f->sk[ff->body_species[f->ord[i]]];
     total += (double)(f->fstart[i + 1] - f->fstart[i]) * (K->kind == K_DIPOLE ? 4 : K->nterms + 2) +
              16.0 * (f->gstart[i + 1] - f->gstart[i]);
   }
@@ -909,7 +959,7 @@ static int build(rl_forcefield *ff)
   int t = 1;
   f->tlo[0] = 0;
   for (int i = 0; i < n && t < T; i++) {
-    const fast_species *K = &f->sk[ff->body_species[i]];
+    const fast_species *K = &f->sk[ff->body_species[f->ord[i]]];
     run += (double)(f->fstart[i + 1] - f->fstart[i]) * (K->kind == K_DIPOLE ? 4 : K->nterms + 2) +
            16.0 * (f->gstart[i + 1] - f->gstart[i]);
     while (t < T && run >= total * t / T) f->tlo[t++] = i + 1;
@@ -953,15 +1003,36 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
               : ff->box.L[0] >= need && ff->box.L[1] >= need && ff->box.L[2] >= need ? P_SHIFT
                                                                                      : P_SITE;
   }
+  kview *V = &f->V;
+  const int *ord = f->ord;
 #pragma omp parallel num_threads(T)
   {
     int t = omp_get_thread_num();
+    /* the kernels' copies in rank order */
+#pragma omp for schedule(static)
+    for (int m = 0; m < n; m++) {
+      const int i = ord[m], ns_i = ff->sp_nsites[ff->body_species[i]];
+      const int oi = ff->body_site_off[i], om = V->soff[m];
+      for (int c = 0; c < 3; c++) {
+        V->c[m][c] = ff->centre[i][c];
+        V->ax[m][c] = ff->axis[i][c];
+      }
+      for (int a = 0; a < ns_i; a++)
+        for (int c = 0; c < 3; c++) {
+          V->site[om + a][c] = ff->site[oi + a][c];
+          V->dsite[om + a][c] = ff->dsite[oi + a][c];
+        }
+    } /* implicit barrier */
     double(*fs)[3] = t == 0 ? ff->fs : f->fsbuf + (size_t)(t - 1) * (size_t)ns;
     double(*tq)[3] = t == 0 ? ff->tq : f->tqbuf + (size_t)(t - 1) * (size_t)n;
+    double(*pfs)[3] = f->pfs + (size_t)t * (size_t)ns;
+    double(*ptq)[3] = f->ptq + (size_t)t * (size_t)n;
     if (t > 0) {
       memset(fs, 0, sizeof *fs * (size_t)ns);
       memset(tq, 0, sizeof *tq * (size_t)n);
     }
+    memset(pfs, 0, sizeof *pfs * (size_t)ns);
+    memset(ptq, 0, sizeof *ptq * (size_t)n);
     rl_acc *a = &f->acc[t];
     memset(a, 0, sizeof *a);
     a->fs = fs;
@@ -969,13 +1040,13 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     a->site_virial = 1;
     a->quiet = 1;
     int st = RL_OK;
-    for (int i = f->tlo[t]; i < f->tlo[t + 1] && !st && !a->bad; i++) {
-      const int k = ff->body_species[i];
+    for (int m = f->tlo[t]; m < f->tlo[t + 1] && !st && !a->bad; m++) {
+      const int i = ord[m], k = ff->body_species[i];
       const fast_species *K = &f->sk[k];
-      int fl = f->fstart[i + 1] - f->fstart[i];
-      if (fl > 0) K->row[mode[k]](ff, K, i, f->fnbr + f->fstart[i], fl, fs, tq, a);
-      for (int m = f->gstart[i]; m < f->gstart[i + 1] && !st; m++)
-        st = rl_ff_body_pair(ff, i, f->gnbr[m], a);
+      int fl = f->fstart[m + 1] - f->fstart[m];
+      if (fl > 0) K->row[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl, pfs, ptq, a);
+      for (int q = f->gstart[m]; q < f->gstart[m + 1] && !st; q++)
+        st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
     }
     f->status[t] = st;
 #pragma omp barrier
@@ -992,6 +1063,19 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
           const double *b = f->tqbuf[(size_t)(u - 1) * (size_t)n + (size_t)i];
           ff->tq[i][0] += b[0]; ff->tq[i][1] += b[1]; ff->tq[i][2] += b[2];
         }
+    }
+    /* the kernels' forces and torques back to body order, threads in order */
+#pragma omp for schedule(static)
+    for (int m = 0; m < n; m++) {
+      const int i = ord[m], ns_i = ff->sp_nsites[ff->body_species[i]];
+      const int oi = ff->body_site_off[i], om = V->soff[m];
+      for (int u = 0; u < T; u++) {
+        const double(*pf)[3] = f->pfs + (size_t)u * (size_t)ns + (size_t)om;
+        const double *pt = f->ptq[(size_t)u * (size_t)n + (size_t)m];
+        for (int a = 0; a < ns_i; a++)
+          for (int c = 0; c < 3; c++) ff->fs[oi + a][c] += pf[a][c];
+        for (int c = 0; c < 3; c++) ff->tq[i][c] += pt[c];
+      }
     }
   }
   int bad = 0;
