@@ -76,7 +76,9 @@ static void die(const char *what)
   exit(1);
 }
 
-static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel_choice kernel)
+/* skin < 0: the force field's default (0.1 rc) */
+static void setup_skin(bench_sys *b, const char *model, int n, int threads,
+                       rl_kernel_choice kernel, double skin)
 {
   memset(b, 0, sizeof *b);
   b->tip4p = strcmp(model, "tip4p") == 0;
@@ -124,6 +126,7 @@ static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel
   p.box[0] = p.box[1] = p.box[2] = b->L;
   p.kernel = kernel;
   p.threads = threads;
+  p.skin = skin;
   if (b->tip4p) {
     p.cutoff = 0.9;
     p.eps_rf = 78.3;
@@ -146,6 +149,11 @@ static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel
   b->in = rl_integrator_alloc(b->sys, &ip, (rl_force_provider){timed_compute, &b->w});
   if (!b->in || rl_integrator_init(b->in)) die("integrator");
   b->mem_per_molecule = (rss_bytes() - rss0) / n;
+}
+
+static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel_choice kernel)
+{
+  setup_skin(b, model, n, threads, kernel, -1.0);
 }
 
 /* Continue at the production step (NVE or Bussi) from the relaxed state. */
@@ -320,11 +328,60 @@ static int cmd_scaling(int argc, char **argv)
   return 0;
 }
 
+/* The Verlet skin: time per step and rebuilds per 100 steps for skins of 0.025-0.25 rc, all
+ * systems relaxed from the same lattice and seeds, timed alternately, best of 3 rounds. */
+static int cmd_skin(int argc, char **argv)
+{
+  if (argc < 5) { fprintf(stderr, "usage: ffbench skin MODEL N THREADS\n"); return 2; }
+  const char *model = argv[2];
+  int n = atoi(argv[3]), threads = atoi(argv[4]);
+  static const double frac[] = {0.025, 0.05, 0.1, 0.15, 0.25};
+  enum { NS = sizeof frac / sizeof frac[0] };
+  bench_sys b[NS];
+  double best[NS], rebuilds[NS];
+  int steps = (int)fmax(20.0, 200000.0 / n);
+  const double rc = strcmp(model, "tip4p") == 0 ? 0.9 : 2.5; /* setup_skin's cutoffs */
+  for (int k = 0; k < NS; k++) {
+    setup_skin(&b[k], model, n, threads, RL_KERNEL_AUTO, frac[k] * rc);
+    run(&b[k], n >= 16384 ? 20 : 200, NULL);
+    restart(&b[k], 0);
+    run(&b[k], 5, NULL);
+    best[k] = INFINITY;
+  }
+  for (int round = 0; round < 3; round++)
+    for (int k = 0; k < NS; k++) {
+      long r0 = rl_forcefield_rebuilds(b[k].ff);
+      best[k] = fmin(best[k], timed(&b[k], steps, NULL));
+      rebuilds[k] = 100.0 * (double)(rl_forcefield_rebuilds(b[k].ff) - r0) / steps; /* last round */
+    }
+  char csvname[256];
+  snprintf(csvname, sizeof csvname, "bench/skin_%s.csv", model);
+  const char *cn = getenv("ROTLEAP_BENCH_CSV") ? getenv("ROTLEAP_BENCH_CSV") : csvname;
+  FILE *csv = fopen(cn, "w");
+  if (csv) fprintf(csv, "model,N,threads,skin_over_rc,skin,ms_per_step,ratio_to_default,rebuilds_per_100_steps\n");
+  printf("%s, N = %d, %d thread(s): Verlet skin (best of 3 alternating rounds of %d steps)\n\n",
+         model, n, threads, steps);
+  printf("%10s %10s %12s %16s %14s\n", "skin/rc", "skin", "ms/step", "vs 0.1 rc", "rebuilds/100");
+  for (int k = 0; k < NS; k++) {
+    double ratio = best[k] / best[2];
+    printf("%10.3f %10.4f %12.3f %16.3f %14.1f\n", frac[k], frac[k] * rc, 1e3 * best[k], ratio,
+           rebuilds[k]);
+    if (csv)
+      fprintf(csv, "%s,%d,%d,%.3f,%.5f,%.4f,%.4f,%.1f\n", model, n, threads, frac[k], frac[k] * rc,
+              1e3 * best[k], ratio, rebuilds[k]);
+    teardown(&b[k]);
+  }
+  if (csv) { fclose(csv); printf("written: %s\n", cn); }
+  return 0;
+}
+
 int main(int argc, char **argv)
 {
   if (argc > 1 && !strcmp(argv[1], "time")) return cmd_time(argc, argv);
   if (argc > 1 && !strcmp(argv[1], "scaling")) return cmd_scaling(argc, argv);
+  if (argc > 1 && !strcmp(argv[1], "skin")) return cmd_skin(argc, argv);
   fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S]\n"
-                  "       ffbench scaling MODEL THREADS [NMAX]\n");
+                  "       ffbench scaling MODEL THREADS [NMAX]\n"
+                  "       ffbench skin MODEL N THREADS\n");
   return 2;
 }
