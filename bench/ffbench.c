@@ -339,7 +339,7 @@ static int cmd_skin(int argc, char **argv)
   enum { NS = sizeof frac / sizeof frac[0] };
   bench_sys b[NS];
   double best[NS], rebuilds[NS];
-  int steps = (int)fmax(20.0, 200000.0 / n);
+  int steps = (int)fmax(100.0, 400000.0 / n); /* several list lifetimes per round */
   const double rc = strcmp(model, "tip4p") == 0 ? 0.9 : 2.5; /* setup_skin's cutoffs */
   for (int k = 0; k < NS; k++) {
     setup_skin(&b[k], model, n, threads, RL_KERNEL_AUTO, frac[k] * rc);

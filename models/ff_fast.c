@@ -72,6 +72,7 @@ typedef struct {
   double (*site)[3];             /* [nsites] lab sites                                   */
   double (*dsite)[3];            /* [nsites] site - centre                               */
   int *soff;                     /* [n] first site                                       */
+  int *sp;                       /* [n] species                                          */
 } kview;
 
 typedef struct fast_species fast_species;
@@ -89,6 +90,7 @@ struct fast_species {
 
 typedef struct {
   int *f, *g;                    /* kernel / reference neighbours of this thread's rows */
+  int *cand;                     /* [n] scratch: one row's candidates within rlist      */
   long fcap, gcap, fn, gn;
 } thread_rows;
 
@@ -725,7 +727,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->fstart); free(f->gstart); free(f->fnbr); free(f->gnbr);
   free(f->tlo);
   if (f->tr)
-    for (int t = 0; t < f->nthreads; t++) { free(f->tr[t].f); free(f->tr[t].g); }
+    for (int t = 0; t < f->nthreads; t++) { free(f->tr[t].f); free(f->tr[t].g); free(f->tr[t].cand); }
   free(f->tr);
   free(f->cell_of); free(f->cell_start); free(f->cell_body);
   free(f->fsbuf); free(f->tqbuf);
@@ -733,7 +735,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->status);
   free(f->mode);
   free(f->ord); free(f->rank);
-  free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff);
+  free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
   free(f->pfs); free(f->ptq);
   free(f);
 }
@@ -771,6 +773,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->ord = malloc(sizeof(int) * n1);
   f->rank = malloc(sizeof(int) * n1);
   f->V.soff = malloc(sizeof(int) * n1);
+  f->V.sp = malloc(sizeof(int) * n1);
   f->V.c = malloc(sizeof *f->V.c * n1);
   f->V.ax = malloc(sizeof *f->V.ax * n1);
   f->V.site = malloc(sizeof *f->V.site * s1);
@@ -782,12 +785,17 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
   if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->tr || !f->acc ||
-      !f->status || !f->mode || !f->ord || !f->rank || !f->V.soff || !f->V.c || !f->V.ax ||
+      !f->status || !f->mode || !f->ord || !f->rank || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
       !f->V.site || !f->V.dsite || !f->pfs || !f->ptq || !f->cell_of || !f->cell_body ||
       (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
   }
+  for (int t = 0; t < T; t++)
+    if (!(f->tr[t].cand = malloc(sizeof(int) * n1))) {
+      rl_ff_fast_free(f);
+      return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
+    }
   f->chk->builds = builds;
   /* name: the kernels in use, then "+general" if any pair takes the reference routine */
   int general = 0, used = 0;
@@ -868,10 +876,14 @@ static int build(rl_forcefield *ff)
    * site of each rank in the kernels' copies */
   for (int m = 0; m < n; m++) f->ord[m] = cells ? f->cell_body[m] : m;
   for (int m = 0, o = 0; m < n; m++) {
-    f->rank[f->ord[m]] = m;
+    const int i = f->ord[m];
+    f->rank[i] = m;
     f->V.soff[m] = o;
-    o += ff->sp_nsites[ff->body_species[f->ord[m]]];
+    f->V.sp[m] = ff->body_species[i];
+    o += ff->sp_nsites[f->V.sp[m]];
+    for (int c = 0; c < 3; c++) f->V.c[m][c] = ff->centre[i][c]; /* candidates read these */
   }
+  const double(*cr)[3] = (const double(*)[3])f->V.c;
   /* rows: thread t scans ranks m in [n t / T, n (t+1) / T); body i = ord[m] lists the j of
    * higher rank, kernel pairs by rank, reference pairs by body; lengths go to f/gstart[m+1] */
   int fail = 0;
@@ -886,32 +898,45 @@ static int build(rl_forcefield *ff)
       int ki = ff->body_species[i];
       int fast_i = f->sk[ki].kind != K_NONE;
       long f0 = tr->fn, g0 = tr->gn;
-      const double *ri = ff->centre[i];
+      const double *ri = cr[mi];
       if (ff->sp_nsites[ki] > 0) {
         if (cells) {
           int id = f->cell_of[i];
           int cx = id % nc[0], cy = (id / nc[0]) % nc[1], cz = id / (nc[0] * nc[1]);
-          for (int dz = -reach; dz <= reach && !fail; dz++)
-            for (int dy = -reach; dy <= reach && !fail; dy++)
-              for (int dx = -reach; dx <= reach && !fail; dx++) {
-                int x = (cx + dx + nc[0]) % nc[0], y = (cy + dy + nc[1]) % nc[1],
-                    z = (cz + dz + nc[2]) % nc[2];
-                int cc = (z * nc[1] + y) * nc[0] + x;
-                /* ranks follow the cells: only ranks above mi are this row's */
-                int m0c = f->cell_start[cc] > mi + 1 ? f->cell_start[cc] : mi + 1;
-                for (int m = m0c; m < f->cell_start[cc + 1]; m++) {
-                  int j = f->cell_body[m];
-                  if (ff->sp_nsites[ff->body_species[j]] == 0) continue;
-                  double d[3] = {ri[0] - ff->centre[j][0], ri[1] - ff->centre[j][1],
-                                 ri[2] - ff->centre[j][2]};
+          int wx[2 * reach + 1], wy[2 * reach + 1], wz[2 * reach + 1]; /* wrapped, no `%` */
+          for (int d = -reach; d <= reach; d++) {
+            wx[d + reach] = cx + d < 0 ? cx + d + nc[0] : cx + d >= nc[0] ? cx + d - nc[0] : cx + d;
+            wy[d + reach] = cy + d < 0 ? cy + d + nc[1] : cy + d >= nc[1] ? cy + d - nc[1] : cy + d;
+            wz[d + reach] = cz + d < 0 ? cz + d + nc[2] : cz + d >= nc[2] ? cz + d - nc[2] : cz + d;
+          }
+          /* the candidates of higher rank within rlist, branch-free (about a quarter of the
+           * stencil's bodies are inside, a branch was mispredicted often); runs of cells
+           * along x are contiguous in rank unless the stencil wraps */
+          const int runs = cx - reach >= 0 && cx + reach < nc[0] ? 1 : 2 * reach + 1;
+          int nin = 0;
+          for (int dz = 0; dz <= 2 * reach; dz++)
+            for (int dy = 0; dy <= 2 * reach; dy++)
+              for (int r = 0; r < runs; r++) {
+                const int row = (wz[dz] * nc[1] + wy[dy]) * nc[0];
+                const int c0 = row + (runs == 1 ? wx[0] : wx[r]);
+                const int c1 = row + (runs == 1 ? wx[2 * reach] : wx[r]);
+                const int mlo = f->cell_start[c0] > mi + 1 ? f->cell_start[c0] : mi + 1;
+                const int mhi = f->cell_start[c1 + 1];
+                for (int m = mlo; m < mhi; m++) {
+                  double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
                   for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
-                  if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rl2) continue;
-                  if (fast_i && ff->body_species[j] == ki)
-                    fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
-                  else
-                    fail |= push(&tr->g, &tr->gcap, &tr->gn, j);
+                  tr->cand[nin] = m;
+                  nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
                 }
               }
+          for (int q = 0; q < nin && !fail; q++) {
+            const int m = tr->cand[q], kj = f->V.sp[m];
+            if (ff->sp_nsites[kj] == 0) continue;
+            if (fast_i && kj == ki)
+              fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
+            else
+              fail |= push(&tr->g, &tr->gcap, &tr->gn, f->ord[m]);
+          }
         } else {
           for (int j = i + 1; j < n && !fail; j++) { /* ord = identity */
             if (ff->sp_nsites[ff->body_species[j]] == 0) continue;
