@@ -60,10 +60,13 @@ flags a step that fails while a larger one of the same code passes.
 Speed: the same thread count (--threads, default 1) for both codes; --rounds rounds over every stable
 run, alternating rotleap and OpenMM config by config (rotleap h1, OpenMM h1, rotleap h2, ...), then
 --pair-rounds more rounds alternating only the two runs the ratio uses; each run's best is kept (the
-bench convention: the machine is shared, so read the ratio).  The extra pair rounds are there because
-on this shared machine single timings of the same OpenMM run ranged from 1.1 to 2.5 ms per step
-within minutes, while rotleap's ranged from 1.15 to 1.6; three rounds did not always catch a quiet
-moment.  The median of each chosen run's timings is printed beside its best.
+bench convention: the machine is shared, so read the ratio).  The median of each chosen run's
+timings is printed beside its best.  With one thread, both codes' timing runs are pinned to one CPU
+(--pin; default the idlest CPU when the timing starts).  OpenMM's CPU platform hands every step's
+work from the Python thread to a worker thread, even with Threads = 1.  Unpinned on this 2-vCPU
+KVM guest, the two threads often sat on different vCPUs, and OpenMM took 1.7-2.2 ms per step instead
+of 1.15 ms; rotleap, a single thread, was not affected.  Without the pin, the first two full runs
+reported ratios of 1.50 and 1.52; with it the same runs gave 1.01.
   * rotleap: a `rotleap run` of --timing-steps steps from the run's own start checkpoint, same deck
     (Bussi, tau 1 ps) with no trajectory, no sampling, one thermo row; seconds per step = the
     summary's wall_seconds (rotleap's timing of its step loop) / steps.  Timed at the run's own h
@@ -148,8 +151,8 @@ def renice(target):
 
 def git_head():
     p = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
-    d = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
-                       capture_output=True, text=True)
+    d = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--",
+                        "*.c", "*.h", "*.py", "*CMakeLists.txt"], capture_output=True, text=True)  # code, not docs
     return (p.stdout.strip() or "?") + ("+dirty" if d.stdout.strip() else "")
 
 
@@ -254,6 +257,23 @@ class OpenMMTimer:
         return dt / steps
 
 
+def idlest_cpu(seconds=1.0):
+    """The CPU (of those this process may use) with the most idle time over `seconds` (/proc/stat)."""
+    allowed = sorted(os.sched_getaffinity(0))
+
+    def idle():
+        out = {}
+        for ln in open("/proc/stat"):
+            f = ln.split()
+            if f[0].startswith("cpu") and f[0] != "cpu":
+                out[int(f[0][3:])] = int(f[4]) + int(f[5])  # idle + iowait
+        return out
+    a = idle()
+    time.sleep(seconds)
+    b = idle()
+    return max(allowed, key=lambda c: b.get(c, 0) - a.get(c, 0))
+
+
 def ns_per_day(h_fs, s_per_step):
     return h_fs * 1e-6 * 86400.0 / s_per_step
 
@@ -278,6 +298,8 @@ def main():
     ap.add_argument("--pair-rounds", type=int, help="further alternating rounds of the two chosen runs "
                     "(default 10; --quick 2)")
     ap.add_argument("--timing-steps", type=int, help="steps per timing run (default 2000; --quick 300)")
+    ap.add_argument("--pin", default="auto", help="CPU for the timing runs of both codes: auto (the idlest at "
+                    "the start of the timing), a CPU number, or none (default auto; only with --threads 1)")
     ap.add_argument("--jobs", type=int, default=1, help="production runs at a time")
     ap.add_argument("--nice", type=int, default=15, help="lower the priority to this niceness")
     ap.add_argument("--csv", default=os.path.join(HERE, "sampling_speed.csv"))
@@ -390,6 +412,11 @@ def main():
                               stable_om[i] if i < len(stable_om) else None) if x]
     t2 = time.time()
     timers = {}
+    affinity = os.sched_getaffinity(0)
+    pin = None
+    if args.threads == 1 and args.pin != "none":
+        pin = idlest_cpu() if args.pin == "auto" else int(args.pin)
+        os.sched_setaffinity(0, {pin})  # inherited by rotleap's processes and OpenMM's worker threads
     for r in order:
         r["samples"], r["timing_error"] = [], ""
 
@@ -428,8 +455,9 @@ def main():
                 out[code] = max(acc, key=lambda r: r["h_fs"])
         return out
 
-    print("timing: %d rounds of %d steps over every stable run, %d thread(s), alternating %s"
-          % (rounds, tsteps, args.threads, ", ".join(short(r) for r in order)), flush=True)
+    print("timing: %d rounds of %d steps over every stable run, %d thread(s), %s, alternating %s"
+          % (rounds, tsteps, args.threads, "pinned to CPU %d" % pin if pin is not None else "not pinned",
+             ", ".join(short(r) for r in order)), flush=True)
     for rnd in range(rounds):
         timing_round("round %d" % (rnd + 1), order)
     choice = choose()
@@ -440,6 +468,7 @@ def main():
             timing_round("pair round %d" % (rnd + 1), pair)
         choice = choose()  # unchanged unless a timing run failed
     timers.clear()
+    os.sched_setaffinity(0, affinity)
     t_time = time.time() - t2
     settle()
     # ----------------------------------------------------------------------- decision
@@ -472,7 +501,7 @@ def main():
                 command=("nice -n %d /usr/bin/python3 bench/sampling_speed.py %s" % (niceness, " ".join(
                     a if not os.path.isabs(a) else os.path.relpath(a, ROOT) for a in sys.argv[1:]))).strip(),
                 eq_ps=eq_eff, prod_ps=prod_eff, blocks=nblocks, frame_fs=frame, rdf_stride=ns.RDF_STRIDE,
-                rounds=rounds, pair_rounds=pair_rounds, timing_steps=tsteps, threads=args.threads, friction=args.friction,
+                rounds=rounds, pair_rounds=pair_rounds, timing_steps=tsteps, pinned_cpu=pin, threads=args.threads, friction=args.friction,
                 wall_s=elapsed, sim_s=t_sim, analysis_s=t_an, timing_s=t_time, load_start=load_start,
                 load_end=load_end, cpus=os.cpu_count(), openmm=openmm.version.full_version,
                 mdtraj=mdtraj.version.version, reanalysed=bool(args.reanalyse))
@@ -557,9 +586,10 @@ def table_lines(runs, ref, choice, ratio, notes, meta):
              "◀ = the step chosen for the code" % (Z_TOL, Z_TOL, ref["h_fs"]))
     L += summary_lines(choice, ratio)
     L += ["note: " + n for n in notes]
-    L.append("wall %.0f s (simulation %.0f, analysis %.0f, timing %.0f); load average %s at the start, %s at the "
-             "end; %d CPUs; OpenMM %s; rotleap %s"
+    L.append("wall %.0f s (simulation %.0f, analysis %.0f, timing %.0f%s); load average %s at the start, %s at "
+             "the end; %d CPUs; OpenMM %s; rotleap %s"
              % (meta["wall_s"], meta["sim_s"], meta["analysis_s"], meta["timing_s"],
+                ", pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "",
                 "/".join("%.1f" % x for x in meta["load_start"]), "/".join("%.1f" % x for x in meta["load_end"]),
                 meta["cpus"], meta["openmm"], meta["commit"]))
     return L
@@ -605,13 +635,14 @@ def update_md(path, runs, ref, choice, ratio, notes, meta):
          "Generated by `%s` on %s (rotleap %s, OpenMM %s, MDTraj %s)%s. Wall time %.0f s = %.1f min "
          "(simulation %.0f s, analysis %.0f s, timing %.0f s). Load average (1/5/15 min) %s at the start and %s at "
          "the end on this %d-CPU machine, which other jobs share. Timings: the best of %d alternating rounds of %d "
-         "steps over every stable run, plus %d rounds of the two chosen runs, %d thread(s); read the ratio, not the "
-         "absolute speeds."
+         "steps over every stable run, plus %d rounds of the two chosen runs, %d thread(s), %s; read the ratio, "
+         "not the absolute speeds."
          % (meta["command"], meta["date"], meta["commit"], meta["openmm"], meta["mdtraj"],
             " — **--quick: a smoke test**" if meta["quick"] else "", meta["wall_s"], meta["wall_s"] / 60,
             meta["sim_s"], meta["analysis_s"], meta["timing_s"], "/".join("%.1f" % x for x in meta["load_start"]),
             "/".join("%.1f" % x for x in meta["load_end"]), meta["cpus"], meta["rounds"], meta["timing_steps"],
-            meta["pair_rounds"], meta["threads"]),
+            meta["pair_rounds"], meta["threads"],
+            "both codes pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "not pinned"),
          "",
          "Runs: %g ps equilibration + %g ps production each, %d blocks of %g ps, frames every %g fs (RDF every "
          "%g fs)." % (meta["eq_ps"], meta["prod_ps"], meta["blocks"], meta["prod_ps"] / meta["blocks"],
