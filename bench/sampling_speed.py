@@ -12,9 +12,11 @@ Run (from the repository root, after building rotleap):
 The script lowers its own priority to nice 15 (--nice) so that the other core's benchmarks are
 disturbed little; every child process inherits it, so both codes are timed at the same priority.
 Full defaults: 4 ps equilibration + 200 ps production per run, 15 runs, one at a time (--jobs 1),
-then the timing rounds.  Measured: EXPECTED_TIME.
---quick (1 + 10 ps per run, 5 blocks, 1 + 2 timing rounds of 300 steps): a smoke test of a few
-minutes; its errors are too large to mean anything, and it writes nothing unless --write is given.
+then the timing rounds.  Measured: 1976 s (33 min) on this shared 2-core machine at a load of about 1:
+1728 s of simulation (the OpenMM runs, in unpinned worker processes, are half of it), 62 s of
+analysis and 185 s of timing.
+--quick (1 + 10 ps per run, 5 blocks, 1 + 2 timing rounds of 300 steps): a smoke test, 130 s here;
+its errors are too large to mean anything, and it writes nothing unless --write is given.
 
 System: validate/nvt_structure.py's (imported, not copied): 256 TIP4P, 1 g/cm3, site-based reaction
 field r_c = 0.9 nm, eps_rf = 78.3, plain LJ, no dispersion correction, 298 K, one shared start
@@ -54,8 +56,9 @@ the production (every observable computed per block; error = sd over blocks / sq
     at 3 sigma").  The permutation p-value is reported too.
 A run is accurate if it is stable and passes both.  The reference is accurate by definition; the
 OpenMM 1 fs run against it checks that the two codes sample the same liquid.  With 14 runs and two
-3-sigma tests each, a false "inaccurate" has a probability of a few per cent in all; the script
-flags a step that fails while a larger one of the same code passes.
+3-sigma tests each (false-alarm rate near 1 % per test with errors from 10 blocks), one false
+"inaccurate" somewhere has a probability of roughly 10-20 %; the script flags a step that fails while
+a larger one of the same code passes.
 
 Speed: the same thread count (--threads, default 1) for both codes; --rounds rounds over every stable
 run, alternating rotleap and OpenMM config by config (rotleap h1, OpenMM h1, rotleap h2, ...), then
@@ -64,9 +67,9 @@ bench convention: the machine is shared, so read the ratio).  The median of each
 timings is printed beside its best.  With one thread, both codes' timing runs are pinned to one CPU
 (--pin; default the idlest CPU when the timing starts).  OpenMM's CPU platform hands every step's
 work from the Python thread to a worker thread, even with Threads = 1.  Unpinned on this 2-vCPU
-KVM guest, the two threads often sat on different vCPUs, and OpenMM took 1.7-2.2 ms per step instead
-of 1.15 ms; rotleap, a single thread, was not affected.  Without the pin, the first two full runs
-reported ratios of 1.50 and 1.52; with it the same runs gave 1.01.
+KVM guest, the two threads often sat on different vCPUs: in an unpinned full run OpenMM's timings
+were 1.80-2.39 ms per step and the ratio 1.52, while a pinned re-timing of the same runs gave
+1.21-1.23 ms for both codes at 6 fs and a ratio of 1.01.  rotleap, a single thread, is unaffected.
   * rotleap: a `rotleap run` of --timing-steps steps from the run's own start checkpoint, same deck
     (Bussi, tau 1 ps) with no trajectory, no sampling, one thermo row; seconds per step = the
     summary's wall_seconds (rotleap's timing of its step loop) / steps.  Timed at the run's own h
