@@ -153,8 +153,15 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every):
                 own_D=res.get("self_diffusion", ""), deck=open(pre + ".ini").read())
 
 
-def openmm_worker(start_json, steps, every, prefix, pdb):
-    """OpenMM NVT run (a subprocess: one thread, alongside a rotleap run)."""
+OPENMM_INTEGRATORS = ("nose-hoover", "langevin-middle")
+LANGEVIN_SEED = 2026
+
+
+def openmm_worker(start_json, steps, every, prefix, pdb, integrator="nose-hoover", h_ps=0.002, friction=NH_FREQ):
+    """OpenMM NVT run (a subprocess: one thread, alongside a rotleap run).  integrator: "nose-hoover"
+    (this script's: chain of 3, collision frequency `friction` 1/ps) or "langevin-middle" (OpenMM's
+    LangevinMiddleIntegrator, friction `friction` 1/ps, fixed seed; used by bench/sampling_speed.py).
+    A run that fails (exception, non-finite energy or positions) stops with its error recorded."""
     import numpy as np
     import mdtraj as md
     import watermodels
@@ -173,7 +180,13 @@ def openmm_worker(start_json, steps, every, prefix, pdb):
             vel[4 * i + a] = v[i] + np.cross(w, pos[4 * i + a] - r[i])
     system = watermodels.build_system("tip4p", N, ck["box"], CUTOFF, EPS_RF, rigid=True)
     system.addForce(mm.CMMotionRemover(100))
-    integ = mm.NoseHooverIntegrator(T_K, NH_FREQ, 0.002)
+    if integrator == "nose-hoover":
+        integ = mm.NoseHooverIntegrator(T_K, friction, h_ps)
+    elif integrator == "langevin-middle":
+        integ = mm.LangevinMiddleIntegrator(T_K, friction, h_ps)
+        integ.setRandomNumberSeed(LANGEVIN_SEED)
+    else:
+        raise ValueError("integrator %r is not one of %s" % (integrator, ", ".join(OPENMM_INTEGRATORS)))
     integ.setConstraintTolerance(1e-10)
     ctx = mm.Context(system, integ, mm.Platform.getPlatformByName("CPU"), {"Threads": "1"})
     ctx.setPositions(pos)
@@ -196,31 +209,39 @@ def openmm_worker(start_json, steps, every, prefix, pdb):
         pmol = (mass[None, :, None] * vv).sum(1)
         ket = 0.5 * float((pmol * pmol).sum()) / Mmol
         u = s.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole)
-        if not math.isfinite(u):
-            err = "step %d: non-finite energy" % (k * every)
+        if not math.isfinite(u) or not np.isfinite(x).all() or not math.isfinite(ke):
+            err = "step %d: non-finite energy or coordinates" % (k * every)
             break
-        rows.append(dict(step=k * every, t=k * every * 0.002, U=u, T=2 * ke / ((6 * N - 3) * KB),
-                         Tt=2 * ket / ((3 * N - 3) * KB), Tr=2 * (ke - ket) / (3 * N * KB),
-                         cons=u + ke + integ.computeHeatBathEnergy().value_in_unit(unit.kilojoule_per_mole)))
+        bath = integ.computeHeatBathEnergy().value_in_unit(unit.kilojoule_per_mole) \
+            if integrator == "nose-hoover" else 0.0  # Langevin: no bath energy (cons = E, a diagnostic only)
+        rows.append(dict(step=k * every, t=k * every * h_ps, U=u, T=2 * ke / ((6 * N - 3) * KB),
+                         Tt=2 * ket / ((3 * N - 3) * KB), Tr=2 * (ke - ket) / (3 * N * KB), cons=u + ke + bath))
         frames.append(np.asarray(x, dtype=np.float32))
     top = md.load_topology(pdb)
     box = np.array(ck["box"])
-    traj = md.Trajectory(np.array(frames), top, unitcell_lengths=np.tile(box, (len(frames), 1)),
-                         unitcell_angles=np.full((len(frames), 3), 90.0))
-    traj.save_dcd(prefix + ".dcd")
+    if frames:  # a run that failed at its first frame has no trajectory
+        traj = md.Trajectory(np.array(frames), top, unitcell_lengths=np.tile(box, (len(frames), 1)),
+                             unitcell_angles=np.full((len(frames), 3), 90.0))
+        traj.save_dcd(prefix + ".dcd")
     shutil.copy(pdb, prefix + ".pdb")
     json.dump(dict(rows=rows, error=err, wall_s=time.time() - t0, openmm=mm.version.full_version),
               open(prefix + ".json", "w"))
 
 
-def openmm_task(work, steps, every, pdb):
-    pre = os.path.join(work, "openmm_h2")
+def openmm_task(work, steps, every, pdb, integrator="nose-hoover", h_fs=2.0, friction=NH_FREQ):
+    """One OpenMM run in a worker subprocess.  The defaults are this script's run (Nose-Hoover at 2 fs);
+    bench/sampling_speed.py asks for integrator="langevin-middle" at other steps."""
+    default = integrator == "nose-hoover" and h_fs == 2.0 and friction == NH_FREQ
+    pre = os.path.join(work, "openmm_h2" if default else "openmm_%s_h%g" % (integrator, h_fs))
+    extra = [] if default else [integrator, repr(h_fs * 1e-3), repr(friction)]
     t0 = time.time()
     p = subprocess.run([sys.executable, os.path.abspath(__file__), "--openmm-worker",
-                        os.path.join(work, "start.json"), str(steps), str(every), pre, pdb],
+                        os.path.join(work, "start.json"), str(steps), str(every), pre, pdb] + extra,
                        capture_output=True, text=True)
     wall = time.time() - t0
-    base = dict(label="OpenMM Nose-Hoover h=2", code="openmm", thermostat="nose-hoover", h_fs=2.0,
+    name, thermostat = {"nose-hoover": ("Nose-Hoover", "nose-hoover"),
+                        "langevin-middle": ("Langevin-middle", "langevin")}[integrator]
+    base = dict(label="OpenMM %s h=%g" % (name, h_fs), code="openmm", thermostat=thermostat, h_fs=h_fs,
                 steps=steps, wall_s=wall, dcd=pre + ".dcd", pdb=pre + ".pdb", summary={}, own_D="")
     if p.returncode:
         return dict(base, rc=p.returncode, rows=[], error="OpenMM worker failed: " +
@@ -424,7 +445,7 @@ def compare(runs):
 def main():
     if len(sys.argv) > 1 and sys.argv[1] == "--openmm-worker":
         a = sys.argv[2:]
-        openmm_worker(a[0], int(a[1]), int(a[2]), a[3], a[4])
+        openmm_worker(a[0], int(a[1]), int(a[2]), a[3], a[4], *a[5:6], *[float(x) for x in a[6:8]])
         return 0
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rotleap", default=os.path.join(ROOT, "build", "rotleap"))
