@@ -116,7 +116,7 @@ struct rl_ff_fast {
    * work on copies in that order (V, refreshed every step), so a row's neighbours sit in a
    * few contiguous runs of memory and consecutive rows share them.  Kernel rows and their
    * neighbours are ranks; reference rows are ranks with body neighbours. */
-  int *ord, *rank;               /* [n] body of each rank; rank of each body            */
+  int *ord;                      /* [n] body of each rank                                */
   kview V;
   double (*pfs)[3];              /* [nthreads nsites] kernel site forces, rank order    */
   double (*ptq)[3];              /* [nthreads n] kernel torques, rank order             */
@@ -734,7 +734,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->acc);
   free(f->status);
   free(f->mode);
-  free(f->ord); free(f->rank);
+  free(f->ord);
   free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
   free(f->pfs); free(f->ptq);
   free(f);
@@ -771,7 +771,6 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->cell_body = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   const size_t n1 = (size_t)(n > 0 ? n : 1), s1 = (size_t)(ff->nsites > 0 ? ff->nsites : 1);
   f->ord = malloc(sizeof(int) * n1);
-  f->rank = malloc(sizeof(int) * n1);
   f->V.soff = malloc(sizeof(int) * n1);
   f->V.sp = malloc(sizeof(int) * n1);
   f->V.c = malloc(sizeof *f->V.c * n1);
@@ -785,7 +784,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
   if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->tr || !f->acc ||
-      !f->status || !f->mode || !f->ord || !f->rank || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
+      !f->status || !f->mode || !f->ord || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
       !f->V.site || !f->V.dsite || !f->pfs || !f->ptq || !f->cell_of || !f->cell_body ||
       (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
@@ -877,7 +876,6 @@ static int build(rl_forcefield *ff)
   for (int m = 0; m < n; m++) f->ord[m] = cells ? f->cell_body[m] : m;
   for (int m = 0, o = 0; m < n; m++) {
     const int i = f->ord[m];
-    f->rank[i] = m;
     f->V.soff[m] = o;
     f->V.sp[m] = ff->body_species[i];
     o += ff->sp_nsites[f->V.sp[m]];
