@@ -6,7 +6,7 @@ build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMa
 testdeps=(libcmocka-dev python3 python3-mdtraj)               # unit tests; JSON check; MDTraj reads our DCD
 example=(python3 python3-matplotlib)                          # PNG plots of the default job
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
-bench=(lammps openmpi-bin)                                    # LAMMPS side-by-side benchmark
+bench=(lammps openmpi-bin python3-mdtraj)                     # LAMMPS side by side; sampling_speed's RDFs
 want=("${build[@]}")
 case "${1:-build}" in
   build) ;;
