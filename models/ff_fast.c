@@ -871,8 +871,8 @@ static int build(rl_forcefield *ff)
     for (int c = ncell; c > 0; c--) f->cell_start[c] = f->cell_start[c - 1];
     f->cell_start[0] = 0;
   }
-  /* the spatial order (cell_body lists the bodies cell by cell), its inverse, and the first
-   * site of each rank in the kernels' copies */
+  /* the spatial order (cell_body lists the bodies cell by cell), and each rank's species,
+   * first site in the kernels' copies and centre */
   for (int m = 0; m < n; m++) f->ord[m] = cells ? f->cell_body[m] : m;
   for (int m = 0, o = 0; m < n; m++) {
     const int i = f->ord[m];
