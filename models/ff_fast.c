@@ -19,9 +19,9 @@
  * within the centres' interaction range (the list holds about twice as many), copies their
  * sites into structure-of-arrays buffers padded to 8 lanes, runs branch-free `omp simd` loops
  * (the cutoff as a 0/1 factor), then scatters the forces.  TIP4P runs its 10 terms in one
- * loop; "charge-lj" one loop per term.  Each term is the reference arithmetic (same formulas,
- * same operation order per site pair); separations and sums are formed in another order, so
- * results agree to round-off.
+ * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is
+ * rl_rsqrt (a few ulp, no divider), a * b + c may be one FMA, and separations and sums are
+ * formed in another order, so results agree with the reference to round-off.
  *
  * Threads: rows are split into contiguous ranges of nearly equal cost, one per thread; each
  * thread adds into its own site-force and torque buffers; the buffers and the per-thread energy
@@ -31,6 +31,7 @@
  * sum_sites d_a (x) F_a (d_a = site - centre, F_a = total site force), which equals the
  * reference sum of R (x) f with R = r - d_a + d_b. */
 #include "forcefield_impl.h"
+#include "rsqrt.h"
 #include "rotleap/error.h"
 
 #include <math.h>
@@ -342,7 +343,7 @@ RL_INLINE void term_loop(const int MODE, const int TRUNC, const int WHAT, const 
       fx += fr * dx; fy += fr * dy; fz += fr * dz;
     }
     if (WHAT != T_LJ) { /* rl_coulomb_rf_pair */
-      double ir = 1.0 / sqrt(r2);
+      double ir = rl_rsqrt(r2);
       double fr = qq * (ir * ir * ir - 2.0 * krf);
       double u = qq * (ir + krf * r2 - crf);
       fr *= in;
@@ -466,11 +467,10 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
           double r2 = dx * dx + dy * dy + dz * dz;
           const double in = inside(MODE, &B, &b, k, r2);
           bad += in * (r2 < md2 ? 1.0 : 0.0);
-          double ir = 1.0 / sqrt(r2);
-          double fr = qq[p][q] * (ir * ir * ir - 2.0 * krf);
-          double u = qq[p][q] * (ir + krf * r2 - crf);
-          fr *= in;
-          ecoul += in * u;
+          /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
+          const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
+          const double fr = qin * (ir * ir * ir - 2.0 * krf);
+          ecoul += qin * (ir + krf * r2 - crf);
           const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
           gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
           gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
@@ -532,7 +532,7 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
       double frl, ul = lj_eval(TRUNC, C, rc, rsw, r2, &frl);
       /* dd_plain (dipole.c) */
       const double mjx = b.m[0][k], mjy = b.m[1][k], mjz = b.m[2][k];
-      double ir2 = 1.0 / r2, ir = sqrt(ir2), ir3 = ir * ir2, ir5 = ir3 * ir2;
+      double ir = rl_rsqrt(r2), ir2 = ir * ir, ir3 = ir * ir2, ir5 = ir3 * ir2;
       double pij = mix * mjx + miy * mjy + miz * mjz;
       double pi = mix * rx + miy * ry + miz * rz;
       double pj = mjx * rx + mjy * ry + mjz * rz;
