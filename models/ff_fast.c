@@ -1100,7 +1100,9 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
         st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
     }
     f->status[t] = st;
+#ifdef _OPENMP /* -fopenmp-simd accepts the other directives without OpenMP, not this one */
 #pragma omp barrier
+#endif
     if (T > 1) { /* add the other threads' buffers, in thread order */
 #pragma omp for schedule(static)
       for (int s = 0; s < ns; s++)

@@ -294,7 +294,11 @@ static void test_mixture(void **state)
   p.lj_truncation = RL_LJ_SHIFTED;
   rl_forcefield *f1 = make(&s, &p, RL_KERNEL_AUTO, 1), *f2 = make(&s, &p, RL_KERNEL_AUTO, 2),
                 *f2b = make(&s, &p, RL_KERNEL_AUTO, 2), *f3 = make(&s, &p, RL_KERNEL_AUTO, 3);
+#ifdef _OPENMP /* rotleap links OpenMP publicly: this test is built the same way */
   FF_CHECK_TRUE("threads = 2 is used", rl_forcefield_threads(f2) == 2);
+#else
+  FF_CHECK_TRUE("threads = 2 runs on one thread without OpenMP", rl_forcefield_threads(f2) == 1);
+#endif
   compare(f1, f2, s.sys, "mixture, 1 thread vs 2 threads", 1e-13);
   compare(f2, f3, s.sys, "mixture, 2 threads vs 3 threads", 1e-13);
   double w = compare(f2, f2b, s.sys, "mixture, 2 threads twice (reproducible)", 0.0);
