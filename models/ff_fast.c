@@ -204,6 +204,7 @@ typedef struct {
   double x[RL_FAST_MAXS][3][RL_FAST_B];    /* j's sites: lab (P_SITE), else site - centre   */
   double f[RL_FAST_MAXS][3][RL_FAST_B];    /* forces on j's sites                            */
   double g[RL_FAST_MAXS][3][RL_FAST_B];    /* tip4p: forces on i's sites from each j         */
+  double r2min[RL_FAST_B];                 /* tip4p: closest site pair of each j, squared    */
   double m[3][RL_FAST_B];                  /* stockmayer: j's dipole                          */
   double t[3][RL_FAST_B];                  /* stockmayer: torques on j                       */
 } batch;
@@ -447,15 +448,16 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
     batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, &b);
     if (b.n == 0) continue;
     const int np = b.np;
-#pragma omp simd reduction(+ : elj, ecoul, bad, w0, w1, w2, w3, w4, w5, v0, v1, v2, v3, v4, v5, v6, v7, v8)
+#pragma omp simd reduction(+ : elj, ecoul, w0, w1, w2, w3, w4, w5)
     for (int k = 0; k < np; k++) {
       double gi[4][3] = {{0}}, gj[4][3] = {{0}};
+      double r2min;
       { /* LJ between the LJ sites */
         double dx, dy, dz;
         sep(MODE, &B, a[0][0], a[0][1], a[0][2], &b, 0, k, &dx, &dy, &dz);
         double r2 = dx * dx + dy * dy + dz * dz;
         const double in = inside(MODE, &B, &b, k, r2);
-        bad += in * (r2 < md2 ? 1.0 : 0.0);
+        r2min = r2;
         double fr, u = lj_eval(TRUNC, C, rc, rsw, r2, &fr);
         fr *= in;
         elj += in * u;
@@ -476,7 +478,7 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
           sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
           double r2 = dx * dx + dy * dy + dz * dz;
           const double in = inside(MODE, &B, &b, k, r2);
-          bad += in * (r2 < md2 ? 1.0 : 0.0);
+          r2min = r2 < r2min ? r2 : r2min;
           /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
           const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
           const double fr = qin * (ir * ir * ir - 2.0 * krf);
@@ -489,15 +491,6 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
             w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
           }
         }
-      if (!SITEVIR) { /* R (x) F, F the pair's force on i */
-        const double Fx = (gi[0][0] + gi[1][0]) + (gi[2][0] + gi[3][0]);
-        const double Fy = (gi[0][1] + gi[1][1]) + (gi[2][1] + gi[3][1]);
-        const double Fz = (gi[0][2] + gi[1][2]) + (gi[2][2] + gi[3][2]);
-        const double Rx = b.R[0][k], Ry = b.R[1][k], Rz = b.R[2][k];
-        v0 += Rx * Fx; v1 += Rx * Fy; v2 += Rx * Fz;
-        v3 += Ry * Fx; v4 += Ry * Fy; v5 += Ry * Fz;
-        v6 += Rz * Fx; v7 += Rz * Fy; v8 += Rz * Fz;
-      }
 #pragma GCC unroll 4
       for (int s = 0; s < 4; s++)
 #pragma GCC unroll 3
@@ -505,6 +498,14 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
           b.f[s][c][k] = gj[s][c];
           b.g[s][c][k] = gi[s][c];
         }
+      b.r2min[k] = r2min;
+    }
+    { /* overlap: a site pair inside the cutoff closer than the minimum distance, i.e. (the
+       * cutoff being a 0/1 factor) r2min < min(md2, rc2), or < md2 for a molecule cutoff; one
+       * min per term in the loop above instead of a compare, select and add */
+      const double lim = MODE == P_MOL || md2 < B.rc2 ? md2 : B.rc2;
+#pragma omp simd reduction(+ : bad)
+      for (int k = 0; k < np; k++) bad += b.w[k] * (b.r2min[k] < lim ? 1.0 : 0.0);
     }
     for (int s = 0; s < 4; s++)
       for (int c = 0; c < 3; c++) {
@@ -513,6 +514,19 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
         for (int k = 0; k < np; k++) sum += b.g[s][c][k];
         fi[s][c] += sum;
       }
+    if (!SITEVIR) { /* R (x) F, F the pair's force on i; a loop of its own, because its 9 sums
+                     * in the term loop spilled registers there */
+#pragma omp simd reduction(+ : v0, v1, v2, v3, v4, v5, v6, v7, v8)
+      for (int k = 0; k < np; k++) {
+        const double Fx = (b.g[0][0][k] + b.g[1][0][k]) + (b.g[2][0][k] + b.g[3][0][k]);
+        const double Fy = (b.g[0][1][k] + b.g[1][1][k]) + (b.g[2][1][k] + b.g[3][1][k]);
+        const double Fz = (b.g[0][2][k] + b.g[1][2][k]) + (b.g[2][2][k] + b.g[3][2][k]);
+        const double Rx = b.R[0][k], Ry = b.R[1][k], Rz = b.R[2][k];
+        v0 += Rx * Fx; v1 += Rx * Fy; v2 += Rx * Fz;
+        v3 += Ry * Fx; v4 += Ry * Fy; v5 += Ry * Fz;
+        v6 += Rz * Fx; v7 += Rz * Fy; v8 += Rz * Fz;
+      }
+    }
     batch_scatter(0, V, &b, K, fs, NULL);
   }
   for (int s = 0; s < 4; s++)
