@@ -29,7 +29,9 @@
  *
  * Virial: kernels add r (x) f with r the site separation; afterwards W = sum r (x) f -
  * sum_sites d_a (x) F_a (d_a = site - centre, F_a = total site force), which equals the
- * reference sum of R (x) f with R = r - d_a + d_b. */
+ * reference sum of R (x) f with R = r - d_a + d_b.  The TIP4P kernel with the centres' image
+ * adds R (x) F per pair directly, and the compute step adds back its share of the correction
+ * (see tip4p_row). */
 #include "forcefield_impl.h"
 #include "rsqrt.h"
 #include "rotleap/error.h"
@@ -417,7 +419,7 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
 /* One LJ site without charge and three charges without LJ (TIP4P and its reparametrisations):
  * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
  * + 9 Coulomb terms run in one loop, so each neighbour's sites are loaded once and its forces
- * stored once.  Each term is the reference arithmetic.
+ * stored once.  Each term is the reference formula (1/sqrt by rl_rsqrt).
  *
  * Virial: with the centres' image (P_SHIFT, P_MOL) every term's separation is r = R + d_a -
  * d_b, so the pair's share of the molecular virial is R (x) F with F the pair's total force:
