@@ -1141,21 +1141,22 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     for (int m = 0; m < n; m++) {
       const int i = ord[m], k = ff->body_species[i], ns_i = ff->sp_nsites[k];
       const int oi = ff->body_site_off[i], om = V->soff[m];
-      if (f->sk[k].kind == K_TIP4P && mode[k] != P_SITE)
-        for (int a = 0; a < ns_i; a++) {
-          double F[3] = {0.0, 0.0, 0.0};
-          for (int u = 0; u < T; u++)
-            for (int c = 0; c < 3; c++) F[c] += f->pfs[(size_t)u * (size_t)ns + (size_t)(om + a)][c];
-          for (int x = 0; x < 3; x++)
-            for (int y = 0; y < 3; y++) cv[3 * x + y] += V->dsite[om + a][x] * F[y];
-        }
+      const int mv = f->sk[k].kind == K_TIP4P && mode[k] != P_SITE; /* 4 sites */
+      double F[4][3] = {{0.0}};                                       /* mv: kernel site forces */
       for (int u = 0; u < T; u++) {
         const double(*pf)[3] = f->pfs + (size_t)u * (size_t)ns + (size_t)om;
         const double *pt = f->ptq[(size_t)u * (size_t)n + (size_t)m];
         for (int a = 0; a < ns_i; a++)
-          for (int c = 0; c < 3; c++) ff->fs[oi + a][c] += pf[a][c];
+          for (int c = 0; c < 3; c++) {
+            ff->fs[oi + a][c] += pf[a][c];
+            if (mv) F[a][c] += pf[a][c];
+          }
         for (int c = 0; c < 3; c++) ff->tq[i][c] += pt[c];
       }
+      if (mv)
+        for (int a = 0; a < 4; a++)
+          for (int x = 0; x < 3; x++)
+            for (int y = 0; y < 3; y++) cv[3 * x + y] += V->dsite[om + a][x] * F[a][y];
     }
     for (int c = 0; c < 9; c++) f->acc[t].vir[c] += cv[c]; /* this thread's: read in order below */
   }

@@ -5,16 +5,16 @@
 #include <stdint.h>
 #include <string.h>
 
-/* 1 / sqrt(x) for normal x > 0, within a few ulp, in multiplies and adds only, so that an
- * `omp simd` loop vectorises it.  In the TIP4P kernel a vsqrtpd and a vdivpd per Coulomb term
- * (9 per pair) kept the divider busy; this costs 14 multiplies and adds, which the FMA ports
- * overlap with the rest of the loop.
+/* 1 / sqrt(x) for 2^-1021 <= x < 2^1024 (x / 2 must be normal), within a few ulp, in
+ * multiplies and adds only, so that an `omp simd` loop vectorises it.  In the TIP4P kernel a
+ * vsqrtpd and a vdivpd per Coulomb term (9 per pair) kept the divider busy; this costs 14
+ * multiplies and adds, which the FMA ports overlap with the rest of the loop.
  *
- * The start is the exponent-halving bit trick (relative error below 3.5e-2 for every normal x);
- * each Newton step y += y (1/2 - x y^2 / 2) takes the error e to about 1.5 e^2, so four steps
- * reach ~1e-21, below round-off, and the result is within a few ulp of 1 / sqrt(x)
- * (tests/interactions/test_rsqrt.c checks 4 ulp over the normal range).  x = 0 gives a large
- * finite value, which the kernels' overlap check reports before it is used. */
+ * The start is the exponent-halving bit trick (relative error below 3.5e-2); each Newton step
+ * y += y (1/2 - x y^2 / 2) takes the error e to about 1.5 e^2, so four steps reach ~1e-21,
+ * below round-off, and the result is within a few ulp of 1 / sqrt(x)
+ * (tests/interactions/test_rsqrt.c checks 4 ulp over that range).  x = 0 gives a large finite
+ * value, which the kernels' overlap check reports before it is used. */
 static inline double rl_rsqrt(double x)
 {
   uint64_t u;
