@@ -26,7 +26,7 @@ typedef struct {
 enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL,
-  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
+  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_PREFIX, K_THERMO, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_PROGRESS, NKEYS
 };
 
@@ -56,6 +56,7 @@ static const key_def keys[NKEYS] = {
     [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi", "NVE, the paper's isokinetic NVT, or Bussi stochastic rescaling"},
     [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
     [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi relaxation time; default 100 h"},
+    [K_TGROUPS] = {"run", "thermostat_groups", K_CHOICE, Q_NONE, "trans-rot", "trans-rot|all", "Bussi: one thermostat for translation and one for rotation, or one for both (docs/integrators.md)"},
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
@@ -384,6 +385,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
   if (r.val[K_TAU] && ens != 2) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi");
+  d->thermostat_groups = choice(&r, K_TGROUPS) ? RL_THERMO_GROUPS_ALL : RL_THERMO_GROUPS_TRANS_ROT;
+  if (r.val[K_TGROUPS] && ens != 2)
+    problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");
   if (!(d->tau > 0) && ens == 2 && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
     problem(&r, r.line[K_TAU], "run.tau must be positive");
   d->equilibrate_steps = integer(&r, K_EQSTEPS, 0, 0);

@@ -28,6 +28,7 @@ typedef struct {
   rl_thermostat thermostat;
   double thermostat_temperature, tau;
   unsigned long thermostat_seed;
+  rl_thermo_groups thermostat_groups;
   long equilibrate_steps;
   double equilibrate_timestep;
   /* [output] */

@@ -203,6 +203,7 @@ int rl_app_run(const rl_deck *d)
   p.T0 = d->thermostat_temperature;
   p.tau = d->tau;
   p.seed = d->thermostat_seed;
+  p.groups = d->thermostat_groups;
   p.force_general = d->force_general;
   if (!st) in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
   if (!st && in && s.restart && s.blob_size >= sizeof(run_blob) && !memcmp(s.blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {

@@ -171,6 +171,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     p.T0 = d->thermostat_temperature;
     p.tau = d->tau;
     p.seed = d->thermostat_seed;
+    p.groups = d->thermostat_groups;
     p.force_general = d->force_general;
     in = rl_integrator_alloc(sys, &p, rl_forcefield_provider(ff));
     st = in ? rl_integrator_init(in) : RL_EINVAL;

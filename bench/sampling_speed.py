@@ -23,10 +23,13 @@ field r_c = 0.9 nm, eps_rf = 78.3, plain LJ, no dispersion correction, 298 K, on
 (validate/nve_conservation.shared_start: rotleap relaxes a lattice and equilibrates 2500 steps).
 
 Runs, each from that start: eq_ps at its own h (discarded), then prod_ps of production:
-  * the reference: rotleap `rotleap run`, Bussi stochastic velocity rescaling, tau = 1 ps, h = 1 fs
-    (--ref-fs);
-  * rotleap, Bussi tau = 1 ps, h = --rotleap-fs (default 2, 4, 5, 6, 8, 10 fs); optionally the
-    paper's isokinetic thermostat at --isokinetic-fs (default none);
+  * the reference: rotleap `rotleap run`, Bussi stochastic velocity rescaling, tau = --tau
+    (default 0.1 ps, GROMACS's usual v-rescale tau_t), h = 1 fs (--ref-fs);
+  * rotleap, Bussi with the same tau, h = --rotleap-fs (default 2, 4, 5, 6, 8, 10 fs); optionally the
+    paper's isokinetic thermostat at --isokinetic-fs (default none).  Every rotleap run uses the
+    default thermostat groups (trans-rot: translation and rotation thermostatted apart).  Runs
+    before 2026-11-21 used tau = 1 ps and one thermostat over both; rotleap was then accurate to
+    6 fs, the same as OpenMM (docs/integrators.md, "Bussi thermostat groups", says why);
   * OpenMM 7.7, CPU platform, LangevinMiddleIntegrator (friction --friction = 1/ps, fixed seed),
     SETTLE rigid water, M a virtual site, one thread, h = --openmm-fs (default 1, 2, 3, 4, 5, 6, 8,
     10 fs).
@@ -71,7 +74,7 @@ KVM guest, the two threads often sat on different vCPUs: in an unpinned full run
 were 1.80-2.39 ms per step and the ratio 1.52, while a pinned re-timing of the same runs gave
 1.21-1.23 ms for both codes at 6 fs and a ratio of 1.01.  rotleap, a single thread, is unaffected.
   * rotleap: a `rotleap run` of --timing-steps steps from the run's own start checkpoint, same deck
-    (Bussi, tau 1 ps) with no trajectory, no sampling, one thermo row; seconds per step = the
+    (Bussi, tau as above) with no trajectory, no sampling, one thermo row; seconds per step = the
     summary's wall_seconds (rotleap's timing of its step loop) / steps.  Timed at the run's own h
     because the Verlet list is rebuilt more often per step at larger h.
   * OpenMM: the production's system and integrator in a Context with Threads = --threads, 200
@@ -294,6 +297,8 @@ def main():
     ap.add_argument("--rotleap-fs", default="2,4,5,6,8,10", help="rotleap Bussi steps (fs)")
     ap.add_argument("--isokinetic-fs", default="", help="rotleap isokinetic steps (fs; default none)")
     ap.add_argument("--openmm-fs", default="1,2,3,4,5,6,8,10", help="OpenMM LangevinMiddle steps (fs)")
+    ap.add_argument("--tau", type=float, default=0.1, help="rotleap Bussi relaxation time (ps) of every rotleap "
+                    "run, the reference included")
     ap.add_argument("--friction", type=float, default=1.0, help="OpenMM Langevin friction (1/ps)")
     ap.add_argument("--threads", type=int, default=1, help="threads of both codes in the timing")
     ap.add_argument("--rounds", type=int, help="alternating timing rounds over every stable run (default 3; "
@@ -326,7 +331,8 @@ def main():
     rl_fs = [h for h in rl_fs if h != args.ref_fs]  # the reference is that run
     all_fs = [args.ref_fs] + rl_fs + iso_fs + omm_fs
     frame = frame_fs(all_fs)
-    # nvt_structure.analyse reads these module constants
+    # nvt_structure.analyse and .deck read these module constants
+    ns.TAU_BUSSI = args.tau
     ns.FRAME_PS = frame * 1e-3
     ns.RDF_STRIDE = max(1, int(round(RDF_EVERY_PS / ns.FRAME_PS)))
     eq_frames = int(round(eq / ns.FRAME_PS))
@@ -340,6 +346,9 @@ def main():
         runs, eqinfo, t_sim = saved["runs"], saved["eqinfo"], saved["t_sim"]
         t0 = time.time() - t_sim  # the wall time reported: the earlier simulations + this analysis and timing
         ck = rlcheckpoint.read(os.path.join(work, "equil.chk"))
+        if abs(saved.get("tau_ps", 1.0) - args.tau) > 1e-12:
+            sys.exit("--reanalyse: that run's rotleap Bussi tau was %g ps; give --tau %g" % (saved.get("tau_ps", 1.0),
+                                                                                            saved.get("tau_ps", 1.0)))
         if abs(saved["frame_fs"] - frame) > 1e-9:
             sys.exit("--reanalyse: that run stored frames every %g fs, these steps need %g" % (saved["frame_fs"], frame))
     else:
@@ -376,7 +385,7 @@ def main():
                 runs.append(r)
         t_sim = time.time() - t0
         with open(os.path.join(work, "runs.json"), "w") as f:
-            json.dump(dict(runs=runs, eqinfo=eqinfo, t_sim=t_sim, frame_fs=frame), f)
+            json.dump(dict(runs=runs, eqinfo=eqinfo, t_sim=t_sim, frame_fs=frame, tau_ps=args.tau), f)
         print("simulations done in %.0f s; analysing with MDTraj" % t_sim, flush=True)
     # ------------------------------------------------------------------------- analysis
     t1 = time.time()
@@ -505,6 +514,7 @@ def main():
                     a if not os.path.isabs(a) else os.path.relpath(a, ROOT) for a in sys.argv[1:]))).strip(),
                 eq_ps=eq_eff, prod_ps=prod_eff, blocks=nblocks, frame_fs=frame, rdf_stride=ns.RDF_STRIDE,
                 rounds=rounds, pair_rounds=pair_rounds, timing_steps=tsteps, pinned_cpu=pin, threads=args.threads, friction=args.friction,
+                tau=args.tau,
                 wall_s=elapsed, sim_s=t_sim, analysis_s=t_an, timing_s=t_time, load_start=load_start,
                 load_end=load_end, cpus=os.cpu_count(), openmm=openmm.version.full_version,
                 mdtraj=mdtraj.version.version, reanalysed=bool(args.reanalyse))
@@ -648,8 +658,9 @@ def update_md(path, runs, ref, choice, ratio, notes, meta):
             "both codes pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "not pinned"),
          "",
          "Runs: %g ps equilibration + %g ps production each, %d blocks of %g ps, frames every %g fs (RDF every "
-         "%g fs)." % (meta["eq_ps"], meta["prod_ps"], meta["blocks"], meta["prod_ps"] / meta["blocks"],
-                      meta["frame_fs"], meta["frame_fs"] * meta["rdf_stride"]),
+         "%g fs). rotleap: Bussi, tau = %g ps, thermostat groups trans-rot (the default); OpenMM: friction %g/ps."
+         % (meta["eq_ps"], meta["prod_ps"], meta["blocks"], meta["prod_ps"] / meta["blocks"],
+            meta["frame_fs"], meta["frame_fs"] * meta["rdf_stride"], meta["tau"], meta["friction"]),
          "",
          "| " + " | ".join(HEAD) + " |", "|" + "---|" * len(HEAD)]
     for r in runs:

@@ -67,6 +67,16 @@ void rl_integrator_params_default(rl_integrator_params *p)
   p->force_general = 0;
   p->thermostat = RL_THERMO_NONE;
   p->T0 = 0.0;
+  p->groups = RL_THERMO_GROUPS_TRANS_ROT;
+}
+
+const char *rl_thermo_groups_name(rl_thermo_groups g)
+{
+  switch (g) {
+  case RL_THERMO_GROUPS_TRANS_ROT: return "trans-rot";
+  case RL_THERMO_GROUPS_ALL: return "all";
+  }
+  return NULL;
 }
 
 static int validate(const rl_system *s, const rl_integrator_params *p)
@@ -85,6 +95,8 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
   if (p->thermostat != RL_THERMO_NONE && (!(p->T0 > 0.0) || !isfinite(p->T0)))
     return rl_error(RL_EINVAL, "%s thermostat needs a positive target temperature, got %g",
                     p->thermostat == RL_THERMO_BUSSI ? "Bussi" : "isokinetic", p->T0);
+  if (p->thermostat == RL_THERMO_BUSSI && !rl_thermo_groups_name(p->groups))
+    return rl_error(RL_EINVAL, "unknown Bussi thermostat groups %d", (int)p->groups);
   if (p->thermostat == RL_THERMO_BUSSI && (!(p->tau > 0.0) || !isfinite(p->tau)))
     return rl_error(RL_EINVAL, "Bussi thermostat needs a positive relaxation time tau, got %g", p->tau);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
@@ -276,30 +288,42 @@ static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
  * are multiplied by alpha, alpha^2 drawn for their kinetic energy K (rotational part from
  * l(t+h/2) with A(t)), as leapfrog codes apply it.  Scaling the propagated half-step values -- not
  * the interpolated on-step ones through eqs. 17-18, which would scale what is carried forward by
- * 2 alpha - 1 and double the energy fluctuation -- keeps the stationary law canonical.  The
- * energy taken out, (1 - alpha^2) K, is added to the thermostat's account. */
-static double bussi_rescale(rl_integrator *in, int g)
+ * 2 alpha - 1 and double the energy fluctuation -- keeps the stationary law canonical.  With
+ * RL_THERMO_GROUPS_TRANS_ROT the translational and rotational parts get one alpha each, drawn
+ * for their own K and dof (a group with no dof or no kinetic energy is left alone); with
+ * RL_THERMO_GROUPS_ALL one alpha for the sum.  The energy taken out, sum (1 - alpha^2) K, is
+ * added to the thermostat's account.  Returns the two alphas in a[0] (v) and a[1] (l). */
+static void bussi_rescale(rl_integrator *in, double a[2])
 {
   rl_system *s = in->sys;
-  double K = 0.0;
+  double K[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
     for (int b = 0; b < sp->count; b++) {
       const double *v = s->v[sp->first + b];
-      K += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      if (sp->rot_off >= 0) K += fam->ke_rot(sp, s, b, s->l[sp->rot_off + b]);
+      K[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (sp->rot_off >= 0) K[1] += fam->ke_rot(sp, s, b, s->l[sp->rot_off + b]);
     }
   }
-  if (!(K > 0.0) || g <= 0) return 1.0;
-  double a2 = bussi_ratio(in->rng, K, 0.5 * g * s->kB * in->p.T0, g, in->p.h / in->p.tau);
-  double a = sqrt(a2);
+  const int g[2] = {rl_system_dof_translational(s), rl_system_dof_rotational(s)};
+  const double kT = s->kB * in->p.T0, x = in->p.h / in->p.tau;
+  double a2[2] = {1.0, 1.0};
+  if (in->p.groups == RL_THERMO_GROUPS_ALL) {
+    double Ks = K[0] + K[1];
+    int gs = g[0] + g[1];
+    if (Ks > 0.0 && gs > 0) a2[0] = a2[1] = bussi_ratio(in->rng, Ks, 0.5 * gs * kT, gs, x);
+  } else {
+    for (int j = 0; j < 2; j++)
+      if (K[j] > 0.0 && g[j] > 0) a2[j] = bussi_ratio(in->rng, K[j], 0.5 * g[j] * kT, g[j], x);
+  }
+  a[0] = sqrt(a2[0]);
+  a[1] = sqrt(a2[1]);
   for (int i = 0; i < s->n; i++)
-    for (int c = 0; c < 3; c++) s->v[i][c] *= a;
+    for (int c = 0; c < 3; c++) s->v[i][c] *= a[0];
   for (int i = 0; i < s->nrot; i++)
-    for (int c = 0; c < 3; c++) s->l[i][c] *= a;
-  in->thermo_work += (1.0 - a2) * K;
-  return a;
+    for (int c = 0; c < 3; c++) s->l[i][c] *= a[1];
+  in->thermo_work += (1.0 - a2[0]) * K[0] + (1.0 - a2[1]) * K[1];
 }
 
 int rl_integrator_step(rl_integrator *in, rl_step_info *out)
@@ -350,7 +374,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
                       "start first (Bussi with a short tau) or use a smaller time step", in->steps,
                       in->t, info.temperature, 4.0 * in->p.T0);
   }
-  info.beta = beta;
+  info.beta = info.beta_rot = beta;
   info.conserved = info.total + in->thermo_work;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC) in->thermo_work += (1.0 - beta * beta) * ke;
   const int bussi = in->p.thermostat == RL_THERMO_BUSSI;
@@ -382,8 +406,10 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     }
   }
   if (bussi) {
-    double a = bussi_rescale(in, g);
-    info.beta = a;
+    double a[2];
+    bussi_rescale(in, a);
+    info.beta = a[0];
+    info.beta_rot = a[1];
     for (int i = 0; i < s->n; i++)
       for (int c = 0; c < 3; c++) s->r[i][c] += h * s->v[i][c];
   }
