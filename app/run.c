@@ -224,7 +224,7 @@ int rl_app_run(const rl_deck *d)
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
   fprintf(thermo, "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"
-                  "temperature,t_trans,t_rot,pressure,conserved,calE\n");
+                  "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n");
   running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
   long first = 0;
   if (!st && s.restart) { /* continue: forces at t, no re-staggering, bookkeeping restored */
@@ -310,10 +310,10 @@ int rl_app_run(const rl_deck *d)
       }
     }
     if (k % d->thermo_every == 0)
-      fprintf(thermo, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.6g,%.10g,%.4e\n",
+      fprintf(thermo, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.6g,%.10g,%.4e,%.6g,%.6g\n",
               k, info.t, info.total, info.potential, e.lj, e.coulomb, e.dipolar, e.quadrupolar, e.dispersion,
               info.ke_trans, info.ke_rot, info.temperature, info.t_trans, info.t_rot, pr, info.conserved,
-              E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0);
+              E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, info.t_trans_mid, info.t_rot_mid);
     if (progress && now() - last_progress > 0.5) {
       double el = now() - t0, frac = (double)(k + 1) / d->steps;
       double nsday = d->units == RL_UNITS_REAL ? (k + 1) * d->timestep * 1e-3 / el * 86400.0 : 0.0;

@@ -284,19 +284,11 @@ static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
   return a2 > 0.0 ? a2 : 0.0;
 }
 
-/* Bussi rescaling of the new mid-step velocities and angular momenta: v(t+h/2) and l(t+h/2)
- * are multiplied by alpha, alpha^2 drawn for their kinetic energy K (rotational part from
- * l(t+h/2) with A(t)), as leapfrog codes apply it.  Scaling the propagated half-step values -- not
- * the interpolated on-step ones through eqs. 17-18, which would scale what is carried forward by
- * 2 alpha - 1 and double the energy fluctuation -- keeps the stationary law canonical.  With
- * RL_THERMO_GROUPS_TRANS_ROT the translational and rotational parts get one alpha each, drawn
- * for their own K and dof (a group with no dof or no kinetic energy is left alone); with
- * RL_THERMO_GROUPS_ALL one alpha for the sum.  The energy taken out, sum (1 - alpha^2) K, is
- * added to the thermostat's account.  Returns the two alphas in a[0] (v) and a[1] (l). */
-static void bussi_rescale(rl_integrator *in, double a[2])
+/* Kinetic energies of the mid-step v(t+h/2) (K[0]) and l(t+h/2) (K[1], with A(t)). */
+static void mid_kinetic(const rl_integrator *in, double K[2])
 {
-  rl_system *s = in->sys;
-  double K[2] = {0.0, 0.0};
+  const rl_system *s = in->sys;
+  K[0] = K[1] = 0.0;
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
@@ -306,6 +298,21 @@ static void bussi_rescale(rl_integrator *in, double a[2])
       if (sp->rot_off >= 0) K[1] += fam->ke_rot(sp, s, b, s->l[sp->rot_off + b]);
     }
   }
+}
+
+/* Bussi rescaling of the new mid-step velocities and angular momenta: v(t+h/2) and l(t+h/2)
+ * are multiplied by alpha, alpha^2 drawn for their kinetic energy K (rotational part from
+ * l(t+h/2) with A(t)), as leapfrog codes apply it.  Scaling the propagated half-step values -- not
+ * the interpolated on-step ones through eqs. 17-18, which would scale what is carried forward by
+ * 2 alpha - 1 and double the energy fluctuation -- keeps the stationary law canonical.  With
+ * RL_THERMO_GROUPS_TRANS_ROT the translational and rotational parts get one alpha each, drawn
+ * for their own K and dof (a group with no dof or no kinetic energy is left alone); with
+ * RL_THERMO_GROUPS_ALL one alpha for the sum.  The energy taken out, sum (1 - alpha^2) K, is
+ * added to the thermostat's account.  K: mid_kinetic's.  Returns the two alphas in a[0] (v)
+ * and a[1] (l). */
+static void bussi_rescale(rl_integrator *in, const double K[2], double a[2])
+{
+  rl_system *s = in->sys;
   const int g[2] = {rl_system_dof_translational(s), rl_system_dof_rotational(s)};
   const double kT = s->kB * in->p.T0, x = in->p.h / in->p.tau;
   double a2[2] = {1.0, 1.0};
@@ -405,9 +412,13 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
       }
     }
   }
+  double Kmid[2];
+  mid_kinetic(in, Kmid);
+  info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
+  info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
   if (bussi) {
     double a[2];
-    bussi_rescale(in, a);
+    bussi_rescale(in, Kmid, a);
     info.beta = a[0];
     info.beta_rot = a[1];
     for (int i = 0; i < s->n; i++)

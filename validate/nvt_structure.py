@@ -96,11 +96,13 @@ TEMPS = [("T", "T"), ("Tt", "T_trans"), ("Tr", "T_rot")]
 
 
 # ------------------------------------------------------------------------------------ runs
-def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0):
+def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=()):
+    """extra: further [run] lines, e.g. "thermostat_groups = all" or "seed = 3"."""
     run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h_ps, "integrator = rl",
            "ensemble = %s" % ensemble, "temperature = %g K" % T_K]
     if ensemble == "nvt-bussi":
         run.append("tau = %g ps" % TAU_BUSSI)
+    run += list(extra)
     sysl = ["[system]", "model = tip4p", "count = %d" % N, "box = %s" % " ".join(repr(b) for b in box)]
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = 1"]
     sysl.append("temperature = %g K" % T_K)
@@ -118,14 +120,16 @@ def read_kv(path):
                                                if "=" in ln and not ln.startswith("#"))}
 
 
-def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every):
+def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix=""):
     """One rotleap NVT run from the shared start.  rotleap appends to PREFIX.dcd when it starts
     from a checkpoint, so the 0-step template run (from a lattice, same prefix) creates the empty
-    DCD that the production run then fills."""
-    tag = "rl_%s_h%g" % ("bussi" if ensemble == "nvt-bussi" else "iso", h_ps * 1e3)
+    DCD that the production run then fills.  extra: further [run] deck lines for both runs (a
+    "seed = k" there seeds the thermostat: the template's checkpoint carries its random state);
+    suffix: appended to the run's file names."""
+    tag = "rl_%s_h%g%s" % ("bussi" if ensemble == "nvt-bussi" else "iso", h_ps * 1e3, suffix)
     pre = os.path.join(work, tag)
     with open(pre + "_tmpl.ini", "w") as f:
-        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every))
+        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra))
     nc.sh([rotleap, "run", pre + "_tmpl.ini"])
     M = ck["species"][0]["mass"]
     vh = [[v[i][c] - 0.5 * h_ps * F[i][c] / M for c in range(3)] for i in range(N)]
@@ -133,7 +137,8 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every):
     with open(pre + "_start.chk", "wb") as f:
         f.write(nc.put_state(open(pre + ".chk", "rb").read(), ck["r"], vh, lh, ck["A"]))
     with open(pre + ".ini", "w") as f:  # + every: the frame at the last step needs its thermo row
-        f.write(deck(pre, steps + every, h_ps, ensemble, ck["box"], start=pre + "_start.chk", every=every))
+        f.write(deck(pre, steps + every, h_ps, ensemble, ck["box"], start=pre + "_start.chk", every=every,
+                     extra=extra))
     t0 = time.time()
     p = subprocess.run([rotleap, "run", pre + ".ini"], capture_output=True, text=True)
     wall = time.time() - t0
@@ -143,7 +148,8 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every):
             for r in csv.DictReader(f):
                 rows.append(dict(step=int(r["step"]), t=float(r["time"]), U=float(r["potential"]),
                                  T=float(r["temperature"]), Tt=float(r["t_trans"]), Tr=float(r["t_rot"]),
-                                 cons=float(r["conserved"])))
+                                 cons=float(r["conserved"]), Tt_mid=float(r.get("t_trans_mid", "nan")),
+                                 Tr_mid=float(r.get("t_rot_mid", "nan"))))
     res = read_kv(pre + ".results.txt")
     return dict(label="rotleap %s h=%g" % ("Bussi" if ensemble == "nvt-bussi" else "isokinetic", h_ps * 1e3),
                 code="rotleap", thermostat="bussi" if ensemble == "nvt-bussi" else "isokinetic",

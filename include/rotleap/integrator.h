@@ -123,6 +123,10 @@ typedef struct {
   double total;          /* ke_trans + ke_rot + potential                                   */
   double temperature;    /* 2 KE / (dof kB)                                                 */
   double t_trans, t_rot; /* translational / rotational temperatures                         */
+  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) (with
+                            A(t)) after this step's kick, before any Bussi rescaling: what the
+                            Bussi thermostat acts on.  At large h they differ from the on-step
+                            t_trans, t_rot by the leapfrog's O(h^2) shadow terms             */
   double beta;           /* thermostat scaling factor applied at t (1 for NVE): isokinetic
                             beta of eqs. 17-18; Bussi alpha applied to v(t+h/2) (and to
                             l(t+h/2) with RL_THERMO_GROUPS_ALL)                             */

@@ -81,6 +81,13 @@ check "conserved drift reported for a stable run" '"$rotleap" run "$src/tests/cl
   --set system.temperature=1.35 --set run.steps=10 --set run.equilibrate=0 --set output.prefix="$work/unset" >out.txt 2>err.txt; code=$?
 check "--set key= returns a key to its default (an NVT deck run as NVE)" '[ $code -eq 0 ] && grep -q "status = ok" "$work/unset.summary.txt"'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.thermostat_groups=all --set run.steps=10 \
+  --set output.prefix="$work/grp" >out.txt 2>err.txt; code=$?
+check "run.thermostat_groups without Bussi is refused by name" '[ $code -eq 2 ] && grep -q "run.thermostat_groups is only used with ensemble = nvt-bussi" err.txt'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-bussi --set run.temperature=1.35 \
+  --set run.thermostat_groups=all --set run.steps=10 --set output.prefix="$work/grp" >out.txt 2>err.txt; code=$?
+check "run.thermostat_groups = all runs under Bussi, mid-step temperatures in the thermo CSV" '[ $code -eq 0 ] && head -1 "$work/grp.thermo.csv" | grep -q ",t_trans_mid,t_rot_mid$"'
+
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-bussi --set run.temperature=1.35 --set run.steps=50 \
   --set output.prefix="$work/eqnvt" >/dev/null 2>&1
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/eqnvt.chk" --set run.steps=30 \
