@@ -88,8 +88,9 @@ typedef enum {
  * Low & Neal, J. Chem. Phys. 122, 224114 (2005) thermostat them apart).  At large steps the
  * leapfrog's shadow dynamics holds more mid-step kinetic energy in the fast librations than in
  * translation; one thermostat over both keeps only the sum at T0 and so runs translation cold.
- * RL_THERMO_GROUPS_ALL: one thermostat over every dof (the only choice before this option).  Both sample
- * the canonical ensemble as h -> 0; docs/integrators.md ("Bussi groups") has the measurement. */
+ * RL_THERMO_GROUPS_ALL: one thermostat over every dof (the only choice before this option).
+ * Both sample the canonical ensemble as h -> 0; docs/integrators.md ("Bussi thermostat groups")
+ * has the measurement. */
 typedef enum {
   RL_THERMO_GROUPS_TRANS_ROT = 0,
   RL_THERMO_GROUPS_ALL = 1
