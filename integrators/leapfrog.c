@@ -284,22 +284,6 @@ static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
   return a2 > 0.0 ? a2 : 0.0;
 }
 
-/* Kinetic energies of the mid-step v(t+h/2) (K[0]) and l(t+h/2) (K[1], with A(t)). */
-static void mid_kinetic(const rl_integrator *in, double K[2])
-{
-  const rl_system *s = in->sys;
-  K[0] = K[1] = 0.0;
-  for (int k = 0; k < s->nspecies; k++) {
-    const rl_species *sp = &s->sp[k];
-    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
-    for (int b = 0; b < sp->count; b++) {
-      const double *v = s->v[sp->first + b];
-      K[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      if (sp->rot_off >= 0) K[1] += fam->ke_rot(sp, s, b, s->l[sp->rot_off + b]);
-    }
-  }
-}
-
 /* Bussi rescaling of the new mid-step velocities and angular momenta: v(t+h/2) and l(t+h/2)
  * are multiplied by alpha, alpha^2 drawn for their kinetic energy K (rotational part from
  * l(t+h/2) with A(t)), as leapfrog codes apply it.  Scaling the propagated half-step values -- not
@@ -308,7 +292,7 @@ static void mid_kinetic(const rl_integrator *in, double K[2])
  * RL_THERMO_GROUPS_TRANS_ROT the translational and rotational parts get one alpha each, drawn
  * for their own K and dof (a group with no dof or no kinetic energy is left alone); with
  * RL_THERMO_GROUPS_ALL one alpha for the sum.  The energy taken out, sum (1 - alpha^2) K, is
- * added to the thermostat's account.  K: mid_kinetic's.  Returns the two alphas in a[0] (v)
+ * added to the thermostat's account.  K: the step's Kmid.  Returns the two alphas in a[0] (v)
  * and a[1] (l). */
 static void bussi_rescale(rl_integrator *in, const double K[2], double a[2])
 {
@@ -389,10 +373,13 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   /* Fincham needs l(t-h/2) next to l'(t+h/2) for its on-step l'(t) */
   if (in->lprev) memcpy(in->lprev, s->l, sizeof(*s->l) * (size_t)s->nrot);
 
-  /* 2-3. kick and drift */
+  /* 2-3. kick and drift; Kmid: kinetic energies of the new mid-step v(t+h/2) and l(t+h/2)
+   * (rotational part with A(t), which the rotation below replaces) */
   const double c2 = 2.0 * beta - 1.0;
+  double Kmid[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
     double w = h2 / sp->mass;
     for (int b = 0; b < sp->count; b++) {
       int i = sp->first + b;
@@ -403,6 +390,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         else v[c] = c2 * (v[c] + w * f[c]) + w * f[c]; /* eq. 17 */
         if (!bussi) s->r[i][c] += h * v[c];
       }
+      Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       if (sp->rot_off < 0) continue;
       double *l = s->l[sp->rot_off + b];
       const double *kk = in->F.k[sp->rot_off + b];
@@ -410,10 +398,9 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         if (beta == 1.0) l[c] += h * kk[c];
         else l[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c]; /* eq. 18 */
       }
+      Kmid[1] += fam->ke_rot(sp, s, b, l);
     }
   }
-  double Kmid[2];
-  mid_kinetic(in, Kmid);
   info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
   info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
   if (bussi) {
