@@ -9,7 +9,9 @@
  *   3. r(t+h) = r(t) + h v(t+h/2)                                          (eq. 8)
  *   4. rotation by kind, from l(t+h/2)                                     (eqs. 19-36, III.D),
  *      or by a baseline method for every matrix body (models/family_baselines.c)
- *   5. forces at t+h from the provider. */
+ *   5. forces at t+h from the provider.
+ * RL_THERMO_LANGEVIN replaces 3-4 by BAOAB's middle: drift and rotate by h/2, an
+ * Ornstein-Uhlenbeck step on v and on the body-frame l, drift and rotate by h/2 again. */
 #include "rotleap/integrator.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
@@ -39,7 +41,7 @@ struct rl_integrator {
   int initialized;
   long steps, fallbacks, quat_iterations;
   double t;
-  gsl_rng *rng;       /* Bussi thermostat only */
+  gsl_rng *rng;       /* Bussi and Langevin thermostats only */
   double thermo_work; /* kinetic energy removed by the thermostat so far */
 };
 
@@ -79,6 +81,23 @@ const char *rl_thermo_groups_name(rl_thermo_groups g)
   return NULL;
 }
 
+const char *rl_thermostat_name(rl_thermostat t)
+{
+  switch (t) {
+  case RL_THERMO_NONE: return "none";
+  case RL_THERMO_ISOKINETIC: return "isokinetic";
+  case RL_THERMO_BUSSI: return "Bussi";
+  case RL_THERMO_LANGEVIN: return "Langevin";
+  }
+  return NULL;
+}
+
+/* The thermostats that draw random numbers. */
+static int stochastic(const rl_integrator_params *p)
+{
+  return p->thermostat == RL_THERMO_BUSSI || p->thermostat == RL_THERMO_LANGEVIN;
+}
+
 static int validate(const rl_system *s, const rl_integrator_params *p)
 {
   if (!(p->h > 0.0) || !isfinite(p->h))
@@ -89,16 +108,22 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
       (!(p->quat_tol > 0.0) || p->quat_maxit < 1))
     return rl_error(RL_EINVAL, "quaternion tolerance %g / max iterations %d must be positive",
                     p->quat_tol, p->quat_maxit);
-  if (p->thermostat != RL_THERMO_NONE && p->thermostat != RL_THERMO_ISOKINETIC &&
-      p->thermostat != RL_THERMO_BUSSI)
+  if (!rl_thermostat_name(p->thermostat))
     return rl_error(RL_EINVAL, "unknown thermostat %d", (int)p->thermostat);
   if (p->thermostat != RL_THERMO_NONE && (!(p->T0 > 0.0) || !isfinite(p->T0)))
     return rl_error(RL_EINVAL, "%s thermostat needs a positive target temperature, got %g",
-                    p->thermostat == RL_THERMO_BUSSI ? "Bussi" : "isokinetic", p->T0);
+                    rl_thermostat_name(p->thermostat), p->T0);
   if (p->thermostat == RL_THERMO_BUSSI && !rl_thermo_groups_name(p->groups))
     return rl_error(RL_EINVAL, "unknown Bussi thermostat groups %d", (int)p->groups);
-  if (p->thermostat == RL_THERMO_BUSSI && (!(p->tau > 0.0) || !isfinite(p->tau)))
-    return rl_error(RL_EINVAL, "Bussi thermostat needs a positive relaxation time tau, got %g", p->tau);
+  if (stochastic(p) && (!(p->tau > 0.0) || !isfinite(p->tau)))
+    return rl_error(RL_EINVAL, "%s thermostat needs a positive %s tau, got %g",
+                    rl_thermostat_name(p->thermostat),
+                    p->thermostat == RL_THERMO_BUSSI ? "relaxation time" : "friction time", p->tau);
+  /* the baselines are kept as published, one rotation over h; Langevin needs two of h/2 */
+  if (p->thermostat == RL_THERMO_LANGEVIN && rl_rot_is_baseline(p->method))
+    return rl_error(RL_EINVAL, "the Langevin thermostat splits the rotation into two half steps, "
+                    "which the baseline %s does not provide; use rl, rl-exact or rl-quaternion",
+                    rl_rot_method_name(p->method));
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
   if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
     return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
@@ -146,12 +171,12 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   const int need_lprev = p->method == RL_ROT_FINCHAM && sys->nrot > 0;
   if (need_q) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
   if (need_lprev) in->lprev = calloc((size_t)sys->nrot, sizeof *in->lprev);
-  if (p->thermostat == RL_THERMO_BUSSI) {
+  if (stochastic(p)) {
     in->rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (in->rng) gsl_rng_set(in->rng, p->seed);
   }
   if (!in->F.f || !in->F.k || (need_q && !in->q) || (need_lprev && !in->lprev) ||
-      (p->thermostat == RL_THERMO_BUSSI && !in->rng)) {
+      (stochastic(p) && !in->rng)) {
     rl_integrator_free(in);
     rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
     return NULL;
@@ -229,6 +254,8 @@ int rl_integrator_init(rl_integrator *in)
       for (int b = 0; b < sp->count; b++)
         if ((st = rl_matrix_to_quat(s->A[sp->mat_off + b], in->q[sp->mat_off + b]))) return st;
     }
+  /* Langevin noise moves the centre of mass: its 3 dof are thermal, not removed */
+  if (in->p.thermostat == RL_THERMO_LANGEVIN) rl_system_set_removed_dof(s, 0);
   in->steps = 0;
   in->thermo_work = 0.0;
   in->fallbacks = 0;
@@ -317,6 +344,66 @@ static void bussi_rescale(rl_integrator *in, const double K[2], double a[2])
   in->thermo_work += (1.0 - a2[0]) * K[0] + (1.0 - a2[1]) * K[1];
 }
 
+/* The O of BAOAB over the whole step h, at the middle of the drift: every component of v and of
+ * the body-frame angular momentum relaxes as an Ornstein-Uhlenbeck process with friction
+ * gamma = 1/tau, x <- c x + sqrt((1 - c^2) m kT) xi with c = exp(-h gamma) (m the mass or
+ * the principal moment), which leaves the Maxwell-Boltzmann law exactly invariant.  A matrix
+ * body's l is taken to its body frame by the half-rotated A; an axis body (linear, dipole) has
+ * two equal moments and no spin about rho, so its noise is drawn in 3-D and projected
+ * perpendicular to rho.  K[0], K[1]: translational and rotational kinetic energy before and
+ * after (out: after); the energy taken out goes to the thermostat's account. */
+static void langevin_o(rl_integrator *in, double K[2][2])
+{
+  rl_system *s = in->sys;
+  gsl_rng *r = in->rng;
+  const double c = exp(-in->p.h / in->p.tau), sn = sqrt(-expm1(-2.0 * in->p.h / in->p.tau));
+  const double kT = s->kB * in->p.T0;
+  K[0][0] = K[0][1] = K[1][0] = K[1][1] = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
+    const double sv = sn * sqrt(kT / sp->mass);
+    double sl[3];
+    for (int a = 0; a < 3; a++) sl[a] = sn * sqrt(kT * sp->J[a]);
+    for (int b = 0; b < sp->count; b++) {
+      double *v = s->v[sp->first + b];
+      K[0][0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int a = 0; a < 3; a++) v[a] = c * v[a] + sv * gsl_ran_gaussian_ziggurat(r, 1.0);
+      K[0][1] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (sp->rot_off < 0) continue;
+      double *l = s->l[sp->rot_off + b];
+      K[1][0] += fam->ke_rot(sp, s, b, l);
+      if (sp->mat_off >= 0) {
+        const double *A = s->A[sp->mat_off + b];
+        double L[3];
+        for (int a = 0; a < 3; a++)
+          L[a] = c * (A[3 * a] * l[0] + A[3 * a + 1] * l[1] + A[3 * a + 2] * l[2]) +
+                 sl[a] * gsl_ran_gaussian_ziggurat(r, 1.0);
+        for (int a = 0; a < 3; a++) l[a] = A[a] * L[0] + A[3 + a] * L[1] + A[6 + a] * L[2];
+      } else {
+        double xi[3];
+        for (int a = 0; a < 3; a++) xi[a] = gsl_ran_gaussian_ziggurat(r, 1.0);
+        rl_project_out(xi, s->rho[sp->axis_off + b]);
+        for (int a = 0; a < 3; a++) l[a] = c * l[a] + sl[0] * xi[a];
+      }
+      K[1][1] += fam->ke_rot(sp, s, b, l);
+    }
+  }
+  in->thermo_work += (K[0][0] - K[0][1]) + (K[1][0] - K[1][1]);
+}
+
+/* Step 4: every species rotated by w->h from its l. */
+static int rotate_all(rl_integrator *in, rl_rotation_work *w)
+{
+  rl_system *s = in->sys;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    int st = rl_family_for(sp->kind, in->p.force_general)->rotate(sp, s, w);
+    if (st) return st;
+  }
+  return RL_OK;
+}
+
 int rl_integrator_step(rl_integrator *in, rl_step_info *out)
 {
   if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_step: call rl_integrator_init first");
@@ -369,6 +456,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   info.conserved = info.total + in->thermo_work;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC) in->thermo_work += (1.0 - beta * beta) * ke;
   const int bussi = in->p.thermostat == RL_THERMO_BUSSI;
+  const int langevin = in->p.thermostat == RL_THERMO_LANGEVIN;
 
   /* Fincham needs l(t-h/2) next to l'(t+h/2) for its on-step l'(t) */
   if (in->lprev) memcpy(in->lprev, s->l, sizeof(*s->l) * (size_t)s->nrot);
@@ -388,7 +476,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
       for (int c = 0; c < 3; c++) {
         if (beta == 1.0) v[c] += 2.0 * w * f[c];
         else v[c] = c2 * (v[c] + w * f[c]) + w * f[c]; /* eq. 17 */
-        if (!bussi) s->r[i][c] += h * v[c];
+        if (!bussi && !langevin) s->r[i][c] += h * v[c];
       }
       Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       if (sp->rot_off < 0) continue;
@@ -408,18 +496,31 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     bussi_rescale(in, Kmid, a);
     info.beta = a[0];
     info.beta_rot = a[1];
-    for (int i = 0; i < s->n; i++)
-      for (int c = 0; c < 3; c++) s->r[i][c] += h * s->v[i][c];
   }
-  /* 4. rotation, one family at a time */
-  rl_rotation_work rw = {h, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
+  /* 3-4. drift and rotation: over h, or two halves around the Langevin step */
+  const double hd = langevin ? h2 : h;
+  rl_rotation_work rw = {hd, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
                          in->q, (const double (*)[3])in->F.k, (const double (*)[3])in->lprev,
                          in->steps, 0, 0, 0, 0.0, 0.0};
-  for (int k = 0; k < s->nspecies; k++) {
-    const rl_species *sp = &s->sp[k];
-    int st = rl_family_for(sp->kind, in->p.force_general)->rotate(sp, s, &rw);
-    if (st) return st;
+  if (bussi || langevin)
+    for (int i = 0; i < s->n; i++)
+      for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
+  int st = rotate_all(in, &rw);
+  if (!st && langevin) {
+    double K[2][2];
+    langevin_o(in, K);
+    info.beta = K[0][0] > 0.0 ? sqrt(K[0][1] / K[0][0]) : 1.0;
+    info.beta_rot = K[1][0] > 0.0 ? sqrt(K[1][1] / K[1][0]) : 1.0;
+    /* what the Langevin step acts on: v, l at the middle of the drift (l with the half-rotated A),
+     * whose law BAOAB makes exactly Maxwell's for a harmonic mode */
+    info.t_trans_mid = gt > 0 ? 2.0 * K[0][0] / (gt * s->kB) : 0.0;
+    info.t_rot_mid = gr > 0 ? 2.0 * K[1][0] / (gr * s->kB) : 0.0;
+    for (int i = 0; i < s->n; i++)
+      for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
+    st = rotate_all(in, &rw);
+    rw.max_h_omega *= 2.0; /* reported as h |Omega| over the whole step */
   }
+  if (st) return st;
   info.fallbacks = rw.fallbacks;
   info.quat_iterations = rw.quat_iterations;
   info.quat_max_iterations = rw.quat_max_iterations;
@@ -432,7 +533,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   in->quat_iterations += info.quat_iterations;
 
   /* 5. forces at t + h */
-  int st = compute_forces(in);
+  st = compute_forces(in);
   if (out) *out = info;
   return st;
 }
@@ -453,6 +554,7 @@ int rl_integrator_resume(rl_integrator *in, long step, double t)
     for (int i = 0; i < s->nmat; i++)
       if ((st = rl_matrix_to_quat(s->A[i], in->q[i]))) return st;
   }
+  if (in->p.thermostat == RL_THERMO_LANGEVIN) rl_system_set_removed_dof(in->sys, 0);
   in->steps = step;
   in->t = t;
   in->fallbacks = 0;

@@ -75,11 +75,20 @@ const char *rl_rot_method_name(rl_rot_method m);
 typedef enum {
   RL_THERMO_NONE = 0,       /* NVE                                                          */
   RL_THERMO_ISOKINETIC = 1, /* the paper's isokinetic scaling (eqs. 17-18, III.B)            */
-  RL_THERMO_BUSSI = 2       /* canonical stochastic velocity rescaling, Bussi, Donadio &
+  RL_THERMO_BUSSI = 2,      /* canonical stochastic velocity rescaling, Bussi, Donadio &
                                Parrinello, J. Chem. Phys. 126, 014101 (2007): the on-step
                                mid-step v and l are rescaled after the kick by alpha, alpha^2
                                drawn from the canonical relaxation of their kinetic energy
                                over tau                                                        */
+  RL_THERMO_LANGEVIN = 3    /* Langevin dynamics in the middle of the drift (BAOAB, Leimkuhler
+                               & Matthews, Appl. Math. Res. Express 2013, 34; OpenMM's
+                               LangevinMiddleIntegrator): kick l and v by h, drift r and rotate
+                               by h/2, an Ornstein-Uhlenbeck step on every translational and
+                               body-frame rotational component (friction 1/tau), then drift and
+                               rotate by h/2 again.  Exact configurational sampling for any
+                               harmonic system at any stable h; docs/integrators.md ("Langevin
+                               in the middle of the drift").  The noise moves the centre of
+                               mass, so init and resume set the system's removed dof to 0    */
 } rl_thermostat;
 
 /* Which degrees of freedom share one Bussi thermostat.  RL_THERMO_GROUPS_TRANS_ROT (the default):
@@ -98,6 +107,8 @@ typedef enum {
 
 /* "trans-rot", "all" (NULL if unknown). */
 const char *rl_thermo_groups_name(rl_thermo_groups g);
+/* "none", "isokinetic", "bussi", "langevin" (NULL if unknown). */
+const char *rl_thermostat_name(rl_thermostat t);
 
 typedef struct {
   double h;               /* time step (> 0), in the system's time unit                       */
@@ -108,8 +119,11 @@ typedef struct {
   int force_general;      /* 1: every matrix body goes through the general asymmetric path    */
   rl_thermostat thermostat;
   double T0;              /* target temperature for the thermostat                             */
-  double tau;             /* Bussi relaxation time (> 0)                                       */
-  unsigned long seed;     /* Bussi random stream (GSL mt19937)                                 */
+  double tau;             /* Bussi: relaxation time of the kinetic energy; Langevin: friction
+                             time 1/gamma (as GROMACS's tau-t for sd and LAMMPS's damp).  > 0.
+                             Note the factor 2: Bussi's tau relaxes K, so its velocities relax
+                             over 2 tau                                                        */
+  unsigned long seed;     /* Bussi / Langevin random stream (GSL mt19937)                      */
   rl_thermo_groups groups; /* Bussi: default RL_THERMO_GROUPS_TRANS_ROT                         */
 } rl_integrator_params;
 
@@ -124,17 +138,24 @@ typedef struct {
   double total;          /* ke_trans + ke_rot + potential                                   */
   double temperature;    /* 2 KE / (dof kB)                                                 */
   double t_trans, t_rot; /* translational / rotational temperatures                         */
-  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) (with
-                            A(t)) after this step's kick, before any Bussi rescaling: what the
-                            Bussi thermostat acts on.  At large h they differ from the on-step
-                            t_trans, t_rot by the leapfrog's O(h^2) shadow terms             */
+  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) that
+                            the thermostat acts on, before it acts: after the kick (l with
+                            A(t)) for NVE, isokinetic and Bussi; at the middle of the drift
+                            (l with the half-rotated A) for Langevin, where BAOAB makes them
+                            exactly canonical for harmonic modes.  At large h they differ
+                            from the on-step t_trans, t_rot by the leapfrog's O(h^2) shadow
+                            terms (1/(1 - h^2 omega^2/4) for a harmonic mode)              */
   double beta;           /* thermostat scaling factor applied at t (1 for NVE): isokinetic
                             beta of eqs. 17-18; Bussi alpha applied to v(t+h/2) (and to
-                            l(t+h/2) with RL_THERMO_GROUPS_ALL)                             */
+                            l(t+h/2) with RL_THERMO_GROUPS_ALL); Langevin: sqrt(K'/K) of the
+                            translational kinetic energy across the step's OU update      */
   double beta_rot;       /* Bussi alpha applied to l(t+h/2); equal to beta unless the
-                            groups are RL_THERMO_GROUPS_TRANS_ROT                           */
+                            groups are RL_THERMO_GROUPS_TRANS_ROT; Langevin: sqrt(K'/K) of
+                            the rotational kinetic energy                                  */
   double conserved;      /* total + energy taken out by the thermostat before t: the total
-                            energy (NVE), Bussi's conserved quantity (Bussi); for the
+                            energy (NVE), the conserved quantity of Bussi and of Langevin
+                            (the thermostat's work accounted; it drifts only by the
+                            integration error); for the
                             isokinetic scheme the same sum with (1 - beta^2) KE(t), a
                             diagnostic that is not conserved                                */
   double max_h_omega;    /* max over bodies of h |Omega(t+h/2)|: > 1 means poorly resolved */
