@@ -164,11 +164,12 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
          sdE = rl_series_sd(a->E), sdU = rl_series_sd(a->U) * a->n;
   int dof = (int)llround(2.0 * rl_series_mean(a->K) / (kB * T)); /* T = 2K/(g kB) defines g */
   int st = d->thermostat == RL_THERMO_NONE ? rl_heat_capacity_nve(rl_series_mean(a->K), sdK * sdK, dof, kB, &cv)
-         : d->thermostat == RL_THERMO_BUSSI ? rl_heat_capacity_nvt(sdE * sdE, T, kB, &cv)
+         : d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN
+             ? rl_heat_capacity_nvt(sdE * sdE, T, kB, &cv)
          : rl_heat_capacity_isokinetic(sdU * sdU, T, dof, kB, &cv);
   if (!st) fprintf(f, "heat_capacity_per_molecule = %.6g %s (%s formula)\n", cv / (a->n * kB),
                    real ? "k_B" : "", d->thermostat == RL_THERMO_NONE ? "NVE, Lebowitz-Percus-Verlet"
-                   : d->thermostat == RL_THERMO_BUSSI ? "canonical" : "isokinetic");
+                   : d->thermostat == RL_THERMO_ISOKINETIC ? "isokinetic" : "canonical");
   else fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
   long nf = rl_vec_series_frames(a->pos);
   if (nf >= 4) {

@@ -35,7 +35,7 @@ static const key_def keys[NKEYS] = {
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\" (give box or density)"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
-    [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit)"},
+    [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
@@ -53,11 +53,11 @@ static const key_def keys[NKEYS] = {
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
     [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion|rl-hybrid|fincham|no-squish", "revised leapfrog: guarded cubic (rl), exact solve, quaternion variant; baselines (matrix bodies only): the paper's hybrid, Fincham's implicit quaternion leapfrog, NO_SQUISH (docs/integrators.md)"},
-    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi", "NVE, the paper's isokinetic NVT, or Bussi stochastic rescaling"},
+    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi|nvt-langevin", "NVE, the paper's isokinetic NVT, Bussi stochastic rescaling, or Langevin in the middle of the drift (BAOAB; docs/integrators.md)"},
     [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
-    [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi relaxation time; default 100 h"},
+    [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi: relaxation time of the kinetic energy; Langevin: friction time 1/gamma; default 100 h"},
     [K_TGROUPS] = {"run", "thermostat_groups", K_CHOICE, Q_NONE, "trans-rot", "trans-rot|all", "Bussi: one thermostat for translation and one for rotation, or one for both (docs/integrators.md)"},
-    [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi thermostat's random numbers"},
+    [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi or Langevin thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop; 0: OMP_NUM_THREADS if set, else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count"},
@@ -378,17 +378,19 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (r.val[K_DT] && !r.bad[K_DT] && !(d->timestep > 0)) problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
   d->method = rl_deck_integrators[choice(&r, K_INTEGRATOR)].method;
   int ens = choice(&r, K_ENSEMBLE);
-  d->thermostat = ens == 0 ? RL_THERMO_NONE : ens == 1 ? RL_THERMO_ISOKINETIC : RL_THERMO_BUSSI;
+  static const rl_thermostat ensembles[] = {RL_THERMO_NONE, RL_THERMO_ISOKINETIC, RL_THERMO_BUSSI, RL_THERMO_LANGEVIN};
+  d->thermostat = ensembles[ens];
+  const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
   if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
   else if (ens > 0 && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
   if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
-  if (r.val[K_TAU] && ens != 2) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi");
+  if (r.val[K_TAU] && !stochastic) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
   d->thermostat_groups = choice(&r, K_TGROUPS) ? RL_THERMO_GROUPS_ALL : RL_THERMO_GROUPS_TRANS_ROT;
   if (r.val[K_TGROUPS] && ens != 2)
     problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");
-  if (!(d->tau > 0) && ens == 2 && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
+  if (!(d->tau > 0) && stochastic && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
     problem(&r, r.line[K_TAU], "run.tau must be positive");
   d->equilibrate_steps = integer(&r, K_EQSTEPS, 0, 0);
   d->equilibrate_timestep = number(&r, K_EQDT, u, 0, 0.25 * d->timestep);

@@ -6,6 +6,7 @@
 #include "scene.h"
 
 #include <errno.h>
+#include <stddef.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -148,14 +149,38 @@ static void traj_close(traj *t)
 
 /* What a checkpoint carries besides the state: the run's own bookkeeping, so that a restart
  * continues bit for bit (thermostat account and random stream, the summary's accumulators). */
-#define RUN_BLOB_MAGIC "rotleap-run-1"
+#define RUN_BLOB_MAGIC "rotleap-run-2"
+#define RUN_BLOB_MAGIC_V1 "rotleap-run-1" /* before the thermostat and the seed were recorded */
 typedef struct {
   char magic[16];
   double thermo_work;
   running E, U, T, Tt, Tr, P;
   long done;
   unsigned long rng_size;
+  /* version 2 */
+  long thermostat;    /* rl_thermostat of the run that wrote it; -1: not recorded (version 1) */
+  unsigned long seed; /* run.seed its random stream started from */
 } run_blob;
+#define RUN_BLOB_V1_SIZE offsetof(run_blob, thermostat)
+
+/* The run record of a checkpoint into *b, the random state following it at blob + *hdr: 2 or 1
+ * (its version), 0 if the checkpoint has none. */
+static int read_blob(const scene *s, run_blob *b, size_t *hdr)
+{
+  memset(b, 0, sizeof *b);
+  if (s->blob_size >= sizeof *b && !memcmp(s->blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
+    memcpy(b, s->blob, sizeof *b);
+    *hdr = sizeof *b;
+    return 2;
+  }
+  if (s->blob_size >= RUN_BLOB_V1_SIZE && !memcmp(s->blob, RUN_BLOB_MAGIC_V1, sizeof RUN_BLOB_MAGIC_V1)) {
+    memcpy(b, s->blob, RUN_BLOB_V1_SIZE);
+    b->thermostat = -1;
+    *hdr = RUN_BLOB_V1_SIZE;
+    return 1;
+  }
+  return 0;
+}
 
 static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const run_blob *b0, const char *path)
 {
@@ -163,6 +188,8 @@ static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const
   snprintf(b.magic, sizeof b.magic, "%s", RUN_BLOB_MAGIC);
   b.thermo_work = rl_integrator_thermostat_work(in);
   b.rng_size = (unsigned long)rl_integrator_rng_size(in);
+  b.thermostat = d->thermostat;
+  b.seed = d->thermostat_seed;
   size_t size = sizeof b + b.rng_size;
   unsigned char *buf = malloc(size);
   if (!buf) return rl_error(RL_ENOMEM, "out of memory");
@@ -206,13 +233,15 @@ int rl_app_run(const rl_deck *d)
   p.groups = d->thermostat_groups;
   p.force_general = d->force_general;
   if (!st) in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
-  if (!st && in && s.restart && s.blob_size >= sizeof(run_blob) && !memcmp(s.blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
+  run_blob rec;
+  size_t hdr = 0;
+  const int ver = s.restart ? read_blob(&s, &rec, &hdr) : 0;
+  if (!st && in && ver) {
     /* a checkpoint of a run with another thermostat (an NVT equilibration before NVE production,
      * say) is a start, not a continuation: its half-step v, l are completed to on-step values
-     * with run.timestep and the run, its step count and its averages start afresh */
-    run_blob b;
-    memcpy(&b, s.blob, sizeof b);
-    if (b.rng_size != rl_integrator_rng_size(in)) {
+     * with run.timestep and the run, its step count and its averages start afresh.  A version 1
+     * record says only whether the thermostat drew random numbers */
+    if (ver == 2 ? rec.thermostat != (long)d->thermostat : rec.rng_size != rl_integrator_rng_size(in)) {
       fprintf(stderr, "rotleap run: %s was written by a run with another thermostat: starting a new run from its "
                       "state (step 0; v and l completed to on-step with run.timestep = %g)\n", d->start, d->timestep);
       st = scene_onstep(d, &s);
@@ -228,19 +257,24 @@ int rl_app_run(const rl_deck *d)
   running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
   long first = 0;
   if (!st && s.restart) { /* continue: forces at t, no re-staggering, bookkeeping restored */
-    run_blob b;
-    if (s.blob_size < sizeof b || memcmp(s.blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
+    if (!ver) {
       st = rl_error(RL_EINVAL, "%s was not written by rotleap run (no run record)", d->start);
     } else {
-      memcpy(&b, s.blob, sizeof b);
-      if (b.rng_size != rl_integrator_rng_size(in) || s.blob_size != sizeof b + b.rng_size)
+      if (rec.rng_size != rl_integrator_rng_size(in) || s.blob_size != hdr + rec.rng_size)
         st = rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %lu bytes, "
-                      "this run needs %lu)", d->start, b.rng_size, (unsigned long)rl_integrator_rng_size(in));
+                      "this run needs %lu)", d->start, rec.rng_size, (unsigned long)rl_integrator_rng_size(in));
       else {
         st = rl_integrator_resume(in, s.step0, s.t0);
-        if (!st && b.rng_size) memcpy(rl_integrator_rng_state(in), (unsigned char *)s.blob + sizeof b, b.rng_size);
-        rl_integrator_set_thermostat_work(in, b.thermo_work);
-        E = b.E; U = b.U; T = b.T; Tt = b.Tt; Tr = b.Tr; P = b.P;
+        /* a changed run.seed asks for a new random stream: the integrator was seeded with it */
+        const int reseed = ver == 2 && rec.rng_size && rec.seed != d->thermostat_seed;
+        if (!st && reseed)
+          fprintf(stderr, "rotleap run: run.seed = %lu differs from the seed %lu of the run that wrote %s: the "
+                          "%s thermostat continues with a new random stream from seed %lu (not bit for bit "
+                          "with a continuation that keeps seed %lu)\n", d->thermostat_seed, rec.seed, d->start,
+                  rl_thermostat_name(d->thermostat), d->thermostat_seed, rec.seed);
+        else if (!st && rec.rng_size) memcpy(rl_integrator_rng_state(in), (unsigned char *)s.blob + hdr, rec.rng_size);
+        rl_integrator_set_thermostat_work(in, rec.thermo_work);
+        E = rec.E; U = rec.U; T = rec.T; Tt = rec.Tt; Tr = rec.Tr; P = rec.P;
         first = s.step0;
       }
     }
@@ -303,7 +337,7 @@ int rl_app_run(const rl_deck *d)
       st = RL_EINVAL;
     }
     if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps) {
-      run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0};
+      run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0, 0, 0};
       if (write_checkpoint(d, &s, in, &b, chk_path)) {
         fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
         st = RL_EINVAL;
@@ -330,7 +364,7 @@ int rl_app_run(const rl_deck *d)
   free(fsnap_store.f);
   free(fsnap_store.k);
   if (!st && in) { /* the final state, for a continuation */
-    run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0};
+    run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0, 0, 0};
     if (write_checkpoint(d, &s, in, &b, chk_path)) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       st = RL_EINVAL;

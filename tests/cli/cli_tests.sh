@@ -88,6 +88,16 @@ check "run.thermostat_groups without Bussi is refused by name" '[ $code -eq 2 ] 
   --set run.thermostat_groups=all --set run.steps=10 --set output.prefix="$work/grp" >out.txt 2>err.txt; code=$?
 check "run.thermostat_groups = all runs under Bussi, mid-step temperatures in the thermo CSV" '[ $code -eq 0 ] && head -1 "$work/grp.thermo.csv" | grep -q ",t_trans_mid,t_rot_mid$"'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-langevin --set run.temperature=1.35 \
+  --set run.tau=0.05 --set run.steps=20 --set output.prefix="$work/lgv" >out.txt 2>err.txt; code=$?
+check "nvt-langevin runs with run.tau, its results use the canonical formula" '[ $code -eq 0 ] && grep -q "(canonical formula)" "$work/lgv.results.txt"'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-langevin --set run.temperature=1.35 \
+  --set run.tau=-1 --set run.steps=20 --set output.prefix="$work/lgv" >out.txt 2>err.txt; code=$?
+check "nvt-langevin with a negative tau is refused by name" '[ $code -eq 2 ] && grep -q "run.tau must be positive" err.txt'
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set run.ensemble=nvt-langevin --set run.temperature=298K \
+  --set run.integrator=no-squish --set run.steps=5 --set output.prefix="$work/lgv" >out.txt 2>err.txt; code=$?
+check "nvt-langevin with a baseline rotation method is refused, naming both" '[ $code -ne 0 ] && grep -q "Langevin thermostat splits the rotation into two half steps, which the baseline no-squish" err.txt'
+
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-bussi --set run.temperature=1.35 --set run.steps=50 \
   --set output.prefix="$work/eqnvt" >/dev/null 2>&1
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/eqnvt.chk" --set run.steps=30 \

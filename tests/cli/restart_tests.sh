@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Checkpoint continuation is bit for bit: 2N steps in one run, and N steps + restart from the
 # checkpoint + N steps, give byte-identical final checkpoints (state, time, thermostat account,
-# random stream, accumulators) and identical thermo rows, for NVE and both NVT thermostats.
+# random stream, accumulators) and identical thermo rows, for NVE and every NVT thermostat.
 # usage: restart_tests.sh ROTLEAP SRCDIR WORKDIR
 set -u
 rotleap=$1; src=$2; work=$3
@@ -9,9 +9,9 @@ mkdir -p "$work"; cd "$work" || exit 1
 deck="$src/tests/cli/stockmayer_short.ini"
 pass=0; fail=0
 check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
-for ens in nve nvt-isokinetic nvt-bussi; do
+for ens in nve nvt-isokinetic nvt-bussi nvt-langevin; do
   extra=(); [ "$ens" != nve ] && extra=(--set run.temperature=1.35)
-  [ "$ens" = nvt-bussi ] && extra+=(--set run.tau=0.05)
+  case $ens in nvt-bussi|nvt-langevin) extra+=(--set run.tau=0.05) ;; esac
   common=(--set run.ensemble=$ens "${extra[@]}" --set output.thermo_every=5 --set output.trajectory_every=10)
   "$rotleap" run "$deck" "${common[@]}" --set run.steps=100 --set output.checkpoint_every=50 --set output.prefix="$work/$ens-A" >/dev/null 2>"$ens.err" || true
   "$rotleap" run "$deck" "${common[@]}" --set run.steps=50 --set output.prefix="$work/$ens-B" >/dev/null 2>>"$ens.err" || true
@@ -25,5 +25,14 @@ for ens in nve nvt-isokinetic nvt-bussi; do
   check "$ens: trajectory continued (10 frames in both)" \
     '[ "$(grep -c "^64$" "$ens-A.xyz")" -eq 10 ] && cmp -s "$ens-A.xyz" <(cat "$ens-B.xyz" <(tail -n +1 "$ens-C.xyz" | tail -n $((5*66))) )'
 done
+# Another run.seed under the same stochastic thermostat: the run continues (step count, averages)
+# with a new random stream from that seed, and says so; the same seed is the bit-for-bit case above.
+common=(--set run.ensemble=nvt-langevin --set run.temperature=1.35 --set run.tau=0.05 --set output.thermo_every=5)
+"$rotleap" run "$deck" "${common[@]}" --set run.steps=100 --set run.seed=5 --set system.start="$work/nvt-langevin-B.chk" \
+  --set output.prefix="$work/reseed" >/dev/null 2>reseed.err; code=$?
+check "another run.seed continues with a new stream and says so" \
+  '[ $code -eq 0 ] && grep -q "run.seed = 5 differs from the seed 2 of the run that wrote" reseed.err && grep -q "steps = 100 of 100 (this invocation: 50)" reseed.summary.txt'
+check "the new stream differs from the old one after step N" \
+  '! diff <(awk -F, "NR>1 && \$1>50" nvt-langevin-A.thermo.csv) <(awk -F, "NR>1 && \$1>50" reseed.thermo.csv) >/dev/null'
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
