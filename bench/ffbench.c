@@ -156,15 +156,15 @@ static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel
   setup_skin(b, model, n, threads, kernel, -1.0);
 }
 
-/* Continue at the production step (NVE or Bussi) from the relaxed state. */
-static void restart(bench_sys *b, int nve)
+/* Continue at the production step (NVE, Bussi, or Langevin if langevin) from the relaxed state. */
+static void restart(bench_sys *b, int nve, int langevin)
 {
   rl_integrator_free(b->in);
   rl_integrator_params ip;
   rl_integrator_params_default(&ip);
   ip.h = b->h;
   if (!nve) {
-    ip.thermostat = RL_THERMO_BUSSI;
+    ip.thermostat = langevin ? RL_THERMO_LANGEVIN : RL_THERMO_BUSSI;
     ip.T0 = b->T0;
     ip.tau = 50 * ip.h;
     ip.seed = 8;
@@ -226,28 +226,30 @@ static void dump(bench_sys *b, const char *path)
 
 static int cmd_time(int argc, char **argv)
 {
-  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S]\n"); return 2; }
+  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin]\n"); return 2; }
   const char *model = argv[2];
-  int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0;
+  int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0, langevin = 0;
   rl_kernel_choice kernel = RL_KERNEL_AUTO;
   const char *dumpfile = NULL;
   for (int k = 6; k < argc; k++) {
     if (!strcmp(argv[k], "general")) kernel = RL_KERNEL_GENERAL;
     else if (!strcmp(argv[k], "--dump") && k + 1 < argc) dumpfile = argv[++k];
     else if (!strcmp(argv[k], "--nve") && k + 1 < argc) nve = atoi(argv[++k]);
+    else if (!strcmp(argv[k], "--langevin")) langevin = 1; /* the timed steps under Langevin, not Bussi */
   }
   bench_sys b;
   setup(&b, model, n, threads, kernel);
   int relax = n >= 16384 ? 20 : 200;
   run(&b, relax, NULL);
-  restart(&b, nve > 0);
+  restart(&b, nve > 0, langevin);
   run(&b, 5, NULL); /* warm-up at the production step */
   double share, t = timed(&b, steps, &share);
   rl_ff_energies e;
   rl_forcefield_energies(b.ff, &e);
-  printf("model=%s N=%d threads=%d kernel=%s ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+  printf("model=%s N=%d threads=%d kernel=%s thermostat=%s ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
          "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
-         model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), 1e3 * t, share,
+         model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff),
+         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", 1e3 * t, share,
          1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
   if (dumpfile) {
     /* the energy of exactly the dumped configuration */
@@ -299,12 +301,12 @@ static int cmd_scaling(int argc, char **argv)
     double mem = a.mem_per_molecule;
     int relax = n >= 16384 ? 10 : 50;
     run(&a, relax, NULL);
-    restart(&a, 0);
+    restart(&a, 0, 0);
     int general = n <= 16384; /* the reference path is slow: up to 16384 */
     if (general) {
       setup(&g, model, n, 1, RL_KERNEL_GENERAL);
       run(&g, relax, NULL);
-      restart(&g, 0);
+      restart(&g, 0, 0);
     }
     int steps = (int)fmax(3.0, 200000.0 / n);
     double ta = INFINITY, tg = INFINITY, share = 0.0;
@@ -344,7 +346,7 @@ static int cmd_skin(int argc, char **argv)
   for (int k = 0; k < NS; k++) {
     setup_skin(&b[k], model, n, threads, RL_KERNEL_AUTO, frac[k] * rc);
     run(&b[k], n >= 16384 ? 20 : 200, NULL);
-    restart(&b[k], 0);
+    restart(&b[k], 0, 0);
     run(&b[k], 5, NULL);
     best[k] = INFINITY;
   }
@@ -380,7 +382,7 @@ int main(int argc, char **argv)
   if (argc > 1 && !strcmp(argv[1], "time")) return cmd_time(argc, argv);
   if (argc > 1 && !strcmp(argv[1], "scaling")) return cmd_scaling(argc, argv);
   if (argc > 1 && !strcmp(argv[1], "skin")) return cmd_skin(argc, argv);
-  fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S]\n"
+  fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin]\n"
                   "       ffbench scaling MODEL THREADS [NMAX]\n"
                   "       ffbench skin MODEL N THREADS\n");
   return 2;

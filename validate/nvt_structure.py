@@ -76,6 +76,7 @@ N, CUTOFF, EPS_RF, T_K, KB = nc.N, nc.CUTOFF, nc.EPS_RF, nc.T_K, nc.KB
 M_O, M_H = 15.9994, 1.008
 FRAME_PS = 0.040
 TAU_BUSSI = 1.0  # ps
+TAU_LANGEVIN = 1.0  # ps: friction time 1/gamma, OpenMM's 1/ps
 NH_FREQ = 1.0  # 1/ps
 RDF_BIN, RDF_RMAX, RDF_STRIDE = 0.005, 0.98, 5
 RDF_CMP = (0.2, 0.9)
@@ -102,6 +103,8 @@ def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=()):
            "ensemble = %s" % ensemble, "temperature = %g K" % T_K]
     if ensemble == "nvt-bussi":
         run.append("tau = %g ps" % TAU_BUSSI)
+    elif ensemble == "nvt-langevin":
+        run.append("tau = %g ps" % TAU_LANGEVIN)
     run += list(extra)
     sysl = ["[system]", "model = tip4p", "count = %d" % N, "box = %s" % " ".join(repr(b) for b in box)]
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = 1"]
@@ -120,13 +123,19 @@ def read_kv(path):
                                                if "=" in ln and not ln.startswith("#"))}
 
 
+# rotleap ensemble -> (file tag, thermostat key of the run record, label)
+ENSEMBLE_NAMES = {"nvt-bussi": ("bussi", "bussi", "Bussi"), "nvt-isokinetic": ("iso", "isokinetic", "isokinetic"),
+                  "nvt-langevin": ("langevin", "langevin", "Langevin")}
+
+
 def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix=""):
     """One rotleap NVT run from the shared start.  rotleap appends to PREFIX.dcd when it starts
     from a checkpoint, so the 0-step template run (from a lattice, same prefix) creates the empty
     DCD that the production run then fills.  extra: further [run] deck lines for both runs (a
     "seed = k" there seeds the thermostat: the template's checkpoint carries its random state);
     suffix: appended to the run's file names."""
-    tag = "rl_%s_h%g%s" % ("bussi" if ensemble == "nvt-bussi" else "iso", h_ps * 1e3, suffix)
+    name = ENSEMBLE_NAMES[ensemble]
+    tag = "rl_%s_h%g%s" % (name[0], h_ps * 1e3, suffix)
     pre = os.path.join(work, tag)
     with open(pre + "_tmpl.ini", "w") as f:
         f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra))
@@ -151,8 +160,7 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, ex
                                  cons=float(r["conserved"]), Tt_mid=float(r.get("t_trans_mid", "nan")),
                                  Tr_mid=float(r.get("t_rot_mid", "nan"))))
     res = read_kv(pre + ".results.txt")
-    return dict(label="rotleap %s h=%g" % ("Bussi" if ensemble == "nvt-bussi" else "isokinetic", h_ps * 1e3),
-                code="rotleap", thermostat="bussi" if ensemble == "nvt-bussi" else "isokinetic",
+    return dict(label="rotleap %s h=%g" % (name[2], h_ps * 1e3), code="rotleap", thermostat=name[1],
                 h_fs=round(h_ps * 1e3, 6), steps=steps, wall_s=wall, rc=p.returncode,
                 error=(p.stderr.strip().splitlines() or [""])[-1] if p.returncode else "",
                 rows=rows, dcd=pre + ".dcd", pdb=pre + ".pdb", summary=read_kv(pre + ".summary.txt"),
