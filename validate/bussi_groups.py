@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Bussi thermostat groups at a large step: one thermostat over every degree of freedom against one
-for translation and one for rotation (run.thermostat_groups = all | trans-rot).
+"""Thermostats at a large step: Bussi with one thermostat over every degree of freedom against one
+for translation and one for rotation (run.thermostat_groups = all | trans-rot), and Langevin in the
+middle of the drift (run.ensemble = nvt-langevin, friction time --langevin-tau), chosen by --variants.
 
 The system, the shared start, the runs, the analysis and the accuracy test are bench/sampling_speed.py's
 (imported): 256 TIP4P-RF at 298 K, a rotleap Bussi reference at --ref-fs (1 fs), and runs at --h-fs
@@ -11,7 +12,10 @@ rescales (thermo columns t_trans_mid, t_rot_mid; the mean is over the production
 
 Run (from the repository root, after building rotleap):
     /usr/bin/python3 validate/bussi_groups.py [--h-fs 8] [--seeds 3] [--tau 0.1] [--jobs 2] [--keep]
-Defaults: 4 ps equilibration + 200 ps production per run, 10 blocks; 7 runs.  About 6 minutes on
+        [--variants all,trans-rot] [--langevin-tau 1] [--md validate/bussi_groups.md]
+Defaults: 4 ps equilibration + 200 ps production per run, 10 blocks; 7 runs.
+The Langevin comparison: --variants trans-rot,langevin --md validate/langevin_8fs.md (about 12 minutes
+with --jobs 2; the mid-step temperatures of a Langevin run are those at the middle of the drift).  About 6 minutes on
 this 2-core machine with --jobs 2 (the 1 fs reference is most of it).  Writes validate/bussi_groups.md.
 """
 import argparse
