@@ -259,8 +259,9 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
   const char *tu = rl_dim_unit(Q_TIME, d->units);
   int real = d->units == RL_UNITS_REAL;
   double hs = real ? 1e3 : 1.0; /* print steps in fs */
-  fprintf(f, "# rotleap scan of %s: %s, %d molecules, %s; shared start, %s\n", d->path, d->model->name, d->count,
-          d->thermostat == RL_THERMO_NONE ? "NVE" : d->thermostat == RL_THERMO_ISOKINETIC ? "NVT (isokinetic)" : d->thermostat == RL_THERMO_BUSSI ? "NVT (Bussi)" : "NVT (Langevin)",
+  fprintf(f, "# rotleap scan of %s: %s, %d molecules, %s%s%s; shared start, %s\n", d->path, d->model->name, d->count,
+          d->thermostat == RL_THERMO_NONE ? "NVE" : "NVT (", d->thermostat == RL_THERMO_NONE ? "" : rl_thermostat_name(d->thermostat),
+          d->thermostat == RL_THERMO_NONE ? "" : ")",
           o->time > 0 ? "equal simulated time" : "equal number of steps");
   fprintf(f, "# calE, calU: relative rms fluctuations of the conserved and potential energy; drift: of the conserved "
              "energy, %s per molecule per %s; ortho: max |A A^T - I| or ||rho|-1| at the end; rdf: int |g - g_ref| dr "

@@ -222,8 +222,9 @@ def rotleap_timer(rotleap, work, run, box, steps, threads):
     """A `rotleap run` of `steps` steps at the run's h from its start checkpoint, outputs off;
     returns seconds per step from the summary's wall_seconds."""
     h_ps = run["h_fs"] * 1e-3
-    ens = "nvt-bussi" if run["thermostat"] == "bussi" else "nvt-isokinetic"
-    tag = "rl_%s_h%g" % ("bussi" if ens == "nvt-bussi" else "iso", run["h_fs"])
+    # the file names of nvt_structure.rotleap_task, which wrote the start checkpoint
+    ens = next(e for e, name in ns.ENSEMBLE_NAMES.items() if name[1] == run["thermostat"])
+    tag = "rl_%s_h%g" % (ns.ENSEMBLE_NAMES[ens][0], run["h_fs"])
     start = os.path.join(work, tag + "_start.chk")
     pre = os.path.join(work, "time_" + tag)
     text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0)
