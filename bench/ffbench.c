@@ -13,6 +13,10 @@
  *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
  *       side (alternating, best of 3), the log-log slope of the auto kernel, memory per molecule.
  *       Writes bench/scaling_MODEL.csv (or $ROTLEAP_BENCH_CSV).
+ *   ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE]
+ *       The force field alone, called repeatedly on one relaxed configuration (no list rebuilds),
+ *       the fastest round's ms per call.  --ab: a second copy with an environment variable set
+ *       (ROTLEAP_NO_AVX512=1), rounds alternating, and the median ratio of the two.
  * Read ratios: the machine is shared. */
 #include <rotleap/catalog.h>
 #include <rotleap/forcefield.h>
@@ -377,13 +381,82 @@ static int cmd_skin(int argc, char **argv)
   return 0;
 }
 
+/* The force field alone on one relaxed configuration, for A/B tests of kernel changes: the same
+ * work each call.  With --ab ENV=VALUE a second copy of the system is set up with that variable
+ * set (ROTLEAP_NO_AVX512=1: the dipole rows' portable fill and scatter), and the rounds alternate
+ * between the two in this one process, so both see the same share of time stolen by the host. */
+static int cmd_kernel(int argc, char **argv)
+{
+  if (argc < 5) { fprintf(stderr, "usage: ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE]\n"); return 2; }
+  const char *model = argv[2], *ab = NULL;
+  int n = atoi(argv[3]), threads = atoi(argv[4]), rounds = 40;
+  for (int k = 5; k < argc; k++) {
+    if (!strcmp(argv[k], "--ab") && k + 1 < argc) ab = argv[++k];
+    else rounds = atoi(argv[k]);
+  }
+  if (rounds < 1) rounds = 1;
+  const int nb = ab ? 2 : 1;
+  bench_sys b[2];
+  for (int v = 0; v < nb; v++) {
+    char env[256] = "";
+    if (v == 1) {
+      snprintf(env, sizeof env, "%s", ab);
+      char *eq = strchr(env, '=');
+      if (!eq) { fprintf(stderr, "ffbench: --ab ENV=VALUE\n"); return 2; }
+      *eq = '\0';
+      setenv(env, eq + 1, 1);
+    }
+    setup(&b[v], model, n, threads, RL_KERNEL_AUTO);
+    run(&b[v], n >= 16384 ? 20 : 200, NULL);
+    if (v == 1) unsetenv(env);
+  }
+  rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}};
+  double *t = malloc(sizeof *t * (size_t)rounds * 2);
+  if (!F.f || !F.k || !t) die("memory");
+  const int per = (int)fmax(1.0, 20000.0 / n); /* calls per round: ~10 ms or more */
+  for (int r = 0; r < rounds; r++)
+    for (int v = 0; v < nb; v++) {
+      double t0 = now();
+      for (int c = 0; c < per; c++)
+        if (rl_forcefield_compute(b[v].ff, b[v].sys, &F)) die("compute");
+      t[2 * r + v] = (now() - t0) / per;
+    }
+  for (int v = 0; v < nb; v++) {
+    double best = INFINITY;
+    for (int r = 0; r < rounds; r++) best = fmin(best, t[2 * r + v]);
+    rl_ff_energies e;
+    rl_forcefield_energies(b[v].ff, &e);
+    printf("model=%s N=%d threads=%d kernel=%s%s%s ms_per_compute_min=%.4f rounds=%d "
+           "calls_per_round=%d U_per_molecule=%.9f\n",
+           model, n, rl_forcefield_threads(b[v].ff), rl_forcefield_kernel(b[v].ff), v ? " env=" : "",
+           v ? ab : "", 1e3 * best, rounds, per, e.total / n);
+  }
+  if (nb == 2) { /* the median of the per-round ratios: robust to slow phases of the host */
+    double *q = malloc(sizeof *q * (size_t)rounds);
+    if (!q) die("memory");
+    for (int r = 0; r < rounds; r++) q[r] = t[2 * r] / t[2 * r + 1];
+    for (int a = 1; a < rounds; a++)
+      for (int c = a; c > 0 && q[c - 1] > q[c]; c--) { double x = q[c]; q[c] = q[c - 1]; q[c - 1] = x; }
+    printf("ratio default/env: median %.4f (quartiles %.4f %.4f) over %d rounds\n", q[rounds / 2],
+           q[rounds / 4], q[(3 * rounds) / 4], rounds);
+    free(q);
+  }
+  free(t);
+  free(F.f);
+  free(F.k);
+  for (int v = 0; v < nb; v++) teardown(&b[v]);
+  return 0;
+}
+
 int main(int argc, char **argv)
 {
   if (argc > 1 && !strcmp(argv[1], "time")) return cmd_time(argc, argv);
   if (argc > 1 && !strcmp(argv[1], "scaling")) return cmd_scaling(argc, argv);
   if (argc > 1 && !strcmp(argv[1], "skin")) return cmd_skin(argc, argv);
+  if (argc > 1 && !strcmp(argv[1], "kernel")) return cmd_kernel(argc, argv);
   fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin]\n"
                   "       ffbench scaling MODEL THREADS [NMAX]\n"
-                  "       ffbench skin MODEL N THREADS\n");
+                  "       ffbench skin MODEL N THREADS\n"
+                  "       ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE]\n");
   return 2;
 }

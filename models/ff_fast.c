@@ -18,7 +18,9 @@
  * reference rows.  A kernel walks a row in batches of RL_FAST_B neighbours: it keeps those
  * within the centres' interaction range (the list holds about twice as many), copies their
  * sites into structure-of-arrays buffers padded to 8 lanes, runs branch-free `omp simd` loops
- * (the cutoff as a 0/1 factor), then scatters the forces.  TIP4P runs its 10 terms in one
+ * (the cutoff as a 0/1 factor), then scatters the forces.  Where the CPU has AVX-512 (and
+ * ROTLEAP_NO_AVX512 is unset) the dipole rows fill and scatter their batches with transposes
+ * of 64-byte records instead (dip_fill512).  TIP4P runs its 10 terms in one
  * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is
  * rl_rsqrt (a few ulp, no divider), a * b + c may be one FMA, and separations and sums are
  * formed in another order, so results agree with the reference to round-off.
@@ -55,6 +57,17 @@
 #endif
 #define RL_INLINE static inline __attribute__((always_inline))
 
+/* The dipole kernel's own AVX-512 fill and scatter (dip_fill512, dip_scatter512), picked at
+ * setup when the CPU has AVX-512F and ROTLEAP_NO_AVX512 is not set in the environment. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROTLEAP_NO_CLONES)
+#define RL_X512 1
+#include <immintrin.h>
+#define RL_T512 __attribute__((target("avx512f")))
+#else
+#define RL_X512 0
+#define RL_T512
+#endif
+
 /* nearbyint(x) for |x| < 2^51 in the default rounding mode, written so it vectorises:
  * x + 1.5 2^52 has unit spacing, so the sum rounds x to the nearest integer (ties to even). */
 #define RL_RND(x) (((x) + 6755399441055744.0) - 6755399441055744.0)
@@ -76,11 +89,13 @@ typedef struct {
   double (*dsite)[3];            /* [nsites] site - centre                               */
   int *soff;                     /* [n] first site                                       */
   int *sp;                       /* [n] species                                          */
+  double (*pk)[8];               /* [n] dipole ranks, AVX-512 path: centre, 0, mu axis, 0 */
 } kview;
 
 typedef struct fast_species fast_species;
 typedef void (*row_fn)(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,
-                       const int *nbr, int len, double (*fs)[3], double (*tq)[3], rl_acc *acc);
+                       const int *nbr, int len, double (*fs)[3], double (*tq)[3],
+                       double (*ft)[8], rl_acc *acc);
 
 struct fast_species {
   int kind, ns, nterms;
@@ -123,6 +138,10 @@ struct rl_ff_fast {
   kview V;
   double (*pfs)[3];              /* [nthreads nsites] kernel site forces, rank order    */
   double (*ptq)[3];              /* [nthreads n] kernel torques, rank order             */
+  int x512;                      /* the dipole rows take the AVX-512 fill and scatter    */
+  int ndip;                      /* bodies of K_DIPOLE species                           */
+  double (*pft)[8];              /* x512: [nthreads n] force 0..2, torque 4..6 on dipole  */
+                                 /* ranks from the batches (rows add their own to pfs) */
 };
 
 #ifndef _OPENMP
@@ -145,10 +164,12 @@ RL_INLINE lj_consts lj_of(const fast_term *T)
   return c;
 }
 
-RL_INLINE double lj_eval(const int trunc, const lj_consts C, double rc, double rsw, double r2,
-                         double *fr)
-{ /* rl_lj_pair, branch-free */
-  double ir2 = 1.0 / r2, ir6 = ir2 * ir2 * ir2;
+/* rl_lj_pair, branch-free, given ir2 = 1 / r2 (a kernel that has 1 / r from rl_rsqrt passes
+ * its square, and saves a divide) */
+RL_INLINE double lj_eval_ir2(const int trunc, const lj_consts C, double rc, double rsw, double r2,
+                             double ir2, double *fr)
+{
+  double ir6 = ir2 * ir2 * ir2;
   double u = (C.c12 * ir6 - C.c6) * ir6;
   double f = (12.0 * C.c12 * ir6 - 6.0 * C.c6) * ir6 * ir2;
   if (trunc == RL_LJ_SHIFTED) {
@@ -171,6 +192,12 @@ RL_INLINE double lj_eval(const int trunc, const lj_consts C, double rc, double r
   }
   *fr = f;
   return u;
+}
+
+RL_INLINE double lj_eval(const int trunc, const lj_consts C, double rc, double rsw, double r2,
+                         double *fr)
+{
+  return lj_eval_ir2(trunc, C, rc, rsw, r2, 1.0 / r2, fr);
 }
 
 /* ------------------------------------------------------------------------ batches */
@@ -542,11 +569,151 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
 
 /* ------------------------------------------------------------------- Stockmayer kernel */
 
+#if RL_X512
+/* The dipole rows' batches on AVX-512 (issue 8: the scalar fill and scatter took about 57 % of
+ * the Stockmayer kernel's time in `perf record` of `ffbench time stockmayer 8000 1 100`, the
+ * pair terms 28 %).  Each dipole rank's centre and mu * axis sit in one 64-byte record
+ * (V->pk); eight neighbours' records are loaded as 256-bit halves and transposed with
+ * shuffles into the batch's structure of arrays, without gathers (2.4-2.8x slower per element
+ * than scalar loads on these machines, `bench/gather`); those within the cutoff are packed
+ * into the batch with vcompresspd.  The forces and torques on the neighbours are transposed
+ * back into records and added with one 512-bit add per neighbour into the thread's packed
+ * buffer (ft), which rl_ff_fast_compute adds to the site forces and torques. */
+
+/* Fill b with the next neighbours of row nbr[*pos .. len) within the cutoff, as batch_fill
+ * does: idx, w, R (minimum image) and m; advance *pos.  The kept ones are packed with
+ * vcompresspd, and a batch holds RL_FAST_B of them whatever candidates lie between, so the
+ * lanes and hence the sums' rounding do not depend on which candidates beyond the cutoff the
+ * list holds (a run restarted from a checkpoint rebuilds the list at another step and must
+ * continue bit for bit). */
+RL_T512 static inline void dip_fill512(const kview *V, const box_consts *B, int i, const int *nbr,
+                                       int len, int *pos, batch *b)
+{
+  const __m512d cx = _mm512_set1_pd(V->c[i][0]), cy = _mm512_set1_pd(V->c[i][1]),
+                cz = _mm512_set1_pd(V->c[i][2]);
+  const __m512d Lx = _mm512_set1_pd(B->L[0]), Ly = _mm512_set1_pd(B->L[1]),
+                Lz = _mm512_set1_pd(B->L[2]);
+  const __m512d iLx = _mm512_set1_pd(B->iL[0]), iLy = _mm512_set1_pd(B->iL[1]),
+                iLz = _mm512_set1_pd(B->iL[2]);
+  const __m512d big = _mm512_set1_pd(6755399441055744.0), rc2 = _mm512_set1_pd(B->rc2);
+  /* lanes (0 1 8 9 4 5 12 13) and (2 3 10 11 6 7 14 15) of two vectors */
+  const __m512i even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
+  const __m512i odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+  int n = 0, p = *pos;
+  while (p < len && n < RL_FAST_B) {
+    const int cnt = len - p < RL_FAST_W ? len - p : RL_FAST_W;
+    const double *q[8];
+    if (cnt == RL_FAST_W)
+      for (int l = 0; l < 8; l++) q[l] = V->pk[nbr[p + l]];
+    else
+      for (int l = 0; l < 8; l++) q[l] = V->pk[nbr[p + (l < cnt ? l : 0)]]; /* the first again */
+    /* halves: A_l = (record q[l] | record q[l + 4]), l = 0..3, for the centre (c) and the
+     * dipole (d) */
+    __m512d c[4], d[4];
+    for (int l = 0; l < 4; l++) {
+      c[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l])),
+                                _mm256_load_pd(q[l + 4]), 1);
+      d[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l] + 4)),
+                                _mm256_load_pd(q[l + 4] + 4), 1);
+    }
+    /* unpack: (x0 x1 z0 z1 | x4 x5 z4 z5), (y0 y1 . . | y4 y5 . .), same for 2, 3 / 6, 7 */
+    const __m512d cl01 = _mm512_unpacklo_pd(c[0], c[1]), ch01 = _mm512_unpackhi_pd(c[0], c[1]);
+    const __m512d cl23 = _mm512_unpacklo_pd(c[2], c[3]), ch23 = _mm512_unpackhi_pd(c[2], c[3]);
+    __m512d X = _mm512_sub_pd(cx, _mm512_permutex2var_pd(cl01, even, cl23));
+    __m512d Y = _mm512_sub_pd(cy, _mm512_permutex2var_pd(ch01, even, ch23));
+    __m512d Z = _mm512_sub_pd(cz, _mm512_permutex2var_pd(cl01, odd, cl23));
+    /* RL_RND: X -= L nearbyint(X / L) */
+    X = _mm512_fnmadd_pd(Lx, _mm512_sub_pd(_mm512_fmadd_pd(X, iLx, big), big), X);
+    Y = _mm512_fnmadd_pd(Ly, _mm512_sub_pd(_mm512_fmadd_pd(Y, iLy, big), big), Y);
+    Z = _mm512_fnmadd_pd(Lz, _mm512_sub_pd(_mm512_fmadd_pd(Z, iLz, big), big), Z);
+    const __m512d r2 = _mm512_fmadd_pd(Z, Z, _mm512_fmadd_pd(Y, Y, _mm512_mul_pd(X, X)));
+    __mmask8 keep = _mm512_cmp_pd_mask(r2, rc2, _CMP_LT_OQ) & (__mmask8)((1u << cnt) - 1u);
+    int kc = __builtin_popcount(keep), used = cnt;
+    if (n + kc > RL_FAST_B) { /* the batch is full after the (RL_FAST_B - n)-th kept one */
+      unsigned m = keep;
+      for (int t = RL_FAST_B - n; t > 1; t--) m &= m - 1;
+      used = __builtin_ctz(m) + 1;
+      keep &= (__mmask8)((1u << used) - 1u);
+      kc = RL_FAST_B - n;
+    }
+    if (kc) {
+      const __m512d dl01 = _mm512_unpacklo_pd(d[0], d[1]), dh01 = _mm512_unpackhi_pd(d[0], d[1]);
+      const __m512d dl23 = _mm512_unpacklo_pd(d[2], d[3]), dh23 = _mm512_unpackhi_pd(d[2], d[3]);
+      const __mmask8 st = (__mmask8)((1u << kc) - 1u);
+#define RL_PUT(DST, V) _mm512_mask_storeu_pd(DST, st, _mm512_maskz_compress_pd(keep, V))
+      RL_PUT(&b->R[0][n], X);
+      RL_PUT(&b->R[1][n], Y);
+      RL_PUT(&b->R[2][n], Z);
+      RL_PUT(&b->m[0][n], _mm512_permutex2var_pd(dl01, even, dl23));
+      RL_PUT(&b->m[1][n], _mm512_permutex2var_pd(dh01, even, dh23));
+      RL_PUT(&b->m[2][n], _mm512_permutex2var_pd(dl01, odd, dl23));
+#undef RL_PUT
+      const __m512i id = _mm512_maskz_loadu_epi32((__mmask16)((1u << cnt) - 1u), nbr + p);
+      _mm512_mask_storeu_epi32(&b->idx[n], (__mmask16)st, _mm512_maskz_compress_epi32(keep, id));
+    }
+    n += kc;
+    p += used;
+  }
+  *pos = p;
+  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
+  for (int k = 0; k < np; k++) b->w[k] = k < n ? 1.0 : 0.0;
+  for (int k = n; k < np; k++) { /* padding: a copy of the first neighbour, weight 0 */
+    b->idx[k] = b->idx[0];
+    for (int c = 0; c < 3; c++) {
+      b->R[c][k] = b->R[c][0];
+      b->m[c][k] = b->m[c][0];
+    }
+  }
+  b->n = n;
+  b->np = np;
+}
+
+/* Add the batch's forces b->f[0] and torques b->t on the neighbours to their records in ft. */
+RL_T512 static inline void dip_scatter512(const batch *b, double (*ft)[8])
+{
+  const __m512d zero = _mm512_setzero_pd();
+  /* lanes (0 1 8 9 2 3 10 11) and (4 5 12 13 6 7 14 15) of two vectors */
+  const __m512i lo = _mm512_set_epi64(11, 10, 3, 2, 9, 8, 1, 0);
+  const __m512i hi = _mm512_set_epi64(15, 14, 7, 6, 13, 12, 5, 4);
+  for (int k = 0; k < b->n; k += RL_FAST_W) {
+    const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
+    __m512d P[4], Q[4]; /* P[0] = (fx0 fy0 fz0 0 | fx2 fy2 fz2 0), P[1]: 4|6, P[2]: 1|3, P[3]: 5|7 */
+#define RL_ROWS(V3, P)                                                                          \
+    {                                                                                           \
+      const __m512d x = _mm512_load_pd(&V3[0][k]), y = _mm512_load_pd(&V3[1][k]),              \
+                    z = _mm512_load_pd(&V3[2][k]);                                              \
+      const __m512d xy0 = _mm512_unpacklo_pd(x, y), xy1 = _mm512_unpackhi_pd(x, y);            \
+      const __m512d z0 = _mm512_unpacklo_pd(z, zero), z1 = _mm512_unpackhi_pd(z, zero);        \
+      P[0] = _mm512_permutex2var_pd(xy0, lo, z0);                                               \
+      P[1] = _mm512_permutex2var_pd(xy0, hi, z0);                                               \
+      P[2] = _mm512_permutex2var_pd(xy1, lo, z1);                                               \
+      P[3] = _mm512_permutex2var_pd(xy1, hi, z1);                                               \
+    }
+    RL_ROWS(b->f[0], P)
+    RL_ROWS(b->t, Q)
+#undef RL_ROWS
+    __m512d r[8]; /* neighbour l: (f 0 | t 0) */
+    r[0] = _mm512_shuffle_f64x2(P[0], Q[0], 0x44);
+    r[2] = _mm512_shuffle_f64x2(P[0], Q[0], 0xEE);
+    r[4] = _mm512_shuffle_f64x2(P[1], Q[1], 0x44);
+    r[6] = _mm512_shuffle_f64x2(P[1], Q[1], 0xEE);
+    r[1] = _mm512_shuffle_f64x2(P[2], Q[2], 0x44);
+    r[3] = _mm512_shuffle_f64x2(P[2], Q[2], 0xEE);
+    r[5] = _mm512_shuffle_f64x2(P[3], Q[3], 0x44);
+    r[7] = _mm512_shuffle_f64x2(P[3], Q[3], 0xEE);
+    for (int l = 0; l < cnt; l++) {
+      double *o = ft[b->idx[k + l]];
+      _mm512_store_pd(o, _mm512_add_pd(_mm512_load_pd(o), r[l]));
+    }
+  }
+}
+#endif
+
 /* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
  * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf). */
-RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *ff, const kview *V,
-                          const fast_species *K, int i, const int *nbr, int len,
-                          double (*fs)[3], double (*tq)[3], rl_acc *acc)
+RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const rl_forcefield *ff,
+                          const kview *V, const fast_species *K, int i, const int *nbr, int len,
+                          double (*fs)[3], double (*tq)[3], double (*ft)[8], rl_acc *acc)
 {
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
@@ -560,19 +727,26 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
   double w0 = 0, w1 = 0, w2 = 0, w3 = 0, w4 = 0, w5 = 0, w6 = 0, w7 = 0, w8 = 0;
   double bad = 0.0;
   for (int pos = 0; pos < len;) {
-    batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, &b);
+#if RL_X512
+    if (X512) dip_fill512(V, &B, i, nbr, len, &pos, &b);
+    else
+#endif
+      batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, &b);
     if (b.n == 0) continue;
     const int np = b.np;
-#pragma omp simd reduction(+ : fix, fiy, fiz, tix, tiy, tiz, elj, edip, w0, w1, w2, w3, w4, w5, w6, w7, w8, bad)
+    /* the pair terms; each lane's force on j, torque on j and torque on i go to the batch
+     * (b.f, b.t, b.g), and the sums over the lanes are formed in the loop below: with all 17
+     * sums in this loop GCC kept them in memory, loaded and stored every iteration */
+#pragma omp simd reduction(+ : elj, edip, bad)
     for (int k = 0; k < np; k++) {
       const double rx = b.R[0][k], ry = b.R[1][k], rz = b.R[2][k];
       double r2 = rx * rx + ry * ry + rz * rz;
       const double in = b.w[k] * (r2 < rc2 ? 1.0 : 0.0);
       bad += in * (r2 < md2 ? 1.0 : 0.0);
-      double frl, ul = lj_eval(TRUNC, C, rc, rsw, r2, &frl);
       /* dd_plain (dipole.c) */
       const double mjx = b.m[0][k], mjy = b.m[1][k], mjz = b.m[2][k];
       double ir = rl_rsqrt(r2), ir2 = ir * ir, ir3 = ir * ir2, ir5 = ir3 * ir2;
+      double frl, ul = lj_eval_ir2(TRUNC, C, rc, rsw, r2, ir2, &frl);
       double pij = mix * mjx + miy * mjy + miz * mjz;
       double pi = mix * rx + miy * ry + miz * rz;
       double pj = mjx * rx + mjy * ry + mjz * rz;
@@ -610,20 +784,32 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
       gjx *= in; gjy *= in; gjz *= in;
       elj += in * ul;
       edip += in * ud;
-      fix += fx; fiy += fy; fiz += fz;
       b.f[0][0][k] = -fx; b.f[0][1][k] = -fy; b.f[0][2][k] = -fz;
-      tix -= miy * giz - miz * giy; /* torque -mu x g */
-      tiy -= miz * gix - mix * giz;
-      tiz -= mix * giy - miy * gix;
+      b.g[0][0][k] = -(miy * giz - miz * giy); /* torque -mu x g on i */
+      b.g[0][1][k] = -(miz * gix - mix * giz);
+      b.g[0][2][k] = -(mix * giy - miy * gix);
       b.t[0][k] = -(mjy * gjz - mjz * gjy);
       b.t[1][k] = -(mjz * gjx - mjx * gjz);
       b.t[2][k] = -(mjx * gjy - mjy * gjx);
-      w0 += rx * fx; w1 += rx * fy; w2 += rx * fz;
-      w3 += ry * fx; w4 += ry * fy; w5 += ry * fz;
-      w6 += rz * fx; w7 += rz * fy; w8 += rz * fz;
     }
-    batch_scatter(1, V, &b, K, fs, tq);
+    /* the row's sums: force and torque on i, virial R (x) F with F = -b.f the force on i */
+#pragma omp simd reduction(+ : fix, fiy, fiz, tix, tiy, tiz, w0, w1, w2, w3, w4, w5, w6, w7, w8)
+    for (int k = 0; k < np; k++) {
+      const double Fx = b.f[0][0][k], Fy = b.f[0][1][k], Fz = b.f[0][2][k];
+      const double rx = b.R[0][k], ry = b.R[1][k], rz = b.R[2][k];
+      fix -= Fx; fiy -= Fy; fiz -= Fz;
+      tix += b.g[0][0][k]; tiy += b.g[0][1][k]; tiz += b.g[0][2][k];
+      w0 -= rx * Fx; w1 -= rx * Fy; w2 -= rx * Fz;
+      w3 -= ry * Fx; w4 -= ry * Fy; w5 -= ry * Fz;
+      w6 -= rz * Fx; w7 -= rz * Fy; w8 -= rz * Fz;
+    }
+#if RL_X512
+    if (X512) dip_scatter512(&b, ft);
+    else
+#endif
+      batch_scatter(1, V, &b, K, fs, tq);
   }
+  (void)ft;
   fs[oi][0] += fix; fs[oi][1] += fiy; fs[oi][2] += fiz;
   tq[i][0] += tix; tq[i][1] += tiy; tq[i][2] += tiz;
   acc->lj += elj;
@@ -635,15 +821,18 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
 }
 
 /* Instances: one function per (mode, truncation) and (dipole method, truncation), each
- * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time. */
-#define ROW_FN(NAME, BODY)                                                                     \
-  RL_CLONES static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K,   \
-                             int i, const int *nbr, int len, double (*fs)[3],                  \
-                             double (*tq)[3], rl_acc *acc)                                     \
+ * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole rows
+ * again with the AVX-512 fill and scatter (dipx_*), picked at setup. */
+#define ROW_FN_T(ATTR, NAME, BODY)                                                             \
+  ATTR static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,  \
+                        const int *nbr, int len, double (*fs)[3], double (*tq)[3],             \
+                        double (*ft)[8], rl_acc *acc)                                          \
   {                                                                                            \
     (void)tq;                                                                                  \
+    (void)ft;                                                                                  \
     BODY;                                                                                      \
   }
+#define ROW_FN(NAME, BODY) ROW_FN_T(RL_CLONES, NAME, BODY)
 #define SITES4(M, P)                                                                           \
   ROW_FN(sites_##M##0, sites_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
   ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
@@ -656,14 +845,26 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)
-ROW_FN(dip_r0, dipole_row(0, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_r1, dipole_row(0, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_r2, dipole_row(0, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_r3, dipole_row(0, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f0, dipole_row(1, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
-ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r0, dipole_row(0, 0, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_r1, dipole_row(0, 0, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_r2, dipole_row(0, 0, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_r3, dipole_row(0, 0, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_f0, dipole_row(0, 1, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_f1, dipole_row(0, 1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_f2, dipole_row(0, 1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_f3, dipole_row(0, 1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+#if RL_X512
+#define DIP512(NAME, DSF, TRUNC)                                                               \
+  ROW_FN_T(RL_T512, NAME, dipole_row(1, DSF, TRUNC, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+DIP512(dipx_r0, 0, RL_LJ_PLAIN)
+DIP512(dipx_r1, 0, RL_LJ_SHIFTED)
+DIP512(dipx_r2, 0, RL_LJ_SHIFTED_FORCE)
+DIP512(dipx_r3, 0, RL_LJ_SWITCHED)
+DIP512(dipx_f0, 1, RL_LJ_PLAIN)
+DIP512(dipx_f1, 1, RL_LJ_SHIFTED)
+DIP512(dipx_f2, 1, RL_LJ_SHIFTED_FORCE)
+DIP512(dipx_f3, 1, RL_LJ_SWITCHED)
+#endif
 
 /* [mode][truncation] */
 static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
@@ -672,8 +873,15 @@ static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
 static const row_fn tip4p_fns[3][4] = {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
                                        {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
                                        {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}};
-static const row_fn dipole_fns[2][4] = {{dip_r0, dip_r1, dip_r2, dip_r3},
-                                        {dip_f0, dip_f1, dip_f2, dip_f3}};
+/* [AVX-512 fill and scatter][dipole method][truncation] */
+static const row_fn dipole_fns[2][2][4] = {
+    {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
+#if RL_X512
+    {{dipx_r0, dipx_r1, dipx_r2, dipx_r3}, {dipx_f0, dipx_f1, dipx_f2, dipx_f3}},
+#else
+    {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
+#endif
+};
 
 /* ------------------------------------------------------------------------ setup */
 
@@ -688,7 +896,7 @@ static void term_set(const rl_forcefield *ff, int ta, int tb, fast_term *T)
 }
 
 /* The kernel of species k from its sites and the current LJ table. */
-static void classify(const rl_forcefield *ff, int k, fast_species *K)
+static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
 {
   memset(K, 0, sizeof *K);
   int ns = ff->sp_nsites[k], o = ff->type_off[k];
@@ -710,7 +918,7 @@ static void classify(const rl_forcefield *ff, int k, fast_species *K)
     K->nterms = 1;
     term_set(ff, o, o, &K->t[0]);
     for (int m = 0; m < 3; m++)
-      K->row[m] = dipole_fns[ff->p.dipole_method == RL_DIPOLE_SF][ff->p.lj_truncation];
+      K->row[m] = dipole_fns[x512][ff->p.dipole_method == RL_DIPOLE_SF][ff->p.lj_truncation];
     return;
   }
   K->kind = K_SITES;
@@ -777,6 +985,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->ord);
   free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
   free(f->pfs); free(f->ptq);
+  free(f->V.pk); free(f->pft);
   free(f);
 }
 
@@ -842,8 +1051,12 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   size_t left = sizeof f->namebuf;
   int nonempty = 0;
   for (int k = 0; k < ff->nspecies; k++) nonempty += ff->sp_count[k] > 0 && ff->sp_nsites[k] > 0;
+#if RL_X512
+  f->x512 = __builtin_cpu_supports("avx512f") && !getenv("ROTLEAP_NO_AVX512");
+#endif
   for (int k = 0; k < ff->nspecies; k++) {
-    classify(ff, k, &f->sk[k]);
+    classify(ff, k, f->x512, &f->sk[k]);
+    if (f->sk[k].kind == K_DIPOLE) f->ndip += ff->sp_count[k];
     if (ff->sp_count[k] == 0 || ff->sp_nsites[k] == 0) continue;
     const char *nm = species_name(&f->sk[k]);
     if (!nm) { general = 1; continue; }
@@ -854,6 +1067,15 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     }
   }
   if (nonempty > 1) general = 1; /* pairs of different species */
+  if (f->x512 && f->ndip > 0) { /* 64-byte records, see dip_fill512 */
+    f->V.pk = aligned_alloc(64, sizeof *f->V.pk * n1);
+    f->pft = aligned_alloc(64, sizeof *f->pft * n1 * (size_t)T);
+    if (!f->V.pk || !f->pft) {
+      rl_ff_fast_free(f);
+      return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
+    }
+    memset(f->V.pk, 0, sizeof *f->V.pk * n1);
+  }
   if (general) snprintf(p, left, "%s", used ? "+general" : "general");
   f->name = f->namebuf;
   ff->fast = f;
@@ -1084,6 +1306,14 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
         V->c[m][c] = ff->centre[i][c];
         V->ax[m][c] = ff->axis[i][c];
       }
+      const fast_species *K = &f->sk[ff->body_species[i]];
+      if (V->pk && K->kind == K_DIPOLE) { /* the AVX-512 dipole rows read no sites */
+        for (int c = 0; c < 3; c++) {
+          V->pk[m][c] = ff->centre[i][c];
+          V->pk[m][4 + c] = K->mu * ff->axis[i][c];
+        }
+        continue;
+      }
       for (int a = 0; a < ns_i; a++)
         for (int c = 0; c < 3; c++) {
           V->site[om + a][c] = ff->site[oi + a][c];
@@ -1100,6 +1330,8 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     }
     memset(pfs, 0, sizeof *pfs * (size_t)ns);
     memset(ptq, 0, sizeof *ptq * (size_t)n);
+    double(*pft)[8] = f->pft ? f->pft + (size_t)t * (size_t)n : NULL;
+    if (pft) memset(pft, 0, sizeof *pft * (size_t)n);
     rl_acc *a = &f->acc[t];
     memset(a, 0, sizeof *a);
     a->fs = fs;
@@ -1111,7 +1343,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       const int i = ord[m], k = ff->body_species[i];
       const fast_species *K = &f->sk[k];
       int fl = f->fstart[m + 1] - f->fstart[m];
-      if (fl > 0) K->row[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl, pfs, ptq, a);
+      if (fl > 0) K->row[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl, pfs, ptq, pft, a);
       for (int q = f->gstart[m]; q < f->gstart[m + 1] && !st; q++)
         st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
     }
@@ -1142,7 +1374,9 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       const int i = ord[m], k = ff->body_species[i], ns_i = ff->sp_nsites[k];
       const int oi = ff->body_site_off[i], om = V->soff[m];
       const int mv = f->sk[k].kind == K_TIP4P && mode[k] != P_SITE; /* 4 sites */
-      double F[4][3] = {{0.0}};                                       /* mv: kernel site forces */
+      double F[4][3];                                                 /* mv: kernel site forces */
+      if (mv) /* a loop, not an initialiser: GCC made that a `rep stos`, 2.5 % of a dipole step */
+        for (int a = 0; a < 4; a++) F[a][0] = F[a][1] = F[a][2] = 0.0;
       for (int u = 0; u < T; u++) {
         const double(*pf)[3] = f->pfs + (size_t)u * (size_t)ns + (size_t)om;
         const double *pt = f->ptq[(size_t)u * (size_t)n + (size_t)m];
@@ -1152,6 +1386,13 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
             if (mv) F[a][c] += pf[a][c];
           }
         for (int c = 0; c < 3; c++) ff->tq[i][c] += pt[c];
+        if (f->pft && f->sk[k].kind == K_DIPOLE) { /* ns_i = 1 */
+          const double *q = f->pft[(size_t)u * (size_t)n + (size_t)m];
+          for (int c = 0; c < 3; c++) {
+            ff->fs[oi][c] += q[c];
+            ff->tq[i][c] += q[4 + c];
+          }
+        }
       }
       if (mv)
         for (int a = 0; a < 4; a++)

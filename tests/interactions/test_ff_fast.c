@@ -247,6 +247,20 @@ static void test_stockmayer(void **state)
   sweep(&s, &p, "stockmayer, RF eps_rf = 78.3", "stockmayer");
   p.dipole_method = RL_DIPOLE_SF;
   sweep(&s, &p, "stockmayer, shifted force", "stockmayer");
+  /* rows of several batches (about 110 pairs within rc per row on average, 220 in the first
+   * rows; a batch holds 64), so that a batch fills in the middle of a group of candidates */
+  p.cutoff = 1.3;
+  sweep(&s, &p, "stockmayer, shifted force, rc = 1.3", "stockmayer");
+  /* where the CPU has AVX-512 the sweeps above took the dipole rows' AVX-512 fill and scatter;
+   * the portable ones again (on other CPUs these repeat the sweeps above) */
+  setenv("ROTLEAP_NO_AVX512", "1", 1);
+  sweep(&s, &p, "stockmayer, shifted force, rc = 1.3, ROTLEAP_NO_AVX512", "stockmayer");
+  p.cutoff = 0.75;
+  p.dipole_method = RL_DIPOLE_RF;
+  sweep(&s, &p, "stockmayer, RF eps_rf = 78.3, ROTLEAP_NO_AVX512", "stockmayer");
+  p.dipole_method = RL_DIPOLE_SF;
+  sweep(&s, &p, "stockmayer, shifted force, ROTLEAP_NO_AVX512", "stockmayer");
+  unsetenv("ROTLEAP_NO_AVX512");
   rl_system_free(s.sys);
   gsl_rng_free(rng);
 }
