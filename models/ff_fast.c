@@ -19,8 +19,9 @@
  * within the centres' interaction range (the list holds about twice as many), copies their
  * sites into structure-of-arrays buffers padded to 8 lanes, runs branch-free `omp simd` loops
  * (the cutoff as a 0/1 factor), then scatters the forces.  Where the CPU has AVX-512 (and
- * ROTLEAP_NO_AVX512 is unset) the dipole rows fill and scatter their batches with transposes
- * of 64-byte records instead (dip_fill512).  TIP4P runs its 10 terms in one
+ * ROTLEAP_NO_AVX512 is unset) the dipole rows and the TIP4P rows with the centres' image fill
+ * and scatter their batches with transposes of 64- and 128-byte records instead (dip_fill512,
+ * tip4p_fill512).  TIP4P runs its 10 terms in one
  * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is
  * rl_rsqrt (a few ulp, no divider), a * b + c may be one FMA, and separations and sums are
  * formed in another order, so results agree with the reference to round-off.
@@ -90,12 +91,14 @@ typedef struct {
   int *soff;                     /* [n] first site                                       */
   int *sp;                       /* [n] species                                          */
   double (*pk)[8];               /* [n] dipole ranks, AVX-512 path: centre, 0, mu axis, 0 */
+  double (*pk4)[16];             /* [n] TIP4P ranks, AVX-512 path: centre, then site       */
+                                 /* perm[s] - centre at 3 + 3 s, 0                      */
 } kview;
 
 typedef struct fast_species fast_species;
 typedef void (*row_fn)(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,
                        const int *nbr, int len, double (*fs)[3], double (*tq)[3],
-                       double (*ft)[8], rl_acc *acc);
+                       double (*ft)[8], double (*ft4)[16], rl_acc *acc);
 
 struct fast_species {
   int kind, ns, nterms;
@@ -142,6 +145,9 @@ struct rl_ff_fast {
   int ndip;                      /* bodies of K_DIPOLE species                           */
   double (*pft)[8];              /* x512: [nthreads n] force 0..2, torque 4..6 on dipole  */
                                  /* ranks from the batches (rows add their own to pfs) */
+  int ntip4p;                    /* bodies of K_TIP4P species                            */
+  double (*pft4)[16];            /* x512: [nthreads n] forces on TIP4P ranks' sites from */
+                                 /* the batches, as in pk4                              */
 };
 
 #ifndef _OPENMP
@@ -443,6 +449,108 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
 
 /* ------------------------------------------------------------------------ TIP4P kernel */
 
+#if RL_X512
+/* The TIP4P rows' batches on AVX-512, as the dipoles' (dip_fill512): each TIP4P rank's centre
+ * and sites relative to it sit in a 128-byte record (V->pk4), two 512-bit rows.  The fill
+ * keeps the candidates within the pruning radius in a scalar pass (reading the centres from
+ * the records), then loads the kept ones' records eight at a time and transposes each half
+ * (8 x 8) into the batch's sites.  The scatter transposes the site forces back into records and
+ * adds them with two 512-bit adds per neighbour into the thread's buffer (ft4). */
+
+/* in[r][c] -> out[c][r], eight rows of eight doubles: 24 shuffles */
+RL_T512 static inline void tr8x8(const __m512d in[8], __m512d out[8])
+{
+  const __m512i even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
+  const __m512i odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+  __m512d u[4], v[4];
+  for (int h = 0; h < 2; h++) { /* rows 0-3, then 4-7 */
+    const __m512d *r = in + 4 * h;
+    const __m512d t0 = _mm512_unpacklo_pd(r[0], r[1]), t1 = _mm512_unpackhi_pd(r[0], r[1]);
+    const __m512d t2 = _mm512_unpacklo_pd(r[2], r[3]), t3 = _mm512_unpackhi_pd(r[2], r[3]);
+    __m512d *w = h ? v : u; /* columns 0|4, 2|6, 1|5, 3|7 of four rows */
+    w[0] = _mm512_permutex2var_pd(t0, even, t2);
+    w[1] = _mm512_permutex2var_pd(t0, odd, t2);
+    w[2] = _mm512_permutex2var_pd(t1, even, t3);
+    w[3] = _mm512_permutex2var_pd(t1, odd, t3);
+  }
+  out[0] = _mm512_shuffle_f64x2(u[0], v[0], 0x44);
+  out[4] = _mm512_shuffle_f64x2(u[0], v[0], 0xEE);
+  out[2] = _mm512_shuffle_f64x2(u[1], v[1], 0x44);
+  out[6] = _mm512_shuffle_f64x2(u[1], v[1], 0xEE);
+  out[1] = _mm512_shuffle_f64x2(u[2], v[2], 0x44);
+  out[5] = _mm512_shuffle_f64x2(u[2], v[2], 0xEE);
+  out[3] = _mm512_shuffle_f64x2(u[3], v[3], 0x44);
+  out[7] = _mm512_shuffle_f64x2(u[3], v[3], 0xEE);
+}
+
+/* batch_fill for the TIP4P rows with the centres' image (P_SHIFT, P_MOL): the same kept
+ * neighbours in the same order, so the same lanes. */
+RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, int i,
+                                         const int *nbr, int len, int *pos, double rp2, batch *b)
+{
+  const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
+  int n = 0, p = *pos;
+  for (; p < len && n < RL_FAST_B; p++) {
+    const int j = nbr[p];
+    const double *q = V->pk4[j];
+    double X = cx - q[0], Y = cy - q[1], Z = cz - q[2];
+    X -= B->L[0] * RL_RND(X * B->iL[0]);
+    Y -= B->L[1] * RL_RND(Y * B->iL[1]);
+    Z -= B->L[2] * RL_RND(Z * B->iL[2]);
+    b->idx[n] = j;
+    b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
+    n += X * X + Y * Y + Z * Z < rp2;
+  }
+  *pos = p;
+  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
+  for (int k = n; k < np; k++) { /* padding: a copy of the first neighbour, weight 0 */
+    b->idx[k] = b->idx[0];
+    for (int c = 0; c < 3; c++) b->R[c][k] = b->R[c][0];
+  }
+  for (int k = 0; k < np; k++) b->w[k] = k < n ? 1.0 : 0.0;
+  for (int k = 0; k < np; k += RL_FAST_W) {
+    __m512d lo[8], hi[8], a[8], c[8];
+    for (int l = 0; l < 8; l++) {
+      const double *q = V->pk4[b->idx[k + l]];
+      lo[l] = _mm512_load_pd(q);
+      hi[l] = _mm512_load_pd(q + 8);
+    }
+    tr8x8(lo, a); /* a[3 + 3 s + c] = site s, c; s = 0, 1 (c < 2) */
+    tr8x8(hi, c); /* c[3 + 3 s + c - 8] for the rest */
+    for (int e = 3; e < 15; e++) {
+      const int s = (e - 3) / 3, d = (e - 3) % 3;
+      _mm512_store_pd(&b->x[s][d][k], e < 8 ? a[e] : c[e - 8]);
+    }
+  }
+  b->n = n;
+  b->np = np;
+}
+
+/* Add the batch's site forces b->f on the neighbours to their records in ft4. */
+RL_T512 static inline void tip4p_scatter512(const batch *b, double (*ft4)[16])
+{
+  const __m512d zero = _mm512_setzero_pd();
+  for (int k = 0; k < b->n; k += RL_FAST_W) {
+    const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
+    __m512d lo[8], hi[8], a[8], c[8];
+    for (int e = 0; e < 16; e++) {
+      const int s = (e - 3) / 3, d = (e - 3) % 3;
+      const __m512d v = e < 3 || e == 15 ? zero : _mm512_load_pd(&b->f[s][d][k]);
+      if (e < 8) a[e] = v;
+      else c[e - 8] = v;
+    }
+    tr8x8(a, lo);
+    tr8x8(c, hi);
+    for (int l = 0; l < cnt; l++) {
+      double *o = ft4[b->idx[k + l]];
+      _mm512_store_pd(o, _mm512_add_pd(_mm512_load_pd(o), lo[l]));
+      _mm512_store_pd(o + 8, _mm512_add_pd(_mm512_load_pd(o + 8), hi[l]));
+    }
+  }
+}
+#endif
+
+
 /* One LJ site without charge and three charges without LJ (TIP4P and its reparametrisations):
  * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
  * + 9 Coulomb terms run in one loop, so each neighbour's sites are loaded once and its forces
@@ -453,9 +561,9 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
  * 9 multiply-adds per pair instead of 6 per term.  rl_ff_fast_compute adds back sum d (x) F
  * over these kernels' site forces, which the final site-to-molecule correction subtracts
  * from every site force.  With site images (P_SITE) each term keeps r (x) f. */
-RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *ff, const kview *V,
-                         const fast_species *K, int i, const int *nbr, int len,
-                         double (*fs)[3], rl_acc *acc)
+RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const rl_forcefield *ff,
+                         const kview *V, const fast_species *K, int i, const int *nbr, int len,
+                         double (*fs)[3], double (*ft4)[16], rl_acc *acc)
 {
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
@@ -474,7 +582,11 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
   double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, v6 = 0.0, v7 = 0.0, v8 = 0.0;
   const int SITEVIR = MODE == P_SITE;
   for (int pos = 0; pos < len;) {
-    batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, &b);
+#if RL_X512
+    if (X512) tip4p_fill512(V, &B, i, nbr, len, &pos, rp2, &b);
+    else
+#endif
+      batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, &b);
     if (b.n == 0) continue;
     const int np = b.np;
 #pragma omp simd reduction(+ : elj, ecoul, w0, w1, w2, w3, w4, w5)
@@ -556,8 +668,13 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *f
         v6 += Rz * Fx; v7 += Rz * Fy; v8 += Rz * Fz;
       }
     }
-    batch_scatter(0, V, &b, K, fs, NULL);
+#if RL_X512
+    if (X512) tip4p_scatter512(&b, ft4);
+    else
+#endif
+      batch_scatter(0, V, &b, K, fs, NULL);
   }
+  (void)ft4;
   for (int s = 0; s < 4; s++)
     for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += fi[s][c];
   const double w[6] = {w0, w1, w2, w3, w4, w5};
@@ -672,35 +789,14 @@ RL_T512 static inline void dip_fill512(const kview *V, const box_consts *B, int 
 RL_T512 static inline void dip_scatter512(const batch *b, double (*ft)[8])
 {
   const __m512d zero = _mm512_setzero_pd();
-  /* lanes (0 1 8 9 2 3 10 11) and (4 5 12 13 6 7 14 15) of two vectors */
-  const __m512i lo = _mm512_set_epi64(11, 10, 3, 2, 9, 8, 1, 0);
-  const __m512i hi = _mm512_set_epi64(15, 14, 7, 6, 13, 12, 5, 4);
   for (int k = 0; k < b->n; k += RL_FAST_W) {
     const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
-    __m512d P[4], Q[4]; /* P[0] = (fx0 fy0 fz0 0 | fx2 fy2 fz2 0), P[1]: 4|6, P[2]: 1|3, P[3]: 5|7 */
-#define RL_ROWS(V3, P)                                                                          \
-    {                                                                                           \
-      const __m512d x = _mm512_load_pd(&V3[0][k]), y = _mm512_load_pd(&V3[1][k]),              \
-                    z = _mm512_load_pd(&V3[2][k]);                                              \
-      const __m512d xy0 = _mm512_unpacklo_pd(x, y), xy1 = _mm512_unpackhi_pd(x, y);            \
-      const __m512d z0 = _mm512_unpacklo_pd(z, zero), z1 = _mm512_unpackhi_pd(z, zero);        \
-      P[0] = _mm512_permutex2var_pd(xy0, lo, z0);                                               \
-      P[1] = _mm512_permutex2var_pd(xy0, hi, z0);                                               \
-      P[2] = _mm512_permutex2var_pd(xy1, lo, z1);                                               \
-      P[3] = _mm512_permutex2var_pd(xy1, hi, z1);                                               \
-    }
-    RL_ROWS(b->f[0], P)
-    RL_ROWS(b->t, Q)
-#undef RL_ROWS
+    const __m512d in[8] = {_mm512_load_pd(&b->f[0][0][k]), _mm512_load_pd(&b->f[0][1][k]),
+                           _mm512_load_pd(&b->f[0][2][k]), zero,
+                           _mm512_load_pd(&b->t[0][k]),    _mm512_load_pd(&b->t[1][k]),
+                           _mm512_load_pd(&b->t[2][k]),    zero};
     __m512d r[8]; /* neighbour l: (f 0 | t 0) */
-    r[0] = _mm512_shuffle_f64x2(P[0], Q[0], 0x44);
-    r[2] = _mm512_shuffle_f64x2(P[0], Q[0], 0xEE);
-    r[4] = _mm512_shuffle_f64x2(P[1], Q[1], 0x44);
-    r[6] = _mm512_shuffle_f64x2(P[1], Q[1], 0xEE);
-    r[1] = _mm512_shuffle_f64x2(P[2], Q[2], 0x44);
-    r[3] = _mm512_shuffle_f64x2(P[2], Q[2], 0xEE);
-    r[5] = _mm512_shuffle_f64x2(P[3], Q[3], 0x44);
-    r[7] = _mm512_shuffle_f64x2(P[3], Q[3], 0xEE);
+    tr8x8(in, r);
     for (int l = 0; l < cnt; l++) {
       double *o = ft[b->idx[k + l]];
       _mm512_store_pd(o, _mm512_add_pd(_mm512_load_pd(o), r[l]));
@@ -821,15 +917,16 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
 }
 
 /* Instances: one function per (mode, truncation) and (dipole method, truncation), each
- * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole rows
- * again with the AVX-512 fill and scatter (dipx_*), picked at setup. */
+ * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole and TIP4P
+ * rows again with the AVX-512 fill and scatter (dipx_*, tip4px_*), picked at setup. */
 #define ROW_FN_T(ATTR, NAME, BODY)                                                             \
   ATTR static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,  \
                         const int *nbr, int len, double (*fs)[3], double (*tq)[3],             \
-                        double (*ft)[8], rl_acc *acc)                                          \
+                        double (*ft)[8], double (*ft4)[16], rl_acc *acc)                       \
   {                                                                                            \
     (void)tq;                                                                                  \
     (void)ft;                                                                                  \
+    (void)ft4;                                                                                 \
     BODY;                                                                                      \
   }
 #define ROW_FN(NAME, BODY) ROW_FN_T(RL_CLONES, NAME, BODY)
@@ -838,10 +935,10 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
   ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
   ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
   ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))              \
-  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
-  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
-  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
-  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))
+  ROW_FN(tip4p_##M##0, tip4p_row(0, P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, ft4, acc))                 \
+  ROW_FN(tip4p_##M##1, tip4p_row(0, P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, ft4, acc))               \
+  ROW_FN(tip4p_##M##2, tip4p_row(0, P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, ft4, acc))         \
+  ROW_FN(tip4p_##M##3, tip4p_row(0, P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, ft4, acc))
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)
@@ -864,15 +961,37 @@ DIP512(dipx_f0, 1, RL_LJ_PLAIN)
 DIP512(dipx_f1, 1, RL_LJ_SHIFTED)
 DIP512(dipx_f2, 1, RL_LJ_SHIFTED_FORCE)
 DIP512(dipx_f3, 1, RL_LJ_SWITCHED)
+#define TIP512(NAME, MODE, TRUNC)                                                              \
+  ROW_FN_T(RL_T512, NAME, tip4p_row(1, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+TIP512(tip4px_h0, P_SHIFT, RL_LJ_PLAIN)
+TIP512(tip4px_h1, P_SHIFT, RL_LJ_SHIFTED)
+TIP512(tip4px_h2, P_SHIFT, RL_LJ_SHIFTED_FORCE)
+TIP512(tip4px_h3, P_SHIFT, RL_LJ_SWITCHED)
+TIP512(tip4px_m0, P_MOL, RL_LJ_PLAIN)
+TIP512(tip4px_m1, P_MOL, RL_LJ_SHIFTED)
+TIP512(tip4px_m2, P_MOL, RL_LJ_SHIFTED_FORCE)
+TIP512(tip4px_m3, P_MOL, RL_LJ_SWITCHED)
 #endif
 
 /* [mode][truncation] */
 static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
                                        {sites_h0, sites_h1, sites_h2, sites_h3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
-static const row_fn tip4p_fns[3][4] = {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
-                                       {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
-                                       {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}};
+/* [AVX-512 fill and scatter][mode][truncation]; site images (P_SITE) only portable */
+static const row_fn tip4p_fns[2][3][4] = {
+    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
+     {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
+     {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
+#if RL_X512
+    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
+     {tip4px_h0, tip4px_h1, tip4px_h2, tip4px_h3},
+     {tip4px_m0, tip4px_m1, tip4px_m2, tip4px_m3}},
+#else
+    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
+     {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
+     {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
+#endif
+};
 /* [AVX-512 fill and scatter][dipole method][truncation] */
 static const row_fn dipole_fns[2][2][4] = {
     {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
@@ -957,7 +1076,7 @@ static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
         T->b = 1 + q;
         T->what = T_COUL;
       }
-    for (int m = 0; m < 3; m++) K->row[m] = tip4p_fns[m][ff->p.lj_truncation];
+    for (int m = 0; m < 3; m++) K->row[m] = tip4p_fns[x512][m][ff->p.lj_truncation];
   }
 }
 
@@ -985,8 +1104,16 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->ord);
   free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
   free(f->pfs); free(f->ptq);
-  free(f->V.pk); free(f->pft);
+  free(f->V.pk); free(f->pft); free(f->V.pk4); free(f->pft4);
   free(f);
+}
+
+/* Zeroed, 64-byte aligned (bytes: a multiple of 64). */
+static void *alloc_records(size_t bytes)
+{
+  void *p = aligned_alloc(64, bytes);
+  if (p) memset(p, 0, bytes);
+  return p;
 }
 
 int rl_ff_fast_setup(rl_forcefield *ff)
@@ -1057,6 +1184,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   for (int k = 0; k < ff->nspecies; k++) {
     classify(ff, k, f->x512, &f->sk[k]);
     if (f->sk[k].kind == K_DIPOLE) f->ndip += ff->sp_count[k];
+    if (f->sk[k].kind == K_TIP4P) f->ntip4p += ff->sp_count[k];
     if (ff->sp_count[k] == 0 || ff->sp_nsites[k] == 0) continue;
     const char *nm = species_name(&f->sk[k]);
     if (!nm) { general = 1; continue; }
@@ -1067,14 +1195,20 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     }
   }
   if (nonempty > 1) general = 1; /* pairs of different species */
-  if (f->x512 && f->ndip > 0) { /* 64-byte records, see dip_fill512 */
-    f->V.pk = aligned_alloc(64, sizeof *f->V.pk * n1);
-    f->pft = aligned_alloc(64, sizeof *f->pft * n1 * (size_t)T);
-    if (!f->V.pk || !f->pft) {
+  if (f->x512) { /* the AVX-512 rows' records: 64 bytes (dip_fill512), 128 (tip4p_fill512) */
+    const size_t T1 = (size_t)T;
+    if (f->ndip) {
+      f->V.pk = alloc_records(sizeof *f->V.pk * n1);
+      f->pft = alloc_records(sizeof *f->pft * n1 * T1);
+    }
+    if (f->ntip4p) {
+      f->V.pk4 = alloc_records(sizeof *f->V.pk4 * n1);
+      f->pft4 = alloc_records(sizeof *f->pft4 * n1 * T1);
+    }
+    if ((f->ndip && (!f->V.pk || !f->pft)) || (f->ntip4p && (!f->V.pk4 || !f->pft4))) {
       rl_ff_fast_free(f);
       return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
     }
-    memset(f->V.pk, 0, sizeof *f->V.pk * n1);
   }
   if (general) snprintf(p, left, "%s", used ? "+general" : "general");
   f->name = f->namebuf;
@@ -1319,6 +1453,11 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
           V->site[om + a][c] = ff->site[oi + a][c];
           V->dsite[om + a][c] = ff->dsite[oi + a][c];
         }
+      if (V->pk4 && K->kind == K_TIP4P)
+        for (int c = 0; c < 3; c++) {
+          V->pk4[m][c] = ff->centre[i][c];
+          for (int s = 0; s < 4; s++) V->pk4[m][3 + 3 * s + c] = ff->dsite[oi + K->perm[s]][c];
+        }
     } /* implicit barrier */
     double(*fs)[3] = t == 0 ? ff->fs : f->fsbuf + (size_t)(t - 1) * (size_t)ns;
     double(*tq)[3] = t == 0 ? ff->tq : f->tqbuf + (size_t)(t - 1) * (size_t)n;
@@ -1332,6 +1471,8 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     memset(ptq, 0, sizeof *ptq * (size_t)n);
     double(*pft)[8] = f->pft ? f->pft + (size_t)t * (size_t)n : NULL;
     if (pft) memset(pft, 0, sizeof *pft * (size_t)n);
+    double(*pft4)[16] = f->pft4 ? f->pft4 + (size_t)t * (size_t)n : NULL;
+    if (pft4) memset(pft4, 0, sizeof *pft4 * (size_t)n);
     rl_acc *a = &f->acc[t];
     memset(a, 0, sizeof *a);
     a->fs = fs;
@@ -1343,7 +1484,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       const int i = ord[m], k = ff->body_species[i];
       const fast_species *K = &f->sk[k];
       int fl = f->fstart[m + 1] - f->fstart[m];
-      if (fl > 0) K->row[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl, pfs, ptq, pft, a);
+      if (fl > 0) K->row[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl, pfs, ptq, pft, pft4, a);
       for (int q = f->gstart[m]; q < f->gstart[m + 1] && !st; q++)
         st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
     }
@@ -1392,6 +1533,15 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
             ff->fs[oi][c] += q[c];
             ff->tq[i][c] += q[4 + c];
           }
+        }
+        if (mv && f->pft4) { /* record slot s: site perm[s] */
+          const double *q = f->pft4[(size_t)u * (size_t)n + (size_t)m];
+          for (int s = 0; s < 4; s++)
+            for (int c = 0; c < 3; c++) {
+              const int a = f->sk[k].perm[s];
+              ff->fs[oi + a][c] += q[3 + 3 * s + c];
+              F[a][c] += q[3 + 3 * s + c];
+            }
         }
       }
       if (mv)

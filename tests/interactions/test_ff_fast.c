@@ -152,6 +152,9 @@ static void test_tip4p(void **state)
   p.box[0] = p.box[1] = p.box[2] = s.L;
   p.cutoff = 0.7;
   sweep(&s, &p, "tip4p liquid (400)", "tip4p");
+  setenv("ROTLEAP_NO_AVX512", "1", 1); /* the portable fill and scatter (see test_stockmayer) */
+  sweep(&s, &p, "tip4p liquid (400), ROTLEAP_NO_AVX512", "tip4p");
+  unsetenv("ROTLEAP_NO_AVX512");
   p.eps_rf = INFINITY;
   p.scheme = RL_CUTOFF_SITE;
   p.lj_truncation = RL_LJ_PLAIN;
