@@ -565,6 +565,7 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
                          const kview *V, const fast_species *K, int i, const int *nbr, int len,
                          double (*fs)[3], double (*ft4)[16], rl_acc *acc)
 {
+  (void)X512; /* without RL_X512 only the portable fill and scatter exist */
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rp2 = prune2(MODE, &B, K);
@@ -811,6 +812,7 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
                           const kview *V, const fast_species *K, int i, const int *nbr, int len,
                           double (*fs)[3], double (*tq)[3], double (*ft)[8], rl_acc *acc)
 {
+  (void)X512;
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rc = B.rc, rc2 = B.rc2, rsw = B.rsw, md2 = B.md2;
