@@ -209,11 +209,16 @@ RL_INLINE double lj_eval(const int trunc, const lj_consts C, double rc, double r
 /* ------------------------------------------------------------------------ batches */
 
 /* How a kernel forms site separations r = (site a of i) - (site b of j):
- *   P_SITE   site cutoff, each site pair's own minimum image (needed in small boxes);
- *   P_SHIFT  site cutoff, r = R + d_a - d_b with R the centres' minimum image.  When every
- *            edge L >= 2 (rc + 2 extent) this is the site pair's minimum image whenever either
- *            is inside the cutoff (|r - r_min| = |n L| < L/2 + 2 extent + rc <= L forces n = 0),
- *            so the same pairs interact, with three fewer roundings per term;
+ *   P_SITE   site cutoff, each site pair's own minimum image (boxes with an edge <= rp);
+ *   P_SHIFT  site cutoff, r = R + d_a - d_b with R an image of the centres' separation, three
+ *            fewer roundings per term than P_SITE.  A site pair inside the cutoff has centres
+ *            closer than the pruning radius rp = rc + 2 extent.  When every edge L >= 2 rp the
+ *            centres' minimum image is the only image that close; in smaller boxes (edges
+ *            rp < L < 2 rp, e.g. 256 TIP4P at rc = 0.9 nm) the fills also emit the images
+ *            X -+ L of the components with |X| > L - rp (other_images), each a lane of its own.
+ *            Every site pair is then counted once: L >= 2 rc puts at most one of its images
+ *            inside the cutoff.  Edges L <= rp (2 extent >= rc: molecules as long as the cutoff)
+ *            take P_SITE;
  *   P_MOL    molecule cutoff: r = R + d_a - d_b, and the pair interacts iff |R| < rc. */
 enum { P_SITE = 0, P_SHIFT = 1, P_MOL = 2 };
 
@@ -253,18 +258,55 @@ static box_consts consts_of(const rl_forcefield *ff)
   return B;
 }
 
+/* In a box with an edge shorter than twice the pruning radius rp (P_SHIFT): the images of
+ * neighbour j other than the centres' minimum image (X, Y, Z) whose centres are closer than rp,
+ * written to the batch's idx and R from slot n on; returns the new n.  Only X -+ L can be
+ * that close (rp < L), so each component has one candidate besides X, and only where
+ * |X| > L - rp (for 256 TIP4P at rc = 0.9 nm, about a third of the candidates have such a
+ * component).  The combinations of those components are the candidates, each kept if inside
+ * rp. */
+RL_INLINE int other_images(const box_consts *B, double rp2, int j, double X, double Y, double Z,
+                           batch *b, int n)
+{
+  const double rp = sqrt(rp2);
+  const int far = (fabs(X) > B->L[0] - rp) | (fabs(Y) > B->L[1] - rp) << 1 |
+                  (fabs(Z) > B->L[2] - rp) << 2;
+  if (!far) return n;
+  const double x[2] = {X, X > 0.0 ? X - B->L[0] : X + B->L[0]};
+  const double y[2] = {Y, Y > 0.0 ? Y - B->L[1] : Y + B->L[1]};
+  const double z[2] = {Z, Z > 0.0 ? Z - B->L[2] : Z + B->L[2]};
+  for (int m = 1; m < 8; m++) {
+    if (m & ~far) continue;
+    const double u = x[m & 1], v = y[(m >> 1) & 1], w = z[m >> 2];
+    b->idx[n] = j;
+    b->R[0][n] = u; b->R[1][n] = v; b->R[2][n] = w;
+    n += u * u + v * v + w * w < rp2;
+  }
+  return n;
+}
+
+/* Whether a box needs other_images for pruning radius rp (squared: rp2): an edge < 2 rp. */
+RL_INLINE int needs_images(const int MODE, const box_consts *B, double rp2)
+{
+  if (MODE != P_SHIFT) return 0;
+  for (int c = 0; c < 3; c++)
+    if (B->L[c] * B->L[c] < 4.0 * rp2) return 1;
+  return 0;
+}
+
 /* Fill b with the next neighbours of row nbr[*pos .. len) within the pruning radius
  * (squared: rp2); advance *pos.  Slot s holds site K->perm[s] of each body (DIP: the
  * dipoles too).  ZERO: clear the forces (for kernels that add to them). */
 RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const kview *V,
                           const box_consts *B, int i, const int *nbr, int len, int *pos,
-                          const fast_species *K, double rp2, batch *b)
+                          const fast_species *K, double rp2, int img, batch *b)
 {
   const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
   const int ns = K->ns;
   const double mu = K->mu;
+  const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* img: room for a neighbour's 8 images */
   int n = 0, p = *pos;
-  for (; p < len && n < RL_FAST_B; p++) {
+  for (; p < len && n < cap; p++) {
     const int j = nbr[p];
     double X = cx - V->c[j][0], Y = cy - V->c[j][1], Z = cz - V->c[j][2];
     X -= B->L[0] * RL_RND(X * B->iL[0]);
@@ -272,16 +314,21 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const k
     Z -= B->L[2] * RL_RND(Z * B->iL[2]);
     /* branch-free: every candidate is written to slot n, which only a kept one keeps (a
      * branch on the distance was mispredicted for a good fraction of the candidates) */
+    const int n0 = n;
     b->idx[n] = j;
-    b->w[n] = 1.0;
     b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
-    const int oj = V->soff[j];
-    for (int s = 0; s < ns; s++)
-      for (int c = 0; c < 3; c++)
-        b->x[s][c][n] = MODE == P_SITE ? V->site[oj + K->perm[s]][c] : V->dsite[oj + K->perm[s]][c];
-    if (DIP)
-      for (int c = 0; c < 3; c++) b->m[c][n] = mu * V->ax[j][c];
     n += X * X + Y * Y + Z * Z < rp2;
+    if (img) n = other_images(B, rp2, j, X, Y, Z, b, n);
+    const int oj = V->soff[j];
+    const int hi = img && n > n0 + 1 ? n : n0 + 1; /* the slots of j's kept images */
+    for (int k = n0; k < hi; k++) {
+      b->w[k] = 1.0;
+      for (int s = 0; s < ns; s++)
+        for (int c = 0; c < 3; c++)
+          b->x[s][c][k] = MODE == P_SITE ? V->site[oj + K->perm[s]][c] : V->dsite[oj + K->perm[s]][c];
+      if (DIP)
+        for (int c = 0; c < 3; c++) b->m[c][k] = mu * V->ax[j][c];
+    }
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
@@ -422,12 +469,13 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
   const int ns = K->ns, oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rp2 = prune2(MODE, &B, K);
+  const int img = needs_images(MODE, &B, rp2);
   batch b;
   double fi[RL_FAST_MAXS][3];
   memset(fi, 0, sizeof fi);
   double elj = 0.0, ecoul = 0.0, w[6] = {0}, bad = 0.0;
   for (int pos = 0; pos < len;) {
-    batch_fill(MODE, 0, 1, V, &B, i, nbr, len, &pos, K, rp2, &b); /* K->perm: identity */
+    batch_fill(MODE, 0, 1, V, &B, i, nbr, len, &pos, K, rp2, img, &b); /* K->perm: identity */
     if (b.n == 0) continue;
     for (int t = 0; t < K->nterms; t++) {
       const fast_term *T = &K->t[t];
@@ -486,11 +534,13 @@ RL_T512 static inline void tr8x8(const __m512d in[8], __m512d out[8])
 /* batch_fill for the TIP4P rows with the centres' image (P_SHIFT, P_MOL): the same kept
  * neighbours in the same order, so the same lanes. */
 RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, int i,
-                                         const int *nbr, int len, int *pos, double rp2, batch *b)
+                                         const int *nbr, int len, int *pos, double rp2, int img,
+                                         batch *b)
 {
   const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
+  const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* as batch_fill */
   int n = 0, p = *pos;
-  for (; p < len && n < RL_FAST_B; p++) {
+  for (; p < len && n < cap; p++) {
     const int j = nbr[p];
     const double *q = V->pk4[j];
     double X = cx - q[0], Y = cy - q[1], Z = cz - q[2];
@@ -500,6 +550,7 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
     b->idx[n] = j;
     b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
     n += X * X + Y * Y + Z * Z < rp2;
+    if (img) n = other_images(B, rp2, j, X, Y, Z, b, n);
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
@@ -569,6 +620,7 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rp2 = prune2(MODE, &B, K);
+  const int img = needs_images(MODE, &B, rp2);
   const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
   const lj_consts C = lj_of(&K->t[0]);
   double a[4][3], qq[3][3];
@@ -584,10 +636,10 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
   const int SITEVIR = MODE == P_SITE;
   for (int pos = 0; pos < len;) {
 #if RL_X512
-    if (X512) tip4p_fill512(V, &B, i, nbr, len, &pos, rp2, &b);
+    if (X512) tip4p_fill512(V, &B, i, nbr, len, &pos, rp2, img, &b);
     else
 #endif
-      batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, &b);
+      batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, img, &b);
     if (b.n == 0) continue;
     const int np = b.np;
 #pragma omp simd reduction(+ : elj, ecoul, w0, w1, w2, w3, w4, w5)
@@ -829,7 +881,7 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
     if (X512) dip_fill512(V, &B, i, nbr, len, &pos, &b);
     else
 #endif
-      batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, &b);
+      batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, 0, &b);
     if (b.n == 0) continue;
     const int np = b.np;
     /* the pair terms; each lane's force on j, torque on j and torque on i go to the batch
@@ -1423,10 +1475,10 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   /* each species' separation mode (see P_SHIFT): the molecular shift where the box allows */
   int *mode = f->mode;
   for (int k = 0; k < ff->nspecies; k++) {
-    const double need = 2.0 * (ff->p.cutoff + 2.0 * f->sk[k].extent);
-    mode[k] = ff->p.scheme == RL_CUTOFF_MOLECULE ? P_MOL
-              : ff->box.L[0] >= need && ff->box.L[1] >= need && ff->box.L[2] >= need ? P_SHIFT
-                                                                                     : P_SITE;
+    const double rp = ff->p.cutoff + 2.0 * f->sk[k].extent, two_rc = 2.0 * ff->p.cutoff;
+    int shift = 1;
+    for (int c = 0; c < 3; c++) shift &= ff->box.L[c] > rp && ff->box.L[c] >= two_rc;
+    mode[k] = ff->p.scheme == RL_CUTOFF_MOLECULE ? P_MOL : shift ? P_SHIFT : P_SITE;
   }
   kview *V = &f->V;
   const int *ord = f->ord;

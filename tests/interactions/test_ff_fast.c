@@ -166,7 +166,8 @@ static void test_tip4p(void **state)
   gsl_rng_free(rng);
 }
 
-/* Half the box edge equals the cutoff: site pairs whose minimum image is not the centres'. */
+/* Half the box edge equals the cutoff: site pairs whose minimum image is not the centres'
+ * (the fills add the centres' other images, P_SHIFT in ff_fast.c). */
 static void test_periodic_edge(void **state)
 {
   (void)state;
@@ -181,6 +182,9 @@ static void test_periodic_edge(void **state)
   p.box[0] = p.box[1] = p.box[2] = 1.8;
   p.cutoff = 0.9;
   sweep(&s, &p, "tip4p, L = 2 rc", "tip4p");
+  setenv("ROTLEAP_NO_AVX512", "1", 1); /* the other images in the portable fill too */
+  sweep(&s, &p, "tip4p, L = 2 rc, ROTLEAP_NO_AVX512", "tip4p");
+  unsetenv("ROTLEAP_NO_AVX512");
   /* a non-cubic box, shortest edge 2 rc */
   rl_system_free(s.sys);
   s = (scene){.nsp = 1};
@@ -199,7 +203,8 @@ static void test_periodic_edge(void **state)
 
 /* The TIP4P kernel gathers the LJ site into slot 0 whatever its place in the species: here
  * the sites are listed M, H, H, O.  And the site kernel ("charge-lj") in a box whose half edge
- * equals the cutoff, where each site pair takes its own minimum image. */
+ * equals the cutoff: CO2, whose neighbours' centres have up to two images within the pruning
+ * radius, and a rod longer than the cutoff, where each site pair takes its own image. */
 static void test_site_order_and_small_box(void **state)
 {
   (void)state;
@@ -227,6 +232,20 @@ static void test_site_order_and_small_box(void **state)
   p.box[0] = p.box[1] = p.box[2] = 1.6;
   p.cutoff = 0.8;
   sweep(&s, &p, "linear co2, L = 2 rc", "charge-lj");
+  rl_system_free(s.sys);
+
+  /* a rod longer than the cutoff (2 extent = 1.4 nm, rc = 0.8 nm): with L = 2 rc < rc + 2
+   * extent the images X and X + L of a neighbour's centre can both be within the pruning
+   * radius on one side, so each site pair takes its own minimum image (P_SITE; taking the
+   * centres' images instead fails here at 2e-10) */
+  s = (scene){.nsp = 1};
+  ff_species_init(&s.sp[0], "rod", RL_KIND_LINEAR, 60.0, 12.0, 12.0, 0.0, 3);
+  ff_site(&s.sp[0], 0, 0, 0, 0, 0.28, 0.23, 0.6);
+  ff_site(&s.sp[0], 1, 0, 0, 0.7, 0.30, 0.66, -0.3);
+  ff_site(&s.sp[0], 2, 0, 0, -0.7, 0.30, 0.66, -0.3);
+  int cr[1] = {24};
+  scene_build(&s, rng, RL_UNITS_REAL, cr, 0.0, 0.33, 1.6);
+  sweep(&s, &p, "rod of length 1.4 nm, L = 2 rc = 1.6 nm", "charge-lj");
   rl_system_free(s.sys);
   gsl_rng_free(rng);
 }
