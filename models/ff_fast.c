@@ -258,20 +258,22 @@ static box_consts consts_of(const rl_forcefield *ff)
   return B;
 }
 
-/* In a box with an edge shorter than twice the pruning radius rp (P_SHIFT): the images of
- * neighbour j other than the centres' minimum image (X, Y, Z) whose centres are closer than rp,
- * written to the batch's idx and R from slot n on; returns the new n.  Only X -+ L can be
- * that close (rp < L), so each component has one candidate besides X, and only where
- * |X| > L - rp (for 256 TIP4P at rc = 0.9 nm, about a third of the candidates have such a
- * component).  The combinations of those components are the candidates, each kept if inside
- * rp. */
-RL_INLINE int other_images(const box_consts *B, double rp2, int j, double X, double Y, double Z,
-                           batch *b, int n)
+/* In a box with an edge shorter than twice the pruning radius rp (P_SHIFT), the images of a
+ * neighbour other than the centres' minimum image (X, Y, Z) can be closer than rp too.  Only
+ * X -+ L can (rp < L), and only where |X| > L - rp: far_axes gives those components as bits
+ * (for 256 TIP4P at rc = 0.9 nm about a third of the candidates have one). */
+RL_INLINE int far_axes(const box_consts *B, double rp, double X, double Y, double Z)
 {
-  const double rp = sqrt(rp2);
-  const int far = (fabs(X) > B->L[0] - rp) | (fabs(Y) > B->L[1] - rp) << 1 |
-                  (fabs(Z) > B->L[2] - rp) << 2;
-  if (!far) return n;
+  return (fabs(X) > B->L[0] - rp) | (fabs(Y) > B->L[1] - rp) << 1 |
+         (fabs(Z) > B->L[2] - rp) << 2;
+}
+
+/* The images of neighbour j given by the combinations of the far components, each written to
+ * the batch's idx and R from slot n on and kept if inside rp; returns the new n.  Out of line,
+ * so that the fills stay small enough for GCC to inline them in the rows. */
+static __attribute__((noinline)) int other_images(const box_consts *B, double rp2, int far, int j,
+                                                  double X, double Y, double Z, batch *b, int n)
+{
   const double x[2] = {X, X > 0.0 ? X - B->L[0] : X + B->L[0]};
   const double y[2] = {Y, Y > 0.0 ? Y - B->L[1] : Y + B->L[1]};
   const double z[2] = {Z, Z > 0.0 ? Z - B->L[2] : Z + B->L[2]};
@@ -305,6 +307,7 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const k
   const int ns = K->ns;
   const double mu = K->mu;
   const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* img: room for a neighbour's 8 images */
+  const double rp = img ? sqrt(rp2) : 0.0;
   int n = 0, p = *pos;
   for (; p < len && n < cap; p++) {
     const int j = nbr[p];
@@ -318,7 +321,10 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const k
     b->idx[n] = j;
     b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
     n += X * X + Y * Y + Z * Z < rp2;
-    if (img) n = other_images(B, rp2, j, X, Y, Z, b, n);
+    if (img) {
+      const int far = far_axes(B, rp, X, Y, Z);
+      if (far) n = other_images(B, rp2, far, j, X, Y, Z, b, n);
+    }
     const int oj = V->soff[j];
     const int hi = img && n > n0 + 1 ? n : n0 + 1; /* the slots of j's kept images */
     for (int k = n0; k < hi; k++) {
@@ -539,6 +545,7 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
 {
   const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
   const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* as batch_fill */
+  const double rp = img ? sqrt(rp2) : 0.0;
   int n = 0, p = *pos;
   for (; p < len && n < cap; p++) {
     const int j = nbr[p];
@@ -550,7 +557,10 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
     b->idx[n] = j;
     b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
     n += X * X + Y * Y + Z * Z < rp2;
-    if (img) n = other_images(B, rp2, j, X, Y, Z, b, n);
+    if (img) {
+      const int far = far_axes(B, rp, X, Y, Z);
+      if (far) n = other_images(B, rp2, far, j, X, Y, Z, b, n);
+    }
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
@@ -1015,8 +1025,9 @@ DIP512(dipx_f0, 1, RL_LJ_PLAIN)
 DIP512(dipx_f1, 1, RL_LJ_SHIFTED)
 DIP512(dipx_f2, 1, RL_LJ_SHIFTED_FORCE)
 DIP512(dipx_f3, 1, RL_LJ_SWITCHED)
+/* flatten: the fill (with other_images' branch) is too large for GCC to inline on its own */
 #define TIP512(NAME, MODE, TRUNC)                                                              \
-  ROW_FN_T(RL_T512, NAME, tip4p_row(1, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME, tip4p_row(1, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
 TIP512(tip4px_h0, P_SHIFT, RL_LJ_PLAIN)
 TIP512(tip4px_h1, P_SHIFT, RL_LJ_SHIFTED)
 TIP512(tip4px_h2, P_SHIFT, RL_LJ_SHIFTED_FORCE)
