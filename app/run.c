@@ -232,6 +232,7 @@ int rl_app_run(const rl_deck *d)
   p.seed = d->thermostat_seed;
   p.groups = d->thermostat_groups;
   p.force_general = d->force_general;
+  p.threads = d->ff.threads; /* run.threads: the rotation solves too */
   if (!st) in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
   run_blob rec;
   size_t hdr = 0;

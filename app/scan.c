@@ -173,6 +173,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     p.seed = d->thermostat_seed;
     p.groups = d->thermostat_groups;
     p.force_general = d->force_general;
+    p.threads = d->ff.threads;
     in = rl_integrator_alloc(sys, &p, rl_forcefield_provider(ff));
     st = in ? rl_integrator_init(in) : RL_EINVAL;
   }

@@ -78,6 +78,7 @@ int scene_relax(const rl_deck *d, scene *s)
   p.tau = 20.0 * d->equilibrate_timestep;
   p.seed = d->seed + 2;
   p.T0 = d->temperature;
+  p.threads = d->ff.threads;
   rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
   int st = in ? rl_integrator_init(in) : RL_EINVAL;
   for (long k = 0; !st && k < d->equilibrate_steps; k++) st = rl_integrator_step(in, NULL);

@@ -167,6 +167,7 @@ static void restart(bench_sys *b, int nve, int langevin)
   rl_integrator_params ip;
   rl_integrator_params_default(&ip);
   ip.h = b->h;
+  ip.threads = rl_forcefield_threads(b->ff); /* the rotation solves on the pair loop's threads */
   if (!nve) {
     ip.thermostat = langevin ? RL_THERMO_LANGEVIN : RL_THERMO_BUSSI;
     ip.T0 = b->T0;

@@ -22,6 +22,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 /* The Cayley update is orthogonal in exact arithmetic; in floating point each product adds about
  * one ulp of non-orthogonality, which random-walks to ~1e-16 sqrt(steps) (2e-13 after 10^6
@@ -43,6 +46,7 @@ struct rl_integrator {
   double t;
   gsl_rng *rng;       /* Bussi and Langevin thermostats only */
   double thermo_work; /* kinetic energy removed by the thermostat so far */
+  int threads;        /* of the rotation solves: p.threads resolved */
 };
 
 const char *rl_rot_method_name(rl_rot_method m)
@@ -124,6 +128,9 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
     return rl_error(RL_EINVAL, "the Langevin thermostat splits the rotation into two half steps, "
                     "which the baseline %s does not provide; use rl, rl-exact or rl-quaternion",
                     rl_rot_method_name(p->method));
+  if (p->threads < 0)
+    return rl_error(RL_EINVAL, "integrator threads = %d must be >= 0 (0: OMP_NUM_THREADS if set, "
+                    "else 1)", p->threads);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
   if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
     return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
@@ -164,6 +171,11 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   in->sys = sys;
   in->p = *p;
   if (in->p.guard_tol <= 0.0) in->p.guard_tol = RL_OMEGA_GUARD_TOL;
+  in->threads = 1;
+#ifdef _OPENMP /* 0: OMP_NUM_THREADS if set, else one thread (rl_ff_params.threads alike) */
+  const char *env = getenv("OMP_NUM_THREADS");
+  in->threads = p->threads > 0 ? p->threads : env && *env ? omp_get_max_threads() : 1;
+#endif
   in->provider = provider;
   in->F.f = calloc((size_t)sys->n, sizeof *in->F.f);
   in->F.k = calloc((size_t)(sys->nrot > 0 ? sys->nrot : 1), sizeof *in->F.k);
@@ -501,7 +513,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   const double hd = langevin ? h2 : h;
   rl_rotation_work rw = {hd, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
                          in->q, (const double (*)[3])in->F.k, (const double (*)[3])in->lprev,
-                         in->steps, 0, 0, 0, 0.0, 0.0};
+                         in->steps, 0, 0, 0, 0.0, 0.0, in->threads};
   if (bussi || langevin)
     for (int i = 0; i < s->n; i++)
       for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];

@@ -25,6 +25,7 @@ typedef struct {
   int quat_max_iterations;/* out                                                  */
   double max_h_omega;     /* out: max h |Omega(t+h/2)|                            */
   double quat_norm_defect;/* out: RL_ROT_FINCHAM, max ||q(t+h)| - 1| rescaled away  */
+  int threads;            /* OpenMP threads for the asymmetric cubic / exact solves (>= 1) */
 } rl_rotation_work;
 
 /* 1 for the baseline methods (RL_ROT_HYBRID, RL_ROT_FINCHAM, RL_ROT_NOSQUISH), which send every

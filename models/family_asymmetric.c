@@ -38,30 +38,64 @@ static int rotate_quaternion(const rl_species *sp, int b, const double l[3], dou
   return RL_OK;
 }
 
+/* The default paths (cubic, exact) for one body: Omega(t+h/2) from theta = J^-1 A l, then
+ * A <- D(Omega) A.  On an error A is left as it was. */
+static int solve_rotate(const rl_species *sp, double A[9], const double l[3],
+                        const rl_rotation_work *w, int *fallback, double *hw)
+{
+  double th[3], Om[3];
+  rl_omega_info oi;
+  rl_body_theta(A, sp->J, l, th);
+  int st = w->method == RL_ROT_EXACT ? rl_omega_exact(sp->J, th, w->h, Om, &oi)
+                                     : rl_omega_guarded(sp->J, th, w->h, w->guard_tol, Om, &oi);
+  if (st) return st;
+  *fallback = w->method == RL_ROT_CUBIC && oi.path >= RL_OMEGA_PATH_NEWTON;
+  rl_rotate_matrix(A, Om, w->h);
+  *hw = w->h * rl_norm3(Om);
+  return RL_OK;
+}
+
 static int rotate_asymmetric(const rl_species *sp, rl_system *s, rl_rotation_work *w)
 {
-  const double h = w->h;
   double (*l)[3] = s->l + sp->rot_off, (*A)[9] = s->A + sp->mat_off;
-  for (int b = 0; b < sp->count; b++) {
-    double hw = 0.0;
-    if (rl_rot_is_baseline(w->method)) {
-      int st = rl_rotate_baseline(sp, s, b, w, &hw);
+  if (rl_rot_is_baseline(w->method) || w->method == RL_ROT_QUATERNION) {
+    for (int b = 0; b < sp->count; b++) {
+      double hw = 0.0;
+      int st = rl_rot_is_baseline(w->method) ? rl_rotate_baseline(sp, s, b, w, &hw)
+                                             : rotate_quaternion(sp, b, l[b], A[b], w, &hw);
       if (st) return st;
-    } else if (w->method == RL_ROT_QUATERNION) {
-      int st = rotate_quaternion(sp, b, l[b], A[b], w, &hw);
-      if (st) return st;
-    } else {
-      double th[3], Om[3];
-      rl_omega_info oi;
-      rl_body_theta(A[b], sp->J, l[b], th);
-      int st = w->method == RL_ROT_EXACT ? rl_omega_exact(sp->J, th, h, Om, &oi)
-                                         : rl_omega_guarded(sp->J, th, h, w->guard_tol, Om, &oi);
-      if (st) return rl_error_wrap(st, "body %d at step %ld", sp->first + b, w->step);
-      if (w->method == RL_ROT_CUBIC && oi.path >= RL_OMEGA_PATH_NEWTON) w->fallbacks++;
-      rl_rotate_matrix(A[b], Om, h);
-      hw = h * rl_norm3(Om);
+      if (hw > w->max_h_omega) w->max_h_omega = hw;
     }
-    if (hw > w->max_h_omega) w->max_h_omega = hw;
+    return RL_OK;
+  }
+  /* Bodies are independent, and what they report back (a count, a maximum) does not depend on
+   * their order, so the result is the same for any thread count.  A failed solve leaves its
+   * body as it was: the first one is solved again on this thread for the error message (the
+   * message buffer is per thread). */
+  long fallbacks = 0;
+  double mx = w->max_h_omega;
+  int first = sp->count;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(w->threads) schedule(static) if (w->threads > 1) \
+    reduction(+ : fallbacks) reduction(max : mx) reduction(min : first)
+#endif
+  for (int b = 0; b < sp->count; b++) {
+    int fb = 0;
+    double hw = 0.0;
+    if (solve_rotate(sp, A[b], l[b], w, &fb, &hw)) {
+      if (b < first) first = b;
+      continue;
+    }
+    fallbacks += fb;
+    if (hw > mx) mx = hw;
+  }
+  w->fallbacks += fallbacks;
+  w->max_h_omega = mx;
+  if (first < sp->count) {
+    int fb;
+    double hw;
+    int st = solve_rotate(sp, A[first], l[first], w, &fb, &hw);
+    return rl_error_wrap(st ? st : RL_ENOCONV, "body %d at step %ld", sp->first + first, w->step);
   }
   return RL_OK;
 }

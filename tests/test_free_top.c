@@ -138,11 +138,89 @@ static void quaternion_fast_paths(void **state)
   }
 }
 
+/* The asymmetric bodies' rotation solves run on rl_integrator_params.threads OpenMP threads;
+ * bodies are independent and report only a count and a maximum, so 1, 2 and 3 threads must
+ * give the same orientations bit for bit, the same fallback count and the same max h|Omega|.
+ * 300 random tops spinning at h|Omega| up to about 2.5, by the cubic (which then falls back to
+ * Newton for some) and by the exact solve. */
+static void threaded_rotations(void **state)
+{
+  (void)state;
+  const int n = 300;
+  const rl_rot_method methods[2] = {RL_ROT_CUBIC, RL_ROT_EXACT};
+  for (int m = 0; m < 2; m++) {
+    double *A[3];
+    long fb[3];
+    double hw[3];
+    for (int t = 0; t < 3; t++) {
+      gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+      gsl_rng_set(r, 31);
+      rl_system *sys = rl_system_alloc(RL_UNITS_LJ);
+      rl_species_desc d = {.name = "top", .kind = RL_KIND_ASYMMETRIC, .mass = 1.0,
+                           .inertia = {1.0, 1.6, 2.3}};
+      assert_int_equal(rl_system_add_species(sys, &d, n, NULL), RL_OK);
+      for (int i = 0; i < n; i++) {
+        double R[9], l[3];
+        random_rotation(r, R);
+        assert_int_equal(rl_system_set_orientation(sys, i, R), RL_OK);
+        for (int c = 0; c < 3; c++) l[c] = gsl_ran_gaussian(r, 1.0 + 40.0 * (i % 7 == 0));
+        assert_int_equal(rl_system_set_angmom(sys, i, l), RL_OK);
+      }
+      rl_integrator_params p;
+      rl_integrator_params_default(&p);
+      p.h = 0.02;
+      p.method = methods[m];
+      p.threads = t + 1;
+      rl_integrator *in = rl_integrator_alloc(sys, &p, (rl_force_provider){zero_forces, NULL});
+      assert_non_null(in);
+      assert_int_equal(rl_integrator_init(in), RL_OK);
+      hw[t] = 0.0;
+      for (int s = 0; s < 300; s++) {
+        rl_step_info info;
+        assert_int_equal(rl_integrator_step(in, &info), RL_OK);
+        if (info.max_h_omega > hw[t]) hw[t] = info.max_h_omega;
+      }
+      fb[t] = rl_integrator_fallbacks(in);
+      A[t] = malloc(sizeof(double) * 9 * (size_t)n);
+      for (int i = 0; i < n; i++) rl_system_get_orientation(sys, i, A[t] + 9 * i);
+      rl_integrator_free(in);
+      rl_system_free(sys);
+      gsl_rng_free(r);
+    }
+    for (int t = 1; t < 3; t++) {
+      char name[128];
+      snprintf(name, sizeof name, "%s, %d threads against 1, 300 steps: max |A - A_1|",
+               m ? "exact" : "cubic", t + 1);
+      CHECK_LE(name, max_abs_diff(A[0], A[t], 9 * n), 0.0);
+      snprintf(name, sizeof name, "%s, %d threads: |fallbacks - 1's| + |max h|Omega| - 1's|",
+               m ? "exact" : "cubic", t + 1);
+      CHECK_LE(name, fabs((double)(fb[t] - fb[0])) + fabs(hw[t] - hw[0]), 0.0);
+    }
+    printf("%s: %ld fallbacks to Newton over 300 steps, max h|Omega| = %.2f\n", m ? "exact" : "cubic",
+           fb[0], hw[0]);
+    for (int t = 0; t < 3; t++) free(A[t]);
+  }
+  /* a negative count is refused with a message naming it */
+  rl_system *sys = rl_system_alloc(RL_UNITS_LJ);
+  rl_species_desc d = {.name = "top", .kind = RL_KIND_ASYMMETRIC, .mass = 1.0, .inertia = {1.0, 1.6, 2.3}};
+  assert_int_equal(rl_system_add_species(sys, &d, 2, NULL), RL_OK);
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = 0.02;
+  p.threads = -1;
+  rl_integrator *bad = rl_integrator_alloc(sys, &p, (rl_force_provider){zero_forces, NULL});
+  CHECK_LE("threads = -1: an integrator is made (1 = yes)", bad != NULL, 0);
+  printf("  message: %s\n", rl_last_error());
+  CHECK_LE("  the message does not name the threads (1 = so)", strstr(rl_last_error(), "threads") == NULL, 0);
+  rl_system_free(sys);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(convergence), cmocka_unit_test(long_run), cmocka_unit_test(reversibility),
-      cmocka_unit_test(quaternion_norm), cmocka_unit_test(quaternion_fast_paths)};
+      cmocka_unit_test(quaternion_norm), cmocka_unit_test(quaternion_fast_paths),
+      cmocka_unit_test(threaded_rotations)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -127,6 +127,10 @@ typedef struct {
                              over 2 tau                                                        */
   unsigned long seed;     /* Bussi / Langevin random stream (GSL mt19937)                      */
   rl_thermo_groups groups; /* Bussi: default RL_THERMO_GROUPS_TRANS_ROT                         */
+  int threads;            /* OpenMP threads for the asymmetric bodies' rotation solves (the
+                             default cubic and exact paths); 0 (default): OMP_NUM_THREADS if
+                             set, else 1, as the force field's threads.  The results do not
+                             depend on the count                                               */
 } rl_integrator_params;
 
 void rl_integrator_params_default(rl_integrator_params *p);
