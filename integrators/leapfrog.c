@@ -15,6 +15,7 @@
 #include "rotleap/integrator.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
+#include "../core/threads.h"
 #include "../models/family.h"
 
 #include <gsl/gsl_randist.h>
@@ -22,9 +23,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 /* The Cayley update is orthogonal in exact arithmetic; in floating point each product adds about
  * one ulp of non-orthogonality, which random-walks to ~1e-16 sqrt(steps) (2e-13 after 10^6
@@ -171,11 +169,7 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   in->sys = sys;
   in->p = *p;
   if (in->p.guard_tol <= 0.0) in->p.guard_tol = RL_OMEGA_GUARD_TOL;
-  in->threads = 1;
-#ifdef _OPENMP /* 0: OMP_NUM_THREADS if set, else one thread (rl_ff_params.threads alike) */
-  const char *env = getenv("OMP_NUM_THREADS");
-  in->threads = p->threads > 0 ? p->threads : env && *env ? omp_get_max_threads() : 1;
-#endif
+  in->threads = rl_threads_resolve(p->threads);
   in->provider = provider;
   in->F.f = calloc((size_t)sys->n, sizeof *in->F.f);
   in->F.k = calloc((size_t)(sys->nrot > 0 ? sys->nrot : 1), sizeof *in->F.k);

@@ -35,6 +35,7 @@
  * reference sum of R (x) f with R = r - d_a + d_b.  The TIP4P kernel with the centres' image
  * adds R (x) F per pair directly, and the compute step adds back its share of the correction
  * (see tip4p_row). */
+#include "../core/threads.h"
 #include "forcefield_impl.h"
 #include "rsqrt.h"
 #include "rotleap/error.h"
@@ -151,7 +152,6 @@ struct rl_ff_fast {
 };
 
 #ifndef _OPENMP
-static int omp_get_max_threads(void) { return 1; }
 static int omp_get_thread_num(void) { return 0; }
 #endif
 
@@ -326,7 +326,7 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const k
       if (far) n = other_images(B, rp2, far, j, X, Y, Z, b, n);
     }
     const int oj = V->soff[j];
-    const int hi = img && n > n0 + 1 ? n : n0 + 1; /* the slots of j's kept images */
+    const int hi = n > n0 + 1 ? n : n0 + 1; /* the slots of j's kept images (slot n0 always) */
     for (int k = n0; k < hi; k++) {
       b->w[k] = 1.0;
       for (int s = 0; s < ns; s++)
@@ -1189,14 +1189,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   if (ff->p.kernel == RL_KERNEL_GENERAL || !ff->p.neighbor_list) return RL_OK;
   rl_ff_fast *f = calloc(1, sizeof *f);
   if (!f) return rl_error(RL_ENOMEM, "forcefield: out of memory");
-  /* 0: OMP_NUM_THREADS if set, else one thread: threads are asked for, not assumed (as in
-   * LAMMPS); on a shared 2-core machine two spinning threads ran 10x slower than one */
-  const char *env = getenv("OMP_NUM_THREADS");
-  int T = ff->p.threads > 0 ? ff->p.threads : env && *env ? omp_get_max_threads() : 1;
-#ifndef _OPENMP
-  T = 1;
-#endif
-  if (T < 1) T = 1;
+  const int T = rl_threads_resolve(ff->p.threads);
   f->nthreads = T;
   int n = ff->n;
   f->sk = calloc((size_t)ff->nspecies, sizeof *f->sk);
