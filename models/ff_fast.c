@@ -19,9 +19,10 @@
  * within the centres' interaction range (the list holds about twice as many), copies their
  * sites into structure-of-arrays buffers padded to 8 lanes, runs branch-free `omp simd` loops
  * (the cutoff as a 0/1 factor), then scatters the forces.  Where the CPU has AVX-512 (and
- * ROTLEAP_NO_AVX512 is unset) the dipole rows and the TIP4P rows with the centres' image fill
- * and scatter their batches with transposes of 64- and 128-byte records instead (dip_fill512,
- * tip4p_fill512).  TIP4P runs its 10 terms in one
+ * ROTLEAP_NO_AVX512 is unset) the TIP4P rows with the centres' image fill and scatter their
+ * batches with transposes of 128-byte records instead (tip4p_fill512), and the dipole rows keep
+ * no batch at all: they pack each eight neighbours within the cutoff into registers and form
+ * their terms there (dipole_row512).  TIP4P runs its 10 terms in one
  * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is
  * rl_rsqrt (a few ulp, no divider), a * b + c may be one FMA, and separations and sums are
  * formed in another order, so results agree with the reference to round-off.
@@ -59,8 +60,9 @@
 #endif
 #define RL_INLINE static inline __attribute__((always_inline))
 
-/* The dipole kernel's own AVX-512 fill and scatter (dip_fill512, dip_scatter512), picked at
- * setup when the CPU has AVX-512F and ROTLEAP_NO_AVX512 is not set in the environment. */
+/* The dipole rows in AVX-512 registers (dipole_row512) and the TIP4P rows' AVX-512 fill and
+ * scatter (tip4p_fill512), picked at setup when the CPU has AVX-512F and ROTLEAP_NO_AVX512 is
+ * not set in the environment. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROTLEAP_NO_CLONES)
 #define RL_X512 1
 #include <immintrin.h>
@@ -504,8 +506,8 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
 /* ------------------------------------------------------------------------ TIP4P kernel */
 
 #if RL_X512
-/* The TIP4P rows' batches on AVX-512, as the dipoles' (dip_fill512): each TIP4P rank's centre
- * and sites relative to it sit in a 128-byte record (V->pk4), two 512-bit rows.  The fill
+/* The TIP4P rows' batches on AVX-512: each TIP4P rank's centre and sites relative to it sit
+ * in a 128-byte record (V->pk4), two 512-bit rows.  The fill
  * keeps the candidates within the pruning radius in a scalar pass (reading the centres from
  * the records), then loads the kept ones' records eight at a time and transposes each half
  * (8 x 8) into the batch's sites.  The scatter transposes the site forces back into records and
@@ -750,53 +752,171 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
 /* ------------------------------------------------------------------- Stockmayer kernel */
 
 #if RL_X512
-/* The dipole rows' batches on AVX-512 (issue 8: the scalar fill and scatter took about 57 % of
- * the Stockmayer kernel's time in `perf record` of `ffbench time stockmayer 8000 1 100`, the
- * pair terms 28 %).  Each dipole rank's centre and mu * axis sit in one 64-byte record
- * (V->pk); eight neighbours' records are loaded as 256-bit halves and transposed with
- * shuffles into the batch's structure of arrays, without gathers (2.4-2.8x slower per element
- * than scalar loads on these machines, `bench/gather`); those within the cutoff are packed
- * into the batch with vcompresspd.  The forces and torques on the neighbours are transposed
- * back into records and added with one 512-bit add per neighbour into the thread's packed
- * buffer (ft), which rl_ff_fast_compute adds to the site forces and torques. */
+/* The dipole rows on AVX-512 without batch arrays (issue 8): eight list entries at a time are
+ * loaded from their 64-byte records (V->pk: centre, 0, mu axis, 0) and transposed with
+ * shuffles; those within the cutoff are packed with vcompresspd and appended, in list order,
+ * to a pending vector of up to 7 neighbours (a lane rotation and a blend).  Each time eight
+ * are pending, their pair terms are formed in registers; the forces and torques on the eight
+ * neighbours are transposed back into records and added to the thread's packed buffer (ft).
+ * Neighbour k of the row (counting only those within the cutoff) takes lane k mod 8, so the
+ * lanes, and the rounding of the row's sums, do not depend on which candidates beyond the
+ * cutoff the list holds (a run restarted from a checkpoint rebuilds the list at another step
+ * and continues bit for bit). */
 
-/* Fill b with the next neighbours of row nbr[*pos .. len) within the cutoff, as batch_fill
- * does: idx, w, R (minimum image) and m; advance *pos.  The kept ones are packed with
- * vcompresspd, and a batch holds RL_FAST_B of them whatever candidates lie between, so the
- * lanes and hence the sums' rounding do not depend on which candidates beyond the cutoff the
- * list holds (a run restarted from a checkpoint rebuilds the list at another step and must
- * continue bit for bit). */
-RL_T512 static inline void dip_fill512(const kview *V, const box_consts *B, int i, const int *nbr,
-                                       int len, int *pos, batch *b)
+/* 1 / sqrt(x) on 8 lanes: vrsqrt14pd (relative error < 2^-14) and two Newton steps
+ * (error ~ 1.5 e^2 each: 6e-9, then 5e-17), within a few ulp like rl_rsqrt */
+RL_T512 static inline __m512d rsqrt8(__m512d x)
 {
+  const __m512d half = _mm512_set1_pd(0.5), h = _mm512_mul_pd(half, x);
+  __m512d y = _mm512_rsqrt14_pd(x);
+  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, half), y);
+  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, half), y);
+  return y;
+}
+
+/* The row's running sums: force and torque on i, virial, energies, overlaps. */
+typedef struct {
+  __m512d fx, fy, fz, tx, ty, tz, w0, w1, w2, w3, w4, w5, w6, w7, w8, elj, edip;
+  __mmask8 bad;
+} dip_sums;
+
+/* The pair terms of i with the eight neighbours in lanes (X, Y, Z: centre_i - centre_j,
+ * m: mu_j), of which the first nv are real (the others hold copies of lane 0 and add nothing):
+ * lj_eval_ir2 and rl_dipole_dipole_rf / _sf as in dipole_row, on vectors. */
+RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int TRUNC, const lj_consts C,
+                                      const box_consts *B, double kc, double krf,
+                                      const __m512d mi[3], __m512d X, __m512d Y, __m512d Z,
+                                      __m512d mjx, __m512d mjy, __m512d mjz, const int *idx,
+                                      int nv, double (*ft)[8], dip_sums *S)
+{
+#define V1(a) _mm512_set1_pd(a)
+  const __mmask8 live = (__mmask8)((1u << nv) - 1u);
+  const __m512d r2 = X * X + Y * Y + Z * Z;
+  S->bad |= _mm512_mask_cmp_pd_mask(live, r2, V1(B->md2), _CMP_LT_OQ);
+  const __m512d ir = rsqrt8(r2), ir2 = ir * ir, ir3 = ir * ir2, ir5 = ir3 * ir2;
+  /* lj_eval_ir2 */
+  const __m512d ir6 = ir2 * ir2 * ir2;
+  __m512d ul = (V1(C.c12) * ir6 - V1(C.c6)) * ir6;
+  __m512d frl = (V1(12.0 * C.c12) * ir6 - V1(6.0 * C.c6)) * ir6 * ir2;
+  const __m512d rr = r2 * ir; /* |r|, for the truncations and the shifted-force dipoles */
+  if (TRUNC == RL_LJ_SHIFTED) {
+    ul = ul - V1(C.eshift);
+  } else if (TRUNC == RL_LJ_SHIFTED_FORCE) {
+    ul = ul - (V1(C.eshift) + (rr - V1(B->rc)) * V1(C.fshift));
+    frl = frl + V1(C.fshift) * ir;
+  } else if (TRUNC == RL_LJ_SWITCHED) {
+    const double w = B->rc - B->rsw;
+    const __m512d x = (rr - V1(B->rsw)) * V1(1.0 / w);
+    const __m512d Sw = V1(1.0) + x * x * x * (V1(-10.0) + x * (V1(15.0) - V1(6.0) * x));
+    const __m512d dS = x * x * (V1(-30.0) + x * (V1(60.0) - V1(30.0) * x)) * V1(1.0 / w);
+    const __m512d fsw = frl * Sw - ul * dS * ir, usw = ul * Sw;
+    const __mmask8 sw = _mm512_cmp_pd_mask(rr, V1(B->rsw), _CMP_GT_OQ);
+    const __mmask8 in = _mm512_cmp_pd_mask(rr, V1(B->rc), _CMP_LT_OQ);
+    frl = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, frl, fsw));
+    ul = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, ul, usw));
+  }
+  /* dd_plain (dipole.c) */
+  const __m512d pij = mi[0] * mjx + mi[1] * mjy + mi[2] * mjz;
+  const __m512d pi = mi[0] * X + mi[1] * Y + mi[2] * Z;
+  const __m512d pj = mjx * X + mjy * Y + mjz * Z;
+  const __m512d e15 = V1(15.0) * pi * pj * ir5 * ir2, m3 = V1(-3.0) * ir5;
+  __m512d drx = m3 * (pij * X + mi[0] * pj + mjx * pi) + e15 * X;
+  __m512d dry = m3 * (pij * Y + mi[1] * pj + mjy * pi) + e15 * Y;
+  __m512d drz = m3 * (pij * Z + mi[2] * pj + mjz * pi) + e15 * Z;
+  __m512d gix = mjx * ir3 + m3 * pj * X, giy = mjy * ir3 + m3 * pj * Y,
+          giz = mjz * ir3 + m3 * pj * Z;
+  __m512d gjx = mi[0] * ir3 + m3 * pi * X, gjy = mi[1] * ir3 + m3 * pi * Y,
+          gjz = mi[2] * ir3 + m3 * pi * Z;
+  const __m512d g0 = pij * ir3 + m3 * pi * pj;
+  __m512d fx, fy, fz, ud;
+  if (DSF) { /* rl_dipole_dipole_sf */
+    const __m512d x = rr * V1(1.0 / B->rc);
+    const __m512d bb = V1(1.0) + x * x * x * (V1(-4.0) + V1(3.0) * x);
+    const __m512d db = x * x * (V1(-12.0) + V1(12.0) * x) * V1(1.0 / B->rc);
+    const __m512d kb = V1(kc) * bb, q = V1(kc) * g0 * db * ir;
+    fx = frl * X - (kb * drx + q * X);
+    fy = frl * Y - (kb * dry + q * Y);
+    fz = frl * Z - (kb * drz + q * Z);
+    gix = kb * gix; giy = kb * giy; giz = kb * giz;
+    gjx = kb * gjx; gjy = kb * gjy; gjz = kb * gjz;
+    ud = kb * g0;
+  } else { /* rl_dipole_dipole_rf */
+    const __m512d k = V1(kc), k2 = V1(2.0 * krf);
+    fx = frl * X - k * drx; fy = frl * Y - k * dry; fz = frl * Z - k * drz;
+    gix = k * (gix - k2 * mjx); giy = k * (giy - k2 * mjy); giz = k * (giz - k2 * mjz);
+    gjx = k * (gjx - k2 * mi[0]); gjy = k * (gjy - k2 * mi[1]); gjz = k * (gjz - k2 * mi[2]);
+    ud = k * (g0 - k2 * pij);
+  }
+  /* the padding lanes add nothing */
+  fx = _mm512_maskz_mov_pd(live, fx); fy = _mm512_maskz_mov_pd(live, fy);
+  fz = _mm512_maskz_mov_pd(live, fz);
+  S->elj = _mm512_mask_add_pd(S->elj, live, S->elj, ul);
+  S->edip = _mm512_mask_add_pd(S->edip, live, S->edip, ud);
+  /* force on i and virial R (x) F */
+  S->fx += fx; S->fy += fy; S->fz += fz;
+  S->w0 += X * fx; S->w1 += X * fy; S->w2 += X * fz;
+  S->w3 += Y * fx; S->w4 += Y * fy; S->w5 += Y * fz;
+  S->w6 += Z * fx; S->w7 += Z * fy; S->w8 += Z * fz;
+  /* torques -mu x g on i and on j */
+  S->tx = _mm512_mask_sub_pd(S->tx, live, S->tx, mi[1] * giz - mi[2] * giy);
+  S->ty = _mm512_mask_sub_pd(S->ty, live, S->ty, mi[2] * gix - mi[0] * giz);
+  S->tz = _mm512_mask_sub_pd(S->tz, live, S->tz, mi[0] * giy - mi[1] * gix);
+  const __m512d zero = _mm512_setzero_pd();
+  const __m512d in[8] = {zero - fx, zero - fy, zero - fz, zero,
+                         mjz * gjy - mjy * gjz, mjx * gjz - mjz * gjx, mjy * gjx - mjx * gjy,
+                         zero};
+  __m512d r[8]; /* neighbour l: (f 0 | t 0) */
+  tr8x8(in, r);
+  for (int l = 0; l < nv; l++) {
+    double *o = ft[idx[l]];
+    _mm512_store_pd(o, _mm512_add_pd(_mm512_load_pd(o), r[l]));
+  }
+#undef V1
+}
+
+RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
+                                         const rl_forcefield *ff, const kview *V,
+                                         const fast_species *K, int i, const int *nbr, int len,
+                                         double (*fs)[3], double (*tq)[3], double (*ft)[8],
+                                         rl_acc *acc)
+{
+  const box_consts B = consts_of(ff);
+  const lj_consts C = lj_of(&K->t[0]);
+  const double kc = ff->kc, krf = ff->rf.krf;
+  const __m512d mi[3] = {_mm512_set1_pd(K->mu * V->ax[i][0]), _mm512_set1_pd(K->mu * V->ax[i][1]),
+                         _mm512_set1_pd(K->mu * V->ax[i][2])};
   const __m512d cx = _mm512_set1_pd(V->c[i][0]), cy = _mm512_set1_pd(V->c[i][1]),
                 cz = _mm512_set1_pd(V->c[i][2]);
-  const __m512d Lx = _mm512_set1_pd(B->L[0]), Ly = _mm512_set1_pd(B->L[1]),
-                Lz = _mm512_set1_pd(B->L[2]);
-  const __m512d iLx = _mm512_set1_pd(B->iL[0]), iLy = _mm512_set1_pd(B->iL[1]),
-                iLz = _mm512_set1_pd(B->iL[2]);
-  const __m512d big = _mm512_set1_pd(6755399441055744.0), rc2 = _mm512_set1_pd(B->rc2);
+  const __m512d Lx = _mm512_set1_pd(B.L[0]), Ly = _mm512_set1_pd(B.L[1]),
+                Lz = _mm512_set1_pd(B.L[2]);
+  const __m512d iLx = _mm512_set1_pd(B.iL[0]), iLy = _mm512_set1_pd(B.iL[1]),
+                iLz = _mm512_set1_pd(B.iL[2]);
+  const __m512d big = _mm512_set1_pd(6755399441055744.0), rc2 = _mm512_set1_pd(B.rc2);
   /* lanes (0 1 8 9 4 5 12 13) and (2 3 10 11 6 7 14 15) of two vectors */
   const __m512i even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
   const __m512i odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
-  int n = 0, p = *pos;
-  while (p < len && n < RL_FAST_B) {
+  const __m512i iota = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+  const __m512d z0 = _mm512_setzero_pd();
+  dip_sums S = {z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, 0};
+  /* the pending neighbours, lanes 0 .. pn - 1 */
+  __m512d pX = _mm512_setzero_pd(), pY = pX, pZ = pX, pmx = pX, pmy = pX, pmz = pX;
+  __m512i pid = _mm512_setzero_si512();
+  int pn = 0;
+  _Alignas(64) int idx[16];
+  for (int p = 0; p < len; p += RL_FAST_W) {
     const int cnt = len - p < RL_FAST_W ? len - p : RL_FAST_W;
     const double *q[8];
     if (cnt == RL_FAST_W)
       for (int l = 0; l < 8; l++) q[l] = V->pk[nbr[p + l]];
     else
       for (int l = 0; l < 8; l++) q[l] = V->pk[nbr[p + (l < cnt ? l : 0)]]; /* the first again */
-    /* halves: A_l = (record q[l] | record q[l + 4]), l = 0..3, for the centre (c) and the
-     * dipole (d) */
-    __m512d c[4], d[4];
+    __m512d c[4], d[4]; /* halves (record q[l] | record q[l + 4]): centre c, dipole d */
     for (int l = 0; l < 4; l++) {
       c[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l])),
                                 _mm256_load_pd(q[l + 4]), 1);
       d[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l] + 4)),
                                 _mm256_load_pd(q[l + 4] + 4), 1);
     }
-    /* unpack: (x0 x1 z0 z1 | x4 x5 z4 z5), (y0 y1 . . | y4 y5 . .), same for 2, 3 / 6, 7 */
     const __m512d cl01 = _mm512_unpacklo_pd(c[0], c[1]), ch01 = _mm512_unpackhi_pd(c[0], c[1]);
     const __m512d cl23 = _mm512_unpacklo_pd(c[2], c[3]), ch23 = _mm512_unpackhi_pd(c[2], c[3]);
     __m512d X = _mm512_sub_pd(cx, _mm512_permutex2var_pd(cl01, even, cl23));
@@ -807,74 +927,72 @@ RL_T512 static inline void dip_fill512(const kview *V, const box_consts *B, int 
     Y = _mm512_fnmadd_pd(Ly, _mm512_sub_pd(_mm512_fmadd_pd(Y, iLy, big), big), Y);
     Z = _mm512_fnmadd_pd(Lz, _mm512_sub_pd(_mm512_fmadd_pd(Z, iLz, big), big), Z);
     const __m512d r2 = _mm512_fmadd_pd(Z, Z, _mm512_fmadd_pd(Y, Y, _mm512_mul_pd(X, X)));
-    __mmask8 keep = _mm512_cmp_pd_mask(r2, rc2, _CMP_LT_OQ) & (__mmask8)((1u << cnt) - 1u);
-    int kc = __builtin_popcount(keep), used = cnt;
-    if (n + kc > RL_FAST_B) { /* the batch is full after the (RL_FAST_B - n)-th kept one */
-      unsigned m = keep;
-      for (int t = RL_FAST_B - n; t > 1; t--) m &= m - 1;
-      used = __builtin_ctz(m) + 1;
-      keep &= (__mmask8)((1u << used) - 1u);
-      kc = RL_FAST_B - n;
+    const __mmask8 keep = _mm512_cmp_pd_mask(r2, rc2, _CMP_LT_OQ) & (__mmask8)((1u << cnt) - 1u);
+    if (!keep) continue;
+    const int kc8 = __builtin_popcount(keep);
+    const __m512d dl01 = _mm512_unpacklo_pd(d[0], d[1]), dh01 = _mm512_unpackhi_pd(d[0], d[1]);
+    const __m512d dl23 = _mm512_unpacklo_pd(d[2], d[3]), dh23 = _mm512_unpackhi_pd(d[2], d[3]);
+    /* the kept ones packed, then rotated up by pn lanes: lanes pn .. 7 continue the pending
+     * ones, lanes 0 .. pn + kc8 - 9 are the overflow */
+    const __m512i rot = _mm512_and_si512(_mm512_sub_epi32(iota, _mm512_set1_epi32(pn)),
+                                         _mm512_set1_epi32(7));
+    const __m512i rot64 = _mm512_cvtepi32_epi64(_mm512_castsi512_si256(rot));
+#define RL_ROT(V) _mm512_permutexvar_pd(rot64, _mm512_maskz_compress_pd(keep, V))
+    const __m512d nX = RL_ROT(X), nY = RL_ROT(Y), nZ = RL_ROT(Z);
+    const __m512d nmx = RL_ROT(_mm512_permutex2var_pd(dl01, even, dl23));
+    const __m512d nmy = RL_ROT(_mm512_permutex2var_pd(dh01, even, dh23));
+    const __m512d nmz = RL_ROT(_mm512_permutex2var_pd(dl01, odd, dl23));
+#undef RL_ROT
+    const __m512i id = _mm512_maskz_loadu_epi32((__mmask16)((1u << cnt) - 1u), nbr + p);
+    const __m512i nid = _mm512_permutexvar_epi32(rot, _mm512_maskz_compress_epi32(keep, id));
+    const __mmask8 old = (__mmask8)((1u << pn) - 1u);
+    const __m512d aX = _mm512_mask_blend_pd(old, nX, pX), aY = _mm512_mask_blend_pd(old, nY, pY),
+                  aZ = _mm512_mask_blend_pd(old, nZ, pZ);
+    const __m512d amx = _mm512_mask_blend_pd(old, nmx, pmx),
+                  amy = _mm512_mask_blend_pd(old, nmy, pmy),
+                  amz = _mm512_mask_blend_pd(old, nmz, pmz);
+    const __m512i aid = _mm512_mask_blend_epi32((__mmask16)old, nid, pid);
+    if (pn + kc8 < RL_FAST_W) { /* still pending */
+      pX = aX; pY = aY; pZ = aZ; pmx = amx; pmy = amy; pmz = amz; pid = aid;
+      pn += kc8;
+      continue;
     }
-    if (kc) {
-      const __m512d dl01 = _mm512_unpacklo_pd(d[0], d[1]), dh01 = _mm512_unpackhi_pd(d[0], d[1]);
-      const __m512d dl23 = _mm512_unpacklo_pd(d[2], d[3]), dh23 = _mm512_unpackhi_pd(d[2], d[3]);
-      const __mmask8 st = (__mmask8)((1u << kc) - 1u);
-#define RL_PUT(DST, V) _mm512_mask_storeu_pd(DST, st, _mm512_maskz_compress_pd(keep, V))
-      RL_PUT(&b->R[0][n], X);
-      RL_PUT(&b->R[1][n], Y);
-      RL_PUT(&b->R[2][n], Z);
-      RL_PUT(&b->m[0][n], _mm512_permutex2var_pd(dl01, even, dl23));
-      RL_PUT(&b->m[1][n], _mm512_permutex2var_pd(dh01, even, dh23));
-      RL_PUT(&b->m[2][n], _mm512_permutex2var_pd(dl01, odd, dl23));
-#undef RL_PUT
-      const __m512i id = _mm512_maskz_loadu_epi32((__mmask16)((1u << cnt) - 1u), nbr + p);
-      _mm512_mask_storeu_epi32(&b->idx[n], (__mmask16)st, _mm512_maskz_compress_epi32(keep, id));
-    }
-    n += kc;
-    p += used;
+    _mm512_store_si512(idx, aid);
+    dip_pairs8(DSF, TRUNC, C, &B, kc, krf, mi, aX, aY, aZ, amx, amy, amz, idx, RL_FAST_W, ft, &S);
+    pX = nX; pY = nY; pZ = nZ; pmx = nmx; pmy = nmy; pmz = nmz; pid = nid;
+    pn += kc8 - RL_FAST_W;
   }
-  *pos = p;
-  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
-  for (int k = 0; k < np; k++) b->w[k] = k < n ? 1.0 : 0.0;
-  for (int k = n; k < np; k++) { /* padding: a copy of the first neighbour, weight 0 */
-    b->idx[k] = b->idx[0];
-    for (int c = 0; c < 3; c++) {
-      b->R[c][k] = b->R[c][0];
-      b->m[c][k] = b->m[c][0];
-    }
+  if (pn) { /* the last ones; the other lanes repeat lane 0 */
+    const __mmask8 old = (__mmask8)((1u << pn) - 1u);
+    const __m512i z = _mm512_setzero_si512();
+#define RL_PAD(V) _mm512_mask_blend_pd(old, _mm512_permutexvar_pd(z, V), V)
+    _mm512_store_si512(idx, pid);
+    dip_pairs8(DSF, TRUNC, C, &B, kc, krf, mi, RL_PAD(pX), RL_PAD(pY), RL_PAD(pZ), RL_PAD(pmx),
+               RL_PAD(pmy), RL_PAD(pmz), idx, pn, ft, &S);
+#undef RL_PAD
   }
-  b->n = n;
-  b->np = np;
-}
-
-/* Add the batch's forces b->f[0] and torques b->t on the neighbours to their records in ft. */
-RL_T512 static inline void dip_scatter512(const batch *b, double (*ft)[8])
-{
-  const __m512d zero = _mm512_setzero_pd();
-  for (int k = 0; k < b->n; k += RL_FAST_W) {
-    const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
-    const __m512d in[8] = {_mm512_load_pd(&b->f[0][0][k]), _mm512_load_pd(&b->f[0][1][k]),
-                           _mm512_load_pd(&b->f[0][2][k]), zero,
-                           _mm512_load_pd(&b->t[0][k]),    _mm512_load_pd(&b->t[1][k]),
-                           _mm512_load_pd(&b->t[2][k]),    zero};
-    __m512d r[8]; /* neighbour l: (f 0 | t 0) */
-    tr8x8(in, r);
-    for (int l = 0; l < cnt; l++) {
-      double *o = ft[b->idx[k + l]];
-      _mm512_store_pd(o, _mm512_add_pd(_mm512_load_pd(o), r[l]));
-    }
-  }
+  const int oi = V->soff[i];
+  fs[oi][0] += _mm512_reduce_add_pd(S.fx);
+  fs[oi][1] += _mm512_reduce_add_pd(S.fy);
+  fs[oi][2] += _mm512_reduce_add_pd(S.fz);
+  tq[i][0] += _mm512_reduce_add_pd(S.tx);
+  tq[i][1] += _mm512_reduce_add_pd(S.ty);
+  tq[i][2] += _mm512_reduce_add_pd(S.tz);
+  acc->lj += _mm512_reduce_add_pd(S.elj);
+  acc->dip += _mm512_reduce_add_pd(S.edip);
+  const __m512d w[9] = {S.w0, S.w1, S.w2, S.w3, S.w4, S.w5, S.w6, S.w7, S.w8};
+  for (int c = 0; c < 9; c++) acc->vir[c] += _mm512_reduce_add_pd(w[c]);
+  acc->bad |= S.bad != 0;
 }
 #endif
 
 /* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
- * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf). */
-RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const rl_forcefield *ff,
+ * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf).  The
+ * portable rows (AVX2, baseline, ROTLEAP_NO_AVX512); dipole_row512 is the same on AVX-512. */
+RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *ff,
                           const kview *V, const fast_species *K, int i, const int *nbr, int len,
-                          double (*fs)[3], double (*tq)[3], double (*ft)[8], rl_acc *acc)
+                          double (*fs)[3], double (*tq)[3], rl_acc *acc)
 {
-  (void)X512;
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rc = B.rc, rc2 = B.rc2, rsw = B.rsw, md2 = B.md2;
@@ -887,11 +1005,7 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
   double w0 = 0, w1 = 0, w2 = 0, w3 = 0, w4 = 0, w5 = 0, w6 = 0, w7 = 0, w8 = 0;
   double bad = 0.0;
   for (int pos = 0; pos < len;) {
-#if RL_X512
-    if (X512) dip_fill512(V, &B, i, nbr, len, &pos, &b);
-    else
-#endif
-      batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, 0, &b);
+    batch_fill(P_MOL, 1, 0, V, &B, i, nbr, len, &pos, K, rc2, 0, &b);
     if (b.n == 0) continue;
     const int np = b.np;
     /* the pair terms; each lane's force on j, torque on j and torque on i go to the batch
@@ -963,13 +1077,8 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
       w3 -= ry * Fx; w4 -= ry * Fy; w5 -= ry * Fz;
       w6 -= rz * Fx; w7 -= rz * Fy; w8 -= rz * Fz;
     }
-#if RL_X512
-    if (X512) dip_scatter512(&b, ft);
-    else
-#endif
-      batch_scatter(1, V, &b, K, fs, tq);
+    batch_scatter(1, V, &b, K, fs, tq);
   }
-  (void)ft;
   fs[oi][0] += fix; fs[oi][1] += fiy; fs[oi][2] += fiz;
   tq[i][0] += tix; tq[i][1] += tiy; tq[i][2] += tiz;
   acc->lj += elj;
@@ -981,8 +1090,9 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
 }
 
 /* Instances: one function per (mode, truncation) and (dipole method, truncation), each
- * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole and TIP4P
- * rows again with the AVX-512 fill and scatter (dipx_*, tip4px_*), picked at setup. */
+ * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole rows in
+ * AVX-512 registers and the TIP4P rows with the AVX-512 fill and scatter (dipx_*, tip4px_*),
+ * picked at setup. */
 #define ROW_FN_T(ATTR, NAME, BODY)                                                             \
   ATTR static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,  \
                         const int *nbr, int len, double (*fs)[3], double (*tq)[3],             \
@@ -1006,17 +1116,17 @@ RL_INLINE void dipole_row(const int X512, const int DSF, const int TRUNC, const 
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)
-ROW_FN(dip_r0, dipole_row(0, 0, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_r1, dipole_row(0, 0, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_r2, dipole_row(0, 0, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_r3, dipole_row(0, 0, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_f0, dipole_row(0, 1, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_f1, dipole_row(0, 1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_f2, dipole_row(0, 1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-ROW_FN(dip_f3, dipole_row(0, 1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+ROW_FN(dip_r0, dipole_row(0, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r1, dipole_row(0, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r2, dipole_row(0, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_r3, dipole_row(0, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f0, dipole_row(1, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
+ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
 #if RL_X512
 #define DIP512(NAME, DSF, TRUNC)                                                               \
-  ROW_FN_T(RL_T512, NAME, dipole_row(1, DSF, TRUNC, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+  ROW_FN_T(RL_T512, NAME, dipole_row512(DSF, TRUNC, ff, V, K, i, nbr, len, fs, tq, ft, acc))
 DIP512(dipx_r0, 0, RL_LJ_PLAIN)
 DIP512(dipx_r1, 0, RL_LJ_SHIFTED)
 DIP512(dipx_r2, 0, RL_LJ_SHIFTED_FORCE)
@@ -1253,7 +1363,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     }
   }
   if (nonempty > 1) general = 1; /* pairs of different species */
-  if (f->x512) { /* the AVX-512 rows' records: 64 bytes (dip_fill512), 128 (tip4p_fill512) */
+  if (f->x512) { /* the AVX-512 rows' records: 64 bytes (dipole_row512), 128 (tip4p_fill512) */
     const size_t T1 = (size_t)T;
     if (f->ndip) {
       f->V.pk = alloc_records(sizeof *f->V.pk * n1);
