@@ -44,8 +44,16 @@ struct rl_integrator {
   double t;
   gsl_rng *rng;       /* Bussi and Langevin thermostats only */
   double thermo_work; /* kinetic energy removed by the thermostat so far */
-  int threads;        /* of the rotation solves: p.threads resolved */
+  int threads;        /* of the rotation solves and the per-body loops: p.threads resolved */
+  double *part;       /* [3 ceil(n / RL_SUM_BLOCK)] the kinetic sums' block partials */
 };
+
+/* The per-body loops of a step run on in->threads threads (from a few thousand bodies on, which
+ * pay for the threads' start).  Their kinetic-energy sums are formed per block of RL_SUM_BLOCK
+ * bodies and the blocks added in order, so the result does not depend on the thread count. */
+#define RL_SUM_BLOCK 1024
+#define RL_THREAD_MIN 2048
+static int nblocks(int count) { return (count + RL_SUM_BLOCK - 1) / RL_SUM_BLOCK; }
 
 const char *rl_rot_method_name(rl_rot_method m)
 {
@@ -177,11 +185,12 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   const int need_lprev = p->method == RL_ROT_FINCHAM && sys->nrot > 0;
   if (need_q) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
   if (need_lprev) in->lprev = calloc((size_t)sys->nrot, sizeof *in->lprev);
+  in->part = malloc(sizeof *in->part * (size_t)(3 * (nblocks(sys->n) + 1)));
   if (stochastic(p)) {
     in->rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (in->rng) gsl_rng_set(in->rng, p->seed);
   }
-  if (!in->F.f || !in->F.k || (need_q && !in->q) || (need_lprev && !in->lprev) ||
+  if (!in->F.f || !in->F.k || !in->part || (need_q && !in->q) || (need_lprev && !in->lprev) ||
       (stochastic(p) && !in->rng)) {
     rl_integrator_free(in);
     rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
@@ -197,6 +206,7 @@ void rl_integrator_free(rl_integrator *in)
   free(in->F.k);
   free(in->q);
   free(in->lprev);
+  free(in->part);
   gsl_rng_free(in->rng);
   free(in);
 }
@@ -425,18 +435,35 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
-    double w = h2 / sp->mass, kt = 0.0;
-    for (int b = 0; b < sp->count; b++) {
-      int i = sp->first + b;
-      for (int c = 0; c < 3; c++) {
-        double vt = s->v[i][c] + w * in->F.f[i][c];
-        kt += vt * vt;
+    const double w = h2 / sp->mass;
+    const int nb = nblocks(sp->count);
+    double *pt = in->part, *pr = in->part + nb;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(in->threads) schedule(static) \
+    if (in->threads > 1 && sp->count >= RL_THREAD_MIN)
+#endif
+    for (int q = 0; q < nb; q++) {
+      const int end = q < nb - 1 ? (q + 1) * RL_SUM_BLOCK : sp->count;
+      double kt = 0.0, kr = 0.0;
+      for (int b = q * RL_SUM_BLOCK; b < end; b++) {
+        int i = sp->first + b;
+        for (int c = 0; c < 3; c++) {
+          double vt = s->v[i][c] + w * in->F.f[i][c];
+          kt += vt * vt;
+        }
+        if (sp->rot_off >= 0) {
+          const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
+          double lt[3] = {l[0] + h2 * kk[0], l[1] + h2 * kk[1], l[2] + h2 * kk[2]};
+          kr += fam->ke_rot(sp, s, b, lt);
+        }
       }
-      if (sp->rot_off >= 0) {
-        const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
-        double lt[3] = {l[0] + h2 * kk[0], l[1] + h2 * kk[1], l[2] + h2 * kk[2]};
-        ker += fam->ke_rot(sp, s, b, lt);
-      }
+      pt[q] = kt;
+      pr[q] = kr;
+    }
+    double kt = 0.0;
+    for (int q = 0; q < nb; q++) {
+      kt += pt[q];
+      ker += pr[q];
     }
     ket += 0.5 * sp->mass * kt;
   }
@@ -474,25 +501,41 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
-    double w = h2 / sp->mass;
-    for (int b = 0; b < sp->count; b++) {
-      int i = sp->first + b;
-      double *v = s->v[i];
-      const double *f = in->F.f[i];
-      for (int c = 0; c < 3; c++) {
-        if (beta == 1.0) v[c] += 2.0 * w * f[c];
-        else v[c] = c2 * (v[c] + w * f[c]) + w * f[c]; /* eq. 17 */
-        if (!bussi && !langevin) s->r[i][c] += h * v[c];
+    const double w = h2 / sp->mass;
+    const int nb = nblocks(sp->count);
+    double *pt = in->part, *pr = in->part + nb;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(in->threads) schedule(static) \
+    if (in->threads > 1 && sp->count >= RL_THREAD_MIN)
+#endif
+    for (int q = 0; q < nb; q++) {
+      const int end = q < nb - 1 ? (q + 1) * RL_SUM_BLOCK : sp->count;
+      double kt = 0.0, kr = 0.0;
+      for (int b = q * RL_SUM_BLOCK; b < end; b++) {
+        int i = sp->first + b;
+        double *v = s->v[i];
+        const double *f = in->F.f[i];
+        for (int c = 0; c < 3; c++) {
+          if (beta == 1.0) v[c] += 2.0 * w * f[c];
+          else v[c] = c2 * (v[c] + w * f[c]) + w * f[c]; /* eq. 17 */
+          if (!bussi && !langevin) s->r[i][c] += h * v[c];
+        }
+        kt += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (sp->rot_off < 0) continue;
+        double *l = s->l[sp->rot_off + b];
+        const double *kk = in->F.k[sp->rot_off + b];
+        for (int c = 0; c < 3; c++) {
+          if (beta == 1.0) l[c] += h * kk[c];
+          else l[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c]; /* eq. 18 */
+        }
+        kr += fam->ke_rot(sp, s, b, l);
       }
-      Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      if (sp->rot_off < 0) continue;
-      double *l = s->l[sp->rot_off + b];
-      const double *kk = in->F.k[sp->rot_off + b];
-      for (int c = 0; c < 3; c++) {
-        if (beta == 1.0) l[c] += h * kk[c];
-        else l[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c]; /* eq. 18 */
-      }
-      Kmid[1] += fam->ke_rot(sp, s, b, l);
+      pt[q] = kt;
+      pr[q] = kr;
+    }
+    for (int q = 0; q < nb; q++) {
+      Kmid[0] += pt[q];
+      Kmid[1] += pr[q];
     }
   }
   info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;

@@ -10,6 +10,12 @@ static int rotate_dipole(const rl_species *sp, rl_system *s, rl_rotation_work *w
 {
   const double h = w->h, inv = 1.0 / sp->J[0];
   double (*l)[3] = s->l + sp->rot_off, (*rho)[3] = s->rho + sp->axis_off, hw = w->max_h_omega;
+  /* each body on its own, so any thread count gives the same result (max is exact); a few
+   * thousand bodies pay for the threads' start */
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(w->threads) schedule(static) \
+    if (w->threads > 1 && sp->count >= 2048) reduction(max : hw)
+#endif
   for (int b = 0; b < sp->count; b++) {
     double om[3] = {l[b][0] * inv, l[b][1] * inv, l[b][2] * inv};
     rl_rotate_axis(rho[b], om, h);
