@@ -883,10 +883,9 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
   const box_consts B = consts_of(ff);
   const lj_consts C = lj_of(&K->t[0]);
   const double kc = ff->kc, krf = ff->rf.krf;
-  const __m512d mi[3] = {_mm512_set1_pd(K->mu * V->ax[i][0]), _mm512_set1_pd(K->mu * V->ax[i][1]),
-                         _mm512_set1_pd(K->mu * V->ax[i][2])};
-  const __m512d cx = _mm512_set1_pd(V->c[i][0]), cy = _mm512_set1_pd(V->c[i][1]),
-                cz = _mm512_set1_pd(V->c[i][2]);
+  const double *pi = V->pk[i]; /* i's record: centre, 0, mu axis, 0 */
+  const __m512d mi[3] = {_mm512_set1_pd(pi[4]), _mm512_set1_pd(pi[5]), _mm512_set1_pd(pi[6])};
+  const __m512d cx = _mm512_set1_pd(pi[0]), cy = _mm512_set1_pd(pi[1]), cz = _mm512_set1_pd(pi[2]);
   const __m512d Lx = _mm512_set1_pd(B.L[0]), Ly = _mm512_set1_pd(B.L[1]),
                 Lz = _mm512_set1_pd(B.L[2]);
   const __m512d iLx = _mm512_set1_pd(B.iL[0]), iLy = _mm512_set1_pd(B.iL[1]),
@@ -971,13 +970,15 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
                RL_PAD(pmy), RL_PAD(pmz), idx, pn, ft, &S);
 #undef RL_PAD
   }
-  const int oi = V->soff[i];
-  fs[oi][0] += _mm512_reduce_add_pd(S.fx);
-  fs[oi][1] += _mm512_reduce_add_pd(S.fy);
-  fs[oi][2] += _mm512_reduce_add_pd(S.fz);
-  tq[i][0] += _mm512_reduce_add_pd(S.tx);
-  tq[i][1] += _mm512_reduce_add_pd(S.ty);
-  tq[i][2] += _mm512_reduce_add_pd(S.tz);
+  /* the force and torque on i go to its record too, so the dipole ranks need no site buffers */
+  (void)fs;
+  (void)tq;
+  ft[i][0] += _mm512_reduce_add_pd(S.fx);
+  ft[i][1] += _mm512_reduce_add_pd(S.fy);
+  ft[i][2] += _mm512_reduce_add_pd(S.fz);
+  ft[i][4] += _mm512_reduce_add_pd(S.tx);
+  ft[i][5] += _mm512_reduce_add_pd(S.ty);
+  ft[i][6] += _mm512_reduce_add_pd(S.tz);
   acc->lj += _mm512_reduce_add_pd(S.elj);
   acc->dip += _mm512_reduce_add_pd(S.edip);
   const __m512d w[9] = {S.w0, S.w1, S.w2, S.w3, S.w4, S.w5, S.w6, S.w7, S.w8};
@@ -1596,10 +1597,26 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   }
   kview *V = &f->V;
   const int *ord = f->ord;
+  /* every body a dipole rank on the AVX-512 rows (a Stockmayer fluid): the kernels read and
+   * write only the 64-byte records, so the copies and the sums below take a short path */
+  const int dip_only = f->pft && f->ndip == n;
+  /* no pairs for the reference routine: the threads' site-force buffers stay empty */
+  const int general = f->gstart[n] > 0;
 #pragma omp parallel num_threads(T)
   {
     int t = omp_get_thread_num();
     /* the kernels' copies in rank order */
+    if (dip_only) {
+#pragma omp for schedule(static)
+      for (int m = 0; m < n; m++) {
+        const int i = ord[m];
+        const double mu = f->sk[ff->body_species[i]].mu;
+        for (int c = 0; c < 3; c++) {
+          V->pk[m][c] = ff->centre[i][c];
+          V->pk[m][4 + c] = mu * ff->axis[i][c];
+        }
+      }
+    } else
 #pragma omp for schedule(static)
     for (int m = 0; m < n; m++) {
       const int i = ord[m], ns_i = ff->sp_nsites[ff->body_species[i]];
@@ -1631,12 +1648,14 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     double(*tq)[3] = t == 0 ? ff->tq : f->tqbuf + (size_t)(t - 1) * (size_t)n;
     double(*pfs)[3] = f->pfs + (size_t)t * (size_t)ns;
     double(*ptq)[3] = f->ptq + (size_t)t * (size_t)n;
-    if (t > 0) {
+    if (t > 0 && general) {
       memset(fs, 0, sizeof *fs * (size_t)ns);
       memset(tq, 0, sizeof *tq * (size_t)n);
     }
-    memset(pfs, 0, sizeof *pfs * (size_t)ns);
-    memset(ptq, 0, sizeof *ptq * (size_t)n);
+    if (!dip_only) {
+      memset(pfs, 0, sizeof *pfs * (size_t)ns);
+      memset(ptq, 0, sizeof *ptq * (size_t)n);
+    }
     double(*pft)[8] = f->pft ? f->pft + (size_t)t * (size_t)n : NULL;
     if (pft) memset(pft, 0, sizeof *pft * (size_t)n);
     double(*pft4)[16] = f->pft4 ? f->pft4 + (size_t)t * (size_t)n : NULL;
@@ -1660,7 +1679,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
 #ifdef _OPENMP /* -fopenmp-simd accepts the other directives without OpenMP, not this one */
 #pragma omp barrier
 #endif
-    if (T > 1) { /* add the other threads' buffers, in thread order */
+    if (T > 1 && general) { /* add the other threads' buffers, in thread order */
 #pragma omp for schedule(static)
       for (int s = 0; s < ns; s++)
         for (int u = 1; u < T; u++) {
@@ -1678,6 +1697,19 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
      * that add the molecular virial (tip4p_row), + sum d (x) F over their site forces, which
      * the correction below subtracts again */
     double cv[9] = {0};
+    if (dip_only) {
+#pragma omp for schedule(static)
+      for (int m = 0; m < n; m++) {
+        const int i = ord[m], oi = ff->body_site_off[i];
+        for (int u = 0; u < T; u++) {
+          const double *q = f->pft[(size_t)u * (size_t)n + (size_t)m];
+          for (int c = 0; c < 3; c++) {
+            ff->fs[oi][c] += q[c];
+            ff->tq[i][c] += q[4 + c];
+          }
+        }
+      }
+    } else
 #pragma omp for schedule(static)
     for (int m = 0; m < n; m++) {
       const int i = ord[m], k = ff->body_species[i], ns_i = ff->sp_nsites[k];
