@@ -34,11 +34,16 @@ static double disp2(const rl_box *box, const double a[3], const double b[3])
 }
 
 int rl_nlist_needs_rebuild(const rl_nlist *nl, const rl_box *box, int n, const double (*r)[3],
-                           double *maxdisp)
+                           double *maxdisp, int threads)
 {
   if (maxdisp) *maxdisp = INFINITY;
   if (nl->n < 0 || nl->n != n) return 1;
   double m2 = 0.0;
+  (void)threads;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= 2048) \
+    reduction(max : m2)
+#endif
   for (int i = 0; i < n; i++) m2 = fmax(m2, disp2(box, r[i], nl->r0[i]));
   double m = sqrt(m2);
   if (maxdisp) *maxdisp = m;

@@ -32,12 +32,13 @@ void rl_nlist_free(rl_nlist *nl); /* accepts NULL */
 /* Mark the list stale (e.g. after a box change). */
 void rl_nlist_invalidate(rl_nlist *nl);
 
-/* in  box, n, r[n][3] centres
+/* in  box, n, r[n][3] centres; threads: OpenMP threads for the scan (1: serial; the result
+ *     does not depend on it)
  * Returns 1 if the list must be rebuilt: never built, size changed, or some centre has moved
  * by more than skin/2 since the build; 0 otherwise.  Also returns the largest displacement in
  * *maxdisp (may be NULL). */
 int rl_nlist_needs_rebuild(const rl_nlist *nl, const rl_box *box, int n, const double (*r)[3],
-                           double *maxdisp);
+                           double *maxdisp, int threads);
 
 /* Build the list for list radius rlist (> 0).  Returns RL_OK or RL_ENOMEM. */
 int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const double (*r)[3]);

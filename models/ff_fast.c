@@ -1579,10 +1579,11 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   rl_ff_fast *f = ff->fast;
   const int n = ff->n, ns = ff->nsites, T = f->nthreads;
   /* the fast minimum image needs |d / L| < 2^51 */
+  int far = 0;
   for (int i = 0; i < n; i++)
-    for (int c = 0; c < 3; c++)
-      if (fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12) return 1;
-  if (rl_nlist_needs_rebuild(f->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL) ||
+    for (int c = 0; c < 3; c++) far |= fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12;
+  if (far) return 1;
+  if (rl_nlist_needs_rebuild(f->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL, T) ||
       f->chk->rlist != ff->rlist) {
     int st = build(ff);
     if (st) return st;

@@ -563,7 +563,7 @@ static int reference_pairs(rl_forcefield *ff, rl_acc *acc, int rebuild)
   int n = ff->n, st = RL_OK;
   if (ff->nl) {
     if (rebuild ||
-        rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre, NULL)) {
+        rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre, NULL, 1)) {
       st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre);
       if (st) return st;
     }
@@ -574,6 +574,34 @@ static int reference_pairs(rl_forcefield *ff, rl_acc *acc, int rebuild)
       for (int j = i + 1; j < n && !st; j++) st = rl_ff_body_pair(ff, i, j, acc);
   }
   return st;
+}
+
+/* Body i's centre, axis and sites (relative to the centre) from sys.  A non-finite one:
+ * RL_ENONFINITE, with a message unless quiet. */
+static int take_body(rl_forcefield *ff, const rl_system *sys, int i, int quiet)
+{
+  rl_system_get_position(sys, i, ff->centre[i]);
+  rl_system_get_axis(sys, i, ff->axis[i]);
+  const double *r = ff->centre[i], *u = ff->axis[i];
+  if (!isfinite(r[0]) || !isfinite(r[1]) || !isfinite(r[2]))
+    return quiet ? RL_ENONFINITE
+                 : rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) has a non-finite "
+                            "position (%g, %g, %g)", i, ff->body_species[i], r[0], r[1], r[2]);
+  if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]))
+    return quiet ? RL_ENONFINITE
+                 : rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) has a non-finite "
+                            "orientation", i, ff->body_species[i]);
+  int ns = ff->sp_nsites[ff->body_species[i]], o = ff->body_site_off[i];
+  for (int a = 0; a < ns; a++) {
+    const double *s = ff->site[o + a];
+    if (!isfinite(s[0]) || !isfinite(s[1]) || !isfinite(s[2]))
+      return quiet ? RL_ENONFINITE
+                   : rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) site %d has a "
+                              "non-finite position (%g, %g, %g)", i, ff->body_species[i], a,
+                              s[0], s[1], s[2]);
+    for (int c = 0; c < 3; c++) ff->dsite[o + a][c] = s[c] - r[c];
+  }
+  return RL_OK;
 }
 
 int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *out)
@@ -587,26 +615,17 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
                     rl_system_nspecies(sys));
   int n = ff->n;
   rl_system_site_positions(sys, ff->site);
-  for (int i = 0; i < n; i++) {
-    rl_system_get_position(sys, i, ff->centre[i]);
-    rl_system_get_axis(sys, i, ff->axis[i]);
-    const double *r = ff->centre[i], *u = ff->axis[i];
-    if (!isfinite(r[0]) || !isfinite(r[1]) || !isfinite(r[2]))
-      return rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) has a non-finite "
-                      "position (%g, %g, %g)", i, ff->body_species[i], r[0], r[1], r[2]);
-    if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]))
-      return rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) has a non-finite "
-                      "orientation", i, ff->body_species[i]);
-    int ns = ff->sp_nsites[ff->body_species[i]], o = ff->body_site_off[i];
-    for (int a = 0; a < ns; a++) {
-      const double *s = ff->site[o + a];
-      if (!isfinite(s[0]) || !isfinite(s[1]) || !isfinite(s[2]))
-        return rl_error(RL_ENONFINITE, "forcefield: body %d (species %d) site %d has a "
-                        "non-finite position (%g, %g, %g)", i, ff->body_species[i], a, s[0],
-                        s[1], s[2]);
-      for (int c = 0; c < 3; c++) ff->dsite[o + a][c] = s[c] - r[c];
-    }
-  }
+  /* the bodies on the pair loop's threads; the first bad one is taken again for its message
+   * (rl_error's buffer is the calling thread's) */
+  const int T = rl_forcefield_threads(ff);
+  int first = n;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(T) schedule(static) if (T > 1 && n >= 2048) \
+    reduction(min : first)
+#endif
+  for (int i = 0; i < n; i++)
+    if (take_body(ff, sys, i, 1) && i < first) first = i;
+  if (first < n) return take_body(ff, sys, first, 0);
   memset(ff->fs, 0, sizeof *ff->fs * (size_t)ff->nsites);
   memset(ff->tq, 0, sizeof *ff->tq * (size_t)n);
   rl_acc acc;
