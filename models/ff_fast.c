@@ -815,38 +815,35 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int TRUNC, const lj_const
     frl = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, frl, fsw));
     ul = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, ul, usw));
   }
-  /* dd_plain (dipole.c) */
+  /* rl_dipole_dipole_rf / _sf (dd_plain in dipole.c), regrouped: with K = kc (RF) or kc b(x)
+   * (SF), m3 = -3 / r^5, Bj = K m3 pj and Bi = K m3 pi, the force on i is s R - Bj mu_i - Bi mu_j,
+   * and the fields are g_i = A mu_j + Bj R, g_j = A mu_i + Bi R with A = K (1 / r^3 - 2 krf)
+   * (RF) or K / r^3 (SF): about 20 fewer multiplies and adds per 8 pairs than dipole_row */
   const __m512d pij = mi[0] * mjx + mi[1] * mjy + mi[2] * mjz;
   const __m512d pi = mi[0] * X + mi[1] * Y + mi[2] * Z;
   const __m512d pj = mjx * X + mjy * Y + mjz * Z;
-  const __m512d e15 = V1(15.0) * pi * pj * ir5 * ir2, m3 = V1(-3.0) * ir5;
-  __m512d drx = m3 * (pij * X + mi[0] * pj + mjx * pi) + e15 * X;
-  __m512d dry = m3 * (pij * Y + mi[1] * pj + mjy * pi) + e15 * Y;
-  __m512d drz = m3 * (pij * Z + mi[2] * pj + mjz * pi) + e15 * Z;
-  __m512d gix = mjx * ir3 + m3 * pj * X, giy = mjy * ir3 + m3 * pj * Y,
-          giz = mjz * ir3 + m3 * pj * Z;
-  __m512d gjx = mi[0] * ir3 + m3 * pi * X, gjy = mi[1] * ir3 + m3 * pi * Y,
-          gjz = mi[2] * ir3 + m3 * pi * Z;
-  const __m512d g0 = pij * ir3 + m3 * pi * pj;
-  __m512d fx, fy, fz, ud;
-  if (DSF) { /* rl_dipole_dipole_sf */
+  const __m512d m3 = V1(-3.0) * ir5, e15 = V1(-5.0) * m3 * pi * pj * ir2;
+  __m512d Kd, A, s;
+  if (DSF) { /* rl_dipole_dipole_sf: b(x) = 1 - 4 x^3 + 3 x^4, x = r / rc */
     const __m512d x = rr * V1(1.0 / B->rc);
     const __m512d bb = V1(1.0) + x * x * x * (V1(-4.0) + V1(3.0) * x);
     const __m512d db = x * x * (V1(-12.0) + V1(12.0) * x) * V1(1.0 / B->rc);
-    const __m512d kb = V1(kc) * bb, q = V1(kc) * g0 * db * ir;
-    fx = frl * X - (kb * drx + q * X);
-    fy = frl * Y - (kb * dry + q * Y);
-    fz = frl * Z - (kb * drz + q * Z);
-    gix = kb * gix; giy = kb * giy; giz = kb * giz;
-    gjx = kb * gjx; gjy = kb * gjy; gjz = kb * gjz;
-    ud = kb * g0;
+    const __m512d g0 = pij * ir3 + m3 * pi * pj;
+    Kd = V1(kc) * bb;
+    A = Kd * ir3;
+    s = frl - Kd * (m3 * pij + e15) - V1(kc) * g0 * db * ir;
   } else { /* rl_dipole_dipole_rf */
-    const __m512d k = V1(kc), k2 = V1(2.0 * krf);
-    fx = frl * X - k * drx; fy = frl * Y - k * dry; fz = frl * Z - k * drz;
-    gix = k * (gix - k2 * mjx); giy = k * (giy - k2 * mjy); giz = k * (giz - k2 * mjz);
-    gjx = k * (gjx - k2 * mi[0]); gjy = k * (gjy - k2 * mi[1]); gjz = k * (gjz - k2 * mi[2]);
-    ud = k * (g0 - k2 * pij);
+    Kd = V1(kc);
+    A = Kd * (ir3 - V1(2.0 * krf));
+    s = frl - Kd * (m3 * pij + e15);
   }
+  const __m512d Bj = Kd * m3 * pj, Bi = Kd * m3 * pi;
+  __m512d fx = s * X - Bj * mi[0] - Bi * mjx;
+  __m512d fy = s * Y - Bj * mi[1] - Bi * mjy;
+  __m512d fz = s * Z - Bj * mi[2] - Bi * mjz;
+  const __m512d gix = A * mjx + Bj * X, giy = A * mjy + Bj * Y, giz = A * mjz + Bj * Z;
+  const __m512d gjx = A * mi[0] + Bi * X, gjy = A * mi[1] + Bi * Y, gjz = A * mi[2] + Bi * Z;
+  const __m512d ud = pij * A + Bi * pj;
   /* the padding lanes add nothing */
   fx = _mm512_maskz_mov_pd(live, fx); fy = _mm512_maskz_mov_pd(live, fy);
   fz = _mm512_maskz_mov_pd(live, fz);
