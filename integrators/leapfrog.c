@@ -45,7 +45,7 @@ struct rl_integrator {
   gsl_rng *rng;       /* Bussi and Langevin thermostats only */
   double thermo_work; /* kinetic energy removed by the thermostat so far */
   int threads;        /* of the rotation solves and the per-body loops: p.threads resolved */
-  double *part;       /* [3 ceil(n / RL_SUM_BLOCK)] the kinetic sums' block partials */
+  double *part;       /* [2 (ceil(n / RL_SUM_BLOCK) + 1)] the kinetic sums' block partials */
 };
 
 /* The per-body loops of a step run on in->threads threads (from a few thousand bodies on, which
@@ -185,7 +185,7 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   const int need_lprev = p->method == RL_ROT_FINCHAM && sys->nrot > 0;
   if (need_q) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
   if (need_lprev) in->lprev = calloc((size_t)sys->nrot, sizeof *in->lprev);
-  in->part = malloc(sizeof *in->part * (size_t)(3 * (nblocks(sys->n) + 1)));
+  in->part = malloc(sizeof *in->part * (size_t)(2 * (nblocks(sys->n) + 1)));
   if (stochastic(p)) {
     in->rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (in->rng) gsl_rng_set(in->rng, p->seed);

@@ -618,6 +618,7 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
   /* the bodies on the pair loop's threads; the first bad one is taken again for its message
    * (rl_error's buffer is the calling thread's) */
   const int T = rl_forcefield_threads(ff);
+  (void)T; /* a build without OpenMP */
   int first = n;
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(T) schedule(static) if (T > 1 && n >= 2048) \
