@@ -1,5 +1,6 @@
 /* Cell lists and the Verlet list of molecule pairs. */
 #include "neighbor.h"
+#include "threads.h"
 #include "rotleap/error.h"
 
 #include <stdlib.h>
@@ -41,8 +42,8 @@ int rl_nlist_needs_rebuild(const rl_nlist *nl, const rl_box *box, int n, const d
   double m2 = 0.0;
   (void)threads;
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= 2048) \
-    reduction(max : m2)
+#pragma omp parallel for num_threads(threads) schedule(static) \
+    if (threads > 1 && n >= RL_THREAD_MIN_BODIES) reduction(max : m2)
 #endif
   for (int i = 0; i < n; i++) m2 = fmax(m2, disp2(box, r[i], nl->r0[i]));
   double m = sqrt(m2);

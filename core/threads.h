@@ -10,6 +10,12 @@
 #include <omp.h>
 #endif
 
+/* The per-body loops (kick, drift, rotations, the force field's copies) go parallel from this
+ * many bodies on; below it the threads' start costs more than the loop. */
+#ifndef RL_THREAD_MIN_BODIES
+#define RL_THREAD_MIN_BODIES 2048
+#endif
+
 static inline int rl_threads_resolve(int asked)
 {
 #ifdef _OPENMP

@@ -52,7 +52,6 @@ struct rl_integrator {
  * pay for the threads' start).  Their kinetic-energy sums are formed per block of RL_SUM_BLOCK
  * bodies and the blocks added in order, so the result does not depend on the thread count. */
 #define RL_SUM_BLOCK 1024
-#define RL_THREAD_MIN 2048
 static int nblocks(int count) { return (count + RL_SUM_BLOCK - 1) / RL_SUM_BLOCK; }
 
 const char *rl_rot_method_name(rl_rot_method m)
@@ -440,7 +439,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     double *pt = in->part, *pr = in->part + nb;
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(in->threads) schedule(static) \
-    if (in->threads > 1 && sp->count >= RL_THREAD_MIN)
+    if (in->threads > 1 && sp->count >= RL_THREAD_MIN_BODIES)
 #endif
     for (int q = 0; q < nb; q++) {
       const int end = q < nb - 1 ? (q + 1) * RL_SUM_BLOCK : sp->count;
@@ -506,7 +505,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     double *pt = in->part, *pr = in->part + nb;
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(in->threads) schedule(static) \
-    if (in->threads > 1 && sp->count >= RL_THREAD_MIN)
+    if (in->threads > 1 && sp->count >= RL_THREAD_MIN_BODIES)
 #endif
     for (int q = 0; q < nb; q++) {
       const int end = q < nb - 1 ? (q + 1) * RL_SUM_BLOCK : sp->count;

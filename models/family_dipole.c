@@ -3,6 +3,7 @@
  * Cayley/exponential map of section III.D.  The discrete scheme conserves l(t+h/2).rho(t)
  * exactly (a rotation about l leaves l.rho unchanged, and the torque mu x E is perpendicular to
  * rho), so a spin that starts at zero stays zero: 2 rotational degrees of freedom. */
+#include "../core/threads.h"
 #include "family.h"
 #include "rotleap/rotation.h"
 
@@ -14,7 +15,7 @@ static int rotate_dipole(const rl_species *sp, rl_system *s, rl_rotation_work *w
    * thousand bodies pay for the threads' start */
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(w->threads) schedule(static) \
-    if (w->threads > 1 && sp->count >= 2048) reduction(max : hw)
+    if (w->threads > 1 && sp->count >= RL_THREAD_MIN_BODIES) reduction(max : hw)
 #endif
   for (int b = 0; b < sp->count; b++) {
     double om[3] = {l[b][0] * inv, l[b][1] * inv, l[b][2] * inv};

@@ -1,6 +1,7 @@
 /* Linear molecule: state r, v, rho, l; sites at r + Delta_a rho.  Section III.D: Omega_X =
  * theta_X, Omega_Y = theta_Y, Omega_Z = 0, i.e. rho(t+h) is rho(t) rotated about the part of
  * l(t+h/2)/J perpendicular to rho(t).  2 rotational degrees of freedom. */
+#include "../core/threads.h"
 #include "family.h"
 #include "rotleap/rotation.h"
 
@@ -12,7 +13,7 @@ static int rotate_linear(const rl_species *sp, rl_system *s, rl_rotation_work *w
    * thousand bodies pay for the threads' start */
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(w->threads) schedule(static) \
-    if (w->threads > 1 && sp->count >= 2048) reduction(max : hw)
+    if (w->threads > 1 && sp->count >= RL_THREAD_MIN_BODIES) reduction(max : hw)
 #endif
   for (int b = 0; b < sp->count; b++) {
     double om[3] = {l[b][0] * inv, l[b][1] * inv, l[b][2] * inv};

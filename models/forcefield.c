@@ -6,6 +6,7 @@
 #include "dipole.h"
 #include "quadrupole.h"
 #include "forcefield_impl.h"
+#include "../core/threads.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -621,8 +622,8 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
   (void)T; /* a build without OpenMP */
   int first = n;
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(T) schedule(static) if (T > 1 && n >= 2048) \
-    reduction(min : first)
+#pragma omp parallel for num_threads(T) schedule(static) \
+    if (T > 1 && n >= RL_THREAD_MIN_BODIES) reduction(min : first)
 #endif
   for (int i = 0; i < n; i++)
     if (take_body(ff, sys, i, 1) && i < first) first = i;
