@@ -289,6 +289,26 @@ static __attribute__((noinline)) int other_images(const box_consts *B, double rp
   return n;
 }
 
+/* Candidate j at centre separation (X, Y, Z) from i: its minimum image goes to slot n and is
+ * kept if inside rp (img: its other images within rp too, other_images); returns the new n.
+ * Branch-free: every candidate is written to slot n, which only a kept one keeps (a branch on
+ * the distance was mispredicted for a good fraction of the candidates). */
+RL_INLINE int take_candidate(const box_consts *B, double rp, double rp2, int img, int j, double X,
+                             double Y, double Z, batch *b, int n)
+{
+  X -= B->L[0] * RL_RND(X * B->iL[0]);
+  Y -= B->L[1] * RL_RND(Y * B->iL[1]);
+  Z -= B->L[2] * RL_RND(Z * B->iL[2]);
+  b->idx[n] = j;
+  b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
+  n += X * X + Y * Y + Z * Z < rp2;
+  if (img) {
+    const int far = far_axes(B, rp, X, Y, Z);
+    if (far) n = other_images(B, rp2, far, j, X, Y, Z, b, n);
+  }
+  return n;
+}
+
 /* Whether a box needs other_images for pruning radius rp (squared: rp2): an edge < 2 rp. */
 RL_INLINE int needs_images(const int MODE, const box_consts *B, double rp2)
 {
@@ -313,20 +333,9 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const k
   int n = 0, p = *pos;
   for (; p < len && n < cap; p++) {
     const int j = nbr[p];
-    double X = cx - V->c[j][0], Y = cy - V->c[j][1], Z = cz - V->c[j][2];
-    X -= B->L[0] * RL_RND(X * B->iL[0]);
-    Y -= B->L[1] * RL_RND(Y * B->iL[1]);
-    Z -= B->L[2] * RL_RND(Z * B->iL[2]);
-    /* branch-free: every candidate is written to slot n, which only a kept one keeps (a
-     * branch on the distance was mispredicted for a good fraction of the candidates) */
     const int n0 = n;
-    b->idx[n] = j;
-    b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
-    n += X * X + Y * Y + Z * Z < rp2;
-    if (img) {
-      const int far = far_axes(B, rp, X, Y, Z);
-      if (far) n = other_images(B, rp2, far, j, X, Y, Z, b, n);
-    }
+    n = take_candidate(B, rp, rp2, img, j, cx - V->c[j][0], cy - V->c[j][1], cz - V->c[j][2],
+                       b, n);
     const int oj = V->soff[j];
     const int hi = n > n0 + 1 ? n : n0 + 1; /* the slots of j's kept images (slot n0 always) */
     for (int k = n0; k < hi; k++) {
@@ -552,17 +561,7 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
   for (; p < len && n < cap; p++) {
     const int j = nbr[p];
     const double *q = V->pk4[j];
-    double X = cx - q[0], Y = cy - q[1], Z = cz - q[2];
-    X -= B->L[0] * RL_RND(X * B->iL[0]);
-    Y -= B->L[1] * RL_RND(Y * B->iL[1]);
-    Z -= B->L[2] * RL_RND(Z * B->iL[2]);
-    b->idx[n] = j;
-    b->R[0][n] = X; b->R[1][n] = Y; b->R[2][n] = Z;
-    n += X * X + Y * Y + Z * Z < rp2;
-    if (img) {
-      const int far = far_axes(B, rp, X, Y, Z);
-      if (far) n = other_images(B, rp2, far, j, X, Y, Z, b, n);
-    }
+    n = take_candidate(B, rp, rp2, img, j, cx - q[0], cy - q[1], cz - q[2], b, n);
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
