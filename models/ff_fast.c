@@ -238,11 +238,11 @@ typedef struct {
  * twice as many pairs as interact. */
 typedef struct {
   int n, np;                               /* neighbours kept; padded length               */
-  int idx[RL_FAST_B];
+  int idx[RL_FAST_B + RL_FAST_W];         /* + slack for tip4p_fill512's full-vector stores */
   /* 64-byte aligned rows (each a multiple of 64 bytes): otherwise GCC peels scalar
    * iterations to align the vector stores, and those ran a third of the time */
   _Alignas(64) double w[RL_FAST_B];        /* 1 for a neighbour, 0 for padding              */
-  double R[3][RL_FAST_B];                  /* centre_i - centre_j, minimum image            */
+  double R[3][RL_FAST_B + RL_FAST_W];      /* centre_i - centre_j, minimum image (+ slack)  */
   double x[RL_FAST_MAXS][3][RL_FAST_B];    /* j's sites: lab (P_SITE), else site - centre   */
   double f[RL_FAST_MAXS][3][RL_FAST_B];    /* forces on j's sites                            */
   double g[RL_FAST_MAXS][3][RL_FAST_B];    /* tip4p: forces on i's sites from each j         */
@@ -516,9 +516,10 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
 
 #if RL_X512
 /* The TIP4P rows' batches on AVX-512: each TIP4P rank's centre and sites relative to it sit
- * in a 128-byte record (V->pk4), two 512-bit rows.  The fill
- * keeps the candidates within the pruning radius in a scalar pass (reading the centres from
- * the records), then loads the kept ones' records eight at a time and transposes each half
+ * in a 128-byte record (V->pk4), two 512-bit rows.  The fill tests eight candidates at a time
+ * against the pruning radius (their centres transposed from the records, sep8) and packs the
+ * kept ones onto the batch (a scalar pass over the candidates was a fifth of the TIP4P time,
+ * issue 8), then loads the kept ones' records eight at a time and transposes each half
  * (8 x 8) into the batch's sites.  The scatter transposes the site forces back into records and
  * adds them with two 512-bit adds per neighbour into the thread's buffer (ft4). */
 
@@ -548,20 +549,133 @@ RL_T512 static inline void tr8x8(const __m512d in[8], __m512d out[8])
   out[7] = _mm512_shuffle_f64x2(u[3], v[3], 0xEE);
 }
 
-/* batch_fill for the TIP4P rows with the centres' image (P_SHIFT, P_MOL): the same kept
- * neighbours in the same order, so the same lanes. */
+/* The box and the centre of row i, broadcast, for sep8. */
+typedef struct {
+  __m512d c[3], L[3], iL[3], big;
+  __m512i even, odd; /* lanes (0 1 8 9 4 5 12 13) and (2 3 10 11 6 7 14 15) of two vectors */
+} sep8_consts;
+
+RL_T512 static inline sep8_consts sep8_of(const box_consts *B, const double *ci)
+{
+  sep8_consts S;
+  for (int c = 0; c < 3; c++) {
+    S.c[c] = _mm512_set1_pd(ci[c]);
+    S.L[c] = _mm512_set1_pd(B->L[c]);
+    S.iL[c] = _mm512_set1_pd(B->iL[c]);
+  }
+  S.big = _mm512_set1_pd(6755399441055744.0);
+  S.even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
+  S.odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+  return S;
+}
+
+/* The minimum-image separations R[c] = centre_i - centre of record q[l] in lane l, for eight
+ * records whose first three doubles are the centre (32-byte aligned): their first 256 bits
+ * are paired into four vectors (record l | record l + 4) and transposed.  The image as
+ * take_candidate's RL_RND: X -= L nearbyint(X / L). */
+RL_T512 static inline void sep8(const sep8_consts *S, const double *const q[8], __m512d R[3])
+{
+  __m512d c[4];
+  for (int l = 0; l < 4; l++)
+    c[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l])),
+                              _mm256_load_pd(q[l + 4]), 1);
+  const __m512d cl01 = _mm512_unpacklo_pd(c[0], c[1]), ch01 = _mm512_unpackhi_pd(c[0], c[1]);
+  const __m512d cl23 = _mm512_unpacklo_pd(c[2], c[3]), ch23 = _mm512_unpackhi_pd(c[2], c[3]);
+  R[0] = _mm512_permutex2var_pd(cl01, S->even, cl23);
+  R[1] = _mm512_permutex2var_pd(ch01, S->even, ch23);
+  R[2] = _mm512_permutex2var_pd(cl01, S->odd, cl23);
+  for (int d = 0; d < 3; d++) {
+    const __m512d X = _mm512_sub_pd(S->c[d], R[d]);
+    R[d] = _mm512_fnmadd_pd(S->L[d], _mm512_sub_pd(_mm512_fmadd_pd(X, S->iL[d], S->big), S->big), X);
+  }
+}
+
+/* Append the lanes of keep (in lane order) of the candidates' indices id and separations
+ * (X, Y, Z) to the batch from slot n; returns the new n.  Each store is a full vector: the
+ * batch's idx and R rows have RL_FAST_W slots of slack past RL_FAST_B for it. */
+RL_T512 static inline int fill_append512(batch *b, int n, __mmask8 keep, __m512i id, __m512d X,
+                                         __m512d Y, __m512d Z)
+{
+  _mm256_storeu_si256((__m256i *)(b->idx + n),
+                      _mm512_castsi512_si256(_mm512_maskz_compress_epi32(keep, id)));
+  _mm512_storeu_pd(b->R[0] + n, _mm512_maskz_compress_pd(keep, X));
+  _mm512_storeu_pd(b->R[1] + n, _mm512_maskz_compress_pd(keep, Y));
+  _mm512_storeu_pd(b->R[2] + n, _mm512_maskz_compress_pd(keep, Z));
+  return n + __builtin_popcount(keep);
+}
+
+/* batch_fill for the TIP4P rows with the centres' image (P_SHIFT, P_MOL), eight candidates at
+ * a time: their centres are read from the first 256 bits of their records and transposed
+ * (sep8), the minimum image and the pruning test run in one vector each, and the kept ones are
+ * packed (vcompresspd) onto the batch in list order.  The batch gets the same neighbours in the
+ * same lanes as from batch_fill, and ends where batch_fill's would (after the first cap kept),
+ * so the pair sums do not depend on which candidates beyond rp the list holds, that is on when
+ * it was built: restarts stay bit for bit.  In a box that needs the other images (img), eight
+ * candidates of which one has another image within rp go one by one through take_candidate,
+ * which puts a neighbour's images right after it; for 256 TIP4P at rc = 0.9 nm that is about
+ * one group in eight. */
 RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, int i,
                                          const int *nbr, int len, int *pos, double rp2, int img,
                                          batch *b)
 {
+  const sep8_consts S = sep8_of(B, V->c[i]);
+  const __m512d Lx = S.L[0], Ly = S.L[1], Lz = S.L[2], vrp2 = _mm512_set1_pd(rp2);
+  const double rp = img ? sqrt(rp2) : 0.0;
+  const __m512d nx = _mm512_set1_pd(B->L[0] - rp), ny = _mm512_set1_pd(B->L[1] - rp),
+                nz = _mm512_set1_pd(B->L[2] - rp), zero = _mm512_setzero_pd();
   const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
   const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* as batch_fill */
-  const double rp = img ? sqrt(rp2) : 0.0;
   int n = 0, p = *pos;
-  for (; p < len && n < cap; p++) {
-    const int j = nbr[p];
-    const double *q = V->pk4[j];
-    n = take_candidate(B, rp, rp2, img, j, cx - q[0], cy - q[1], cz - q[2], b, n);
+  while (p < len && n < cap) {
+    const int cnt = len - p < RL_FAST_W ? len - p : RL_FAST_W;
+    const __mmask8 live = (__mmask8)((1u << cnt) - 1u);
+    const double *q[8];
+    for (int l = 0; l < 8; l++) q[l] = V->pk4[nbr[p + (l < cnt ? l : 0)]]; /* tail: the first */
+    __m512d R[3];
+    sep8(&S, q, R);
+    const __m512d X = R[0], Y = R[1], Z = R[2];
+    const __m512d r2 = _mm512_fmadd_pd(Z, Z, _mm512_fmadd_pd(Y, Y, _mm512_mul_pd(X, X)));
+    __mmask8 keep = _mm512_mask_cmp_pd_mask(live, r2, vrp2, _CMP_LT_OQ);
+    if (img) { /* does any of the eight have another image within rp (other_images)? */
+      const __mmask8 fx = _mm512_mask_cmp_pd_mask(live, _mm512_abs_pd(X), nx, _CMP_GT_OQ);
+      const __mmask8 fy = _mm512_mask_cmp_pd_mask(live, _mm512_abs_pd(Y), ny, _CMP_GT_OQ);
+      const __mmask8 fz = _mm512_mask_cmp_pd_mask(live, _mm512_abs_pd(Z), nz, _CMP_GT_OQ);
+      const __m512d xs[2] = {X, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(X, zero, _CMP_GT_OQ),
+                                                     _mm512_add_pd(X, Lx), _mm512_sub_pd(X, Lx))};
+      const __m512d ys[2] = {Y, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(Y, zero, _CMP_GT_OQ),
+                                                     _mm512_add_pd(Y, Ly), _mm512_sub_pd(Y, Ly))};
+      const __m512d zs[2] = {Z, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(Z, zero, _CMP_GT_OQ),
+                                                     _mm512_add_pd(Z, Lz), _mm512_sub_pd(Z, Lz))};
+      /* the images that shift two or three components (a corner's) only if a lane has one */
+      const int nm = (fx & fy) | (fx & fz) | (fy & fz) ? 7 : 3;
+      static const int order[7] = {1, 2, 4, 3, 5, 6, 7};
+      __mmask8 more = 0;
+      for (int t = 0; t < nm; t++) {
+        const int m = order[t];
+        const __mmask8 far = (m & 1 ? fx : live) & (m & 2 ? fy : live) & (m & 4 ? fz : live);
+        const __m512d u = xs[m & 1], v = ys[(m >> 1) & 1], w = zs[m >> 2];
+        const __m512d s2 = _mm512_fmadd_pd(w, w, _mm512_fmadd_pd(v, v, _mm512_mul_pd(u, u)));
+        more |= _mm512_mask_cmp_pd_mask(far, s2, vrp2, _CMP_LT_OQ);
+      }
+      if (more) { /* a neighbour's images follow it: these eight one by one, as batch_fill */
+        for (const int end = p + cnt; p < end && n < cap; p++) {
+          const int j = nbr[p];
+          const double *c = V->pk4[j];
+          n = take_candidate(B, rp, rp2, img, j, cx - c[0], cy - c[1], cz - c[2], b, n);
+        }
+        continue;
+      }
+    }
+    /* the kept ones in list order, as many as fit: a batch ends where batch_fill's does */
+    const __m512i id = _mm512_maskz_loadu_epi32((__mmask16)live, nbr + p);
+    const int room = cap - n;
+    if (__builtin_popcount(keep) > room) {
+      while (__builtin_popcount(keep) > room) keep &= (__mmask8)~(1u << (31 - __builtin_clz(keep)));
+      p += 32 - __builtin_clz(keep); /* past the last one taken */
+    } else {
+      p += cnt;
+    }
+    n = fill_append512(b, n, keep, id, X, Y, Z);
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
@@ -881,15 +995,9 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
   const double kc = ff->kc, krf = ff->rf.krf;
   const double *pi = V->pk[i]; /* i's record: centre, 0, mu axis, 0 */
   const __m512d mi[3] = {_mm512_set1_pd(pi[4]), _mm512_set1_pd(pi[5]), _mm512_set1_pd(pi[6])};
-  const __m512d cx = _mm512_set1_pd(pi[0]), cy = _mm512_set1_pd(pi[1]), cz = _mm512_set1_pd(pi[2]);
-  const __m512d Lx = _mm512_set1_pd(B.L[0]), Ly = _mm512_set1_pd(B.L[1]),
-                Lz = _mm512_set1_pd(B.L[2]);
-  const __m512d iLx = _mm512_set1_pd(B.iL[0]), iLy = _mm512_set1_pd(B.iL[1]),
-                iLz = _mm512_set1_pd(B.iL[2]);
-  const __m512d big = _mm512_set1_pd(6755399441055744.0), rc2 = _mm512_set1_pd(B.rc2);
-  /* lanes (0 1 8 9 4 5 12 13) and (2 3 10 11 6 7 14 15) of two vectors */
-  const __m512i even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
-  const __m512i odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+  const sep8_consts S8 = sep8_of(&B, pi);
+  const __m512d rc2 = _mm512_set1_pd(B.rc2);
+  const __m512i even = S8.even, odd = S8.odd;
   const __m512i iota = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
   const __m512d z0 = _mm512_setzero_pd();
   dip_sums S = {z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, z0, 0};
@@ -905,22 +1013,12 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
       for (int l = 0; l < 8; l++) q[l] = V->pk[nbr[p + l]];
     else
       for (int l = 0; l < 8; l++) q[l] = V->pk[nbr[p + (l < cnt ? l : 0)]]; /* the first again */
-    __m512d c[4], d[4]; /* halves (record q[l] | record q[l + 4]): centre c, dipole d */
-    for (int l = 0; l < 4; l++) {
-      c[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l])),
-                                _mm256_load_pd(q[l + 4]), 1);
+    __m512d R[3], d[4]; /* d: halves (record q[l] | record q[l + 4]) of the dipole */
+    sep8(&S8, q, R);
+    for (int l = 0; l < 4; l++)
       d[l] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(q[l] + 4)),
                                 _mm256_load_pd(q[l + 4] + 4), 1);
-    }
-    const __m512d cl01 = _mm512_unpacklo_pd(c[0], c[1]), ch01 = _mm512_unpackhi_pd(c[0], c[1]);
-    const __m512d cl23 = _mm512_unpacklo_pd(c[2], c[3]), ch23 = _mm512_unpackhi_pd(c[2], c[3]);
-    __m512d X = _mm512_sub_pd(cx, _mm512_permutex2var_pd(cl01, even, cl23));
-    __m512d Y = _mm512_sub_pd(cy, _mm512_permutex2var_pd(ch01, even, ch23));
-    __m512d Z = _mm512_sub_pd(cz, _mm512_permutex2var_pd(cl01, odd, cl23));
-    /* RL_RND: X -= L nearbyint(X / L) */
-    X = _mm512_fnmadd_pd(Lx, _mm512_sub_pd(_mm512_fmadd_pd(X, iLx, big), big), X);
-    Y = _mm512_fnmadd_pd(Ly, _mm512_sub_pd(_mm512_fmadd_pd(Y, iLy, big), big), Y);
-    Z = _mm512_fnmadd_pd(Lz, _mm512_sub_pd(_mm512_fmadd_pd(Z, iLz, big), big), Z);
+    const __m512d X = R[0], Y = R[1], Z = R[2];
     const __m512d r2 = _mm512_fmadd_pd(Z, Z, _mm512_fmadd_pd(Y, Y, _mm512_mul_pd(X, X)));
     const __mmask8 keep = _mm512_cmp_pd_mask(r2, rc2, _CMP_LT_OQ) & (__mmask8)((1u << cnt) - 1u);
     if (!keep) continue;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Checkpoint continuation is bit for bit: 2N steps in one run, and N steps + restart from the
 # checkpoint + N steps, give byte-identical final checkpoints (state, time, thermostat account,
-# random stream, accumulators) and identical thermo rows, for NVE and every NVT thermostat.
+# random stream, accumulators) and identical thermo rows, for NVE and every NVT thermostat
+# (Stockmayer), and final checkpoints for TIP4P in a small and a larger box.
 # usage: restart_tests.sh ROTLEAP SRCDIR WORKDIR
 set -u
 rotleap=$1; src=$2; work=$3
@@ -24,6 +25,17 @@ for ens in nve nvt-isokinetic nvt-bussi nvt-langevin; do
     'diff <(grep -vE "wall_seconds|this invocation|summary of" "$ens-A.summary.txt") <(grep -vE "wall_seconds|this invocation|summary of" "$ens-C.summary.txt") >/dev/null'
   check "$ens: trajectory continued (10 frames in both)" \
     '[ "$(grep -c "^64$" "$ens-A.xyz")" -eq 10 ] && cmp -s "$ens-A.xyz" <(cat "$ens-B.xyz" <(tail -n +1 "$ens-C.xyz" | tail -n $((5*66))) )'
+done
+# TIP4P (examples/tip4p.ini): its rows' batches must not depend on which candidates beyond the
+# pruning radius the neighbour list holds, i.e. on when the list was built.  216 molecules take
+# the small-box path (other images of a neighbour within the pruning radius), 512 do not.
+for cnt in 216 512; do
+  tw=(--set system.count=$cnt --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf=)
+  "$rotleap" run "$src/examples/tip4p.ini" "${tw[@]}" --set run.steps=100 --set output.checkpoint_every=50 --set output.prefix="$work/tip4p$cnt-A" >/dev/null 2>"tip4p$cnt.err" || true
+  "$rotleap" run "$src/examples/tip4p.ini" "${tw[@]}" --set run.steps=50 --set output.prefix="$work/tip4p$cnt-B" >/dev/null 2>>"tip4p$cnt.err" || true
+  "$rotleap" run "$src/examples/tip4p.ini" "${tw[@]}" --set run.steps=100 --set system.start="$work/tip4p$cnt-B.chk" --set output.prefix="$work/tip4p$cnt-C" >/dev/null 2>>"tip4p$cnt.err" || true
+  check "tip4p $cnt: all three runs succeeded" '[ ! -s "tip4p$cnt.err" ] && [ -e "tip4p$cnt-A.chk" ] && [ -e "tip4p$cnt-C.chk" ]'
+  check "tip4p $cnt: final checkpoints byte-identical (2N vs N + restart + N)" 'cmp -s "tip4p$cnt-A.chk" "tip4p$cnt-C.chk"'
 done
 # Another run.seed under the same stochastic thermostat: the run continues (step count, averages)
 # with a new random stream from that seed, and says so; the same seed is the bit-for-bit case above.

@@ -198,6 +198,39 @@ static void test_periodic_edge(void **state)
   rl_forcefield_free(fa);
   rl_forcefield_free(fg);
   rl_system_free(s.sys);
+  /* a cutoff short against the molecule, rc = 0.22 nm, in a column 0.44 x 0.44 x 3.6 nm: the
+   * pruning radius rp = rc + 2 extent (0.40 nm) exceeds L / sqrt 2, so images that shift two
+   * components (a corner's) lie within it too.  Layers 0.3 nm apart hold two molecules each,
+   * (x, y) and about (x + L/2, y + L/2), whose four images in x and y are all within rp */
+  s = (scene){.nsp = 1};
+  ff_water(&s.sp[0]);
+  int few[1] = {24};
+  scene_build(&s, rng, RL_UNITS_REAL, few, 0.0, 0.25, 3.6);
+  for (int b = 0; b < few[0]; b += 2) {
+    const double x = gsl_ran_flat(rng, 0.0, 0.44), y = gsl_ran_flat(rng, 0.0, 0.44);
+    const double r0[3] = {x, y, 0.15 * b};
+    const double r1[3] = {x + gsl_ran_flat(rng, 0.2, 0.24), y + gsl_ran_flat(rng, 0.2, 0.24), 0.15 * b};
+    assert_int_equal(rl_system_set_position(s.sys, b, r0), RL_OK);
+    assert_int_equal(rl_system_set_position(s.sys, b + 1, r1), RL_OK);
+  }
+  p.box[0] = p.box[1] = 0.44;
+  p.box[2] = 3.6;
+  p.cutoff = 0.22;
+  p.scheme = RL_CUTOFF_SITE; /* the molecule cutoff has no other images */
+  p.lj_truncation = RL_LJ_SHIFTED;
+  p.r_switch = 0.0;
+  for (int x512 = 1; x512 >= 0; x512--) {
+    if (!x512) setenv("ROTLEAP_NO_AVX512", "1", 1);
+    fa = make(&s, &p, RL_KERNEL_AUTO, 2);
+    fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+    compare(fa, fg, s.sys, x512 ? "tip4p, column 0.44 x 0.44 x 3.6 nm, rc 0.22"
+                                : "tip4p, column 0.44 x 0.44 x 3.6 nm, rc 0.22, ROTLEAP_NO_AVX512",
+            1e-12);
+    rl_forcefield_free(fa);
+    rl_forcefield_free(fg);
+  }
+  unsetenv("ROTLEAP_NO_AVX512");
+  rl_system_free(s.sys);
   gsl_rng_free(rng);
 }
 
