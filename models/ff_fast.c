@@ -238,7 +238,8 @@ typedef struct {
  * twice as many pairs as interact. */
 typedef struct {
   int n, np;                               /* neighbours kept; padded length               */
-  int idx[RL_FAST_B + RL_FAST_W];         /* + slack for tip4p_fill512's full-vector stores */
+  int idx[RL_FAST_B + RL_FAST_W];         /* + slack: tip4p_fill512's full-vector stores,   */
+                                           /* take_candidate's images of a last neighbour   */
   /* 64-byte aligned rows (each a multiple of 64 bytes): otherwise GCC peels scalar
    * iterations to align the vector stores, and those ran a third of the time */
   _Alignas(64) double w[RL_FAST_B];        /* 1 for a neighbour, 0 for padding              */
@@ -328,14 +329,17 @@ RL_INLINE void batch_fill(const int MODE, const int DIP, const int ZERO, const k
   const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
   const int ns = K->ns;
   const double mu = K->mu;
-  const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* img: room for a neighbour's 8 images */
   const double rp = img ? sqrt(rp2) : 0.0;
   int n = 0, p = *pos;
-  for (; p < len && n < cap; p++) {
+  for (; p < len && n < RL_FAST_B; p++) {
     const int j = nbr[p];
     const int n0 = n;
     n = take_candidate(B, rp, rp2, img, j, cx - V->c[j][0], cy - V->c[j][1], cz - V->c[j][2],
                        b, n);
+    if (n > RL_FAST_B) { /* j's images do not all fit: the next batch takes j */
+      n = n0;
+      break;
+    }
     const int oj = V->soff[j];
     const int hi = n > n0 + 1 ? n : n0 + 1; /* the slots of j's kept images (slot n0 always) */
     for (int k = n0; k < hi; k++) {
@@ -608,8 +612,8 @@ RL_T512 static inline int fill_append512(batch *b, int n, __mmask8 keep, __m512i
  * a time: their centres are read from the first 256 bits of their records and transposed
  * (sep8), the minimum image and the pruning test run in one vector each, and the kept ones are
  * packed (vcompresspd) onto the batch in list order.  The batch gets the same neighbours in the
- * same lanes as from batch_fill, and ends where batch_fill's would (after the first cap kept),
- * so the pair sums do not depend on which candidates beyond rp the list holds, that is on when
+ * same lanes as from batch_fill, and ends where batch_fill's does (when full, or before a
+ * neighbour whose images would not all fit), so the pair sums do not depend on which candidates beyond rp the list holds, that is on when
  * it was built: restarts stay bit for bit.  In a box that needs the other images (img), eight
  * candidates of which one has another image within rp go one by one through take_candidate,
  * which puts a neighbour's images right after it; for 256 TIP4P at rc = 0.9 nm that is about
@@ -624,9 +628,8 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
   const __m512d nx = _mm512_set1_pd(B->L[0] - rp), ny = _mm512_set1_pd(B->L[1] - rp),
                 nz = _mm512_set1_pd(B->L[2] - rp), zero = _mm512_setzero_pd();
   const double cx = V->c[i][0], cy = V->c[i][1], cz = V->c[i][2];
-  const int cap = img ? RL_FAST_B - 7 : RL_FAST_B; /* as batch_fill */
-  int n = 0, p = *pos;
-  while (p < len && n < cap) {
+  int n = 0, p = *pos, full = 0;
+  while (p < len && n < RL_FAST_B && !full) {
     const int cnt = len - p < RL_FAST_W ? len - p : RL_FAST_W;
     const __mmask8 live = (__mmask8)((1u << cnt) - 1u);
     const double *q[8];
@@ -658,17 +661,20 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
         more |= _mm512_mask_cmp_pd_mask(far, s2, vrp2, _CMP_LT_OQ);
       }
       if (more) { /* a neighbour's images follow it: these eight one by one, as batch_fill */
-        for (const int end = p + cnt; p < end && n < cap; p++) {
+        for (const int end = p + cnt; p < end && n < RL_FAST_B; p++) {
           const int j = nbr[p];
           const double *c = V->pk4[j];
-          n = take_candidate(B, rp, rp2, img, j, cx - c[0], cy - c[1], cz - c[2], b, n);
+          const int n1 = take_candidate(B, rp, rp2, img, j, cx - c[0], cy - c[1], cz - c[2], b, n);
+          full = n1 > RL_FAST_B; /* j's images do not all fit: the next batch takes j */
+          if (full) break;
+          n = n1;
         }
         continue;
       }
     }
     /* the kept ones in list order, as many as fit: a batch ends where batch_fill's does */
     const __m512i id = _mm512_maskz_loadu_epi32((__mmask16)live, nbr + p);
-    const int room = cap - n;
+    const int room = RL_FAST_B - n;
     if (__builtin_popcount(keep) > room) {
       while (__builtin_popcount(keep) > room) keep &= (__mmask8)~(1u << (31 - __builtin_clz(keep)));
       p += 32 - __builtin_clz(keep); /* past the last one taken */
