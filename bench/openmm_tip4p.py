@@ -2,7 +2,7 @@
 """TIP4P with reaction field: rotleap against OpenMM 7.7's CPU platform, alternately, in one session.
 
     /usr/bin/python3 bench/openmm_tip4p.py [--sizes 256,2048,16384,65536] [--threads 1,2]
-                                           [--rounds 3] [--ffbench build/bench/ffbench]
+                                           [--rounds 3] [--ffbench build/bench/ffbench] [--pin auto]
 
 For each N and thread count: `ffbench time tip4p N T STEPS --dump FILE` relaxes a lattice
 (rotleap, 298 K, 1 g/cm3) and writes its sites; OpenMM gets the same sites, box, cutoff 0.9 nm,
@@ -11,6 +11,14 @@ waters by SETTLE), a VerletIntegrator at 2 fs and CPU platform property Threads 
 rounds alternate: rotleap (a fresh ffbench run; only its timed steps count) and OpenMM (timed
 steps after a warm-up), keeping the best of each.  Prints a table, writes bench/openmm_tip4p.csv.
 Both are whole MD steps: forces plus integration (and constraints for OpenMM).
+
+With one thread both codes run pinned to one CPU (--pin: auto = the idlest CPU when the row
+starts, a CPU number, or none), as in bench/sampling_speed.py: OpenMM's CPU platform hands each
+step from the Python thread to a worker thread even with Threads = 1, and on this 2-vCPU KVM guest
+the two threads, left unpinned, often sit on different vCPUs and wait for each other (256
+molecules: 1.80-2.39 ms per step unpinned against 1.21-1.23 pinned in sampling_speed's runs).
+Before 2026-11-21 this benchmark did not pin, which flattered rotleap at small N.  Rows with two
+threads run unpinned.
 """
 import argparse
 import os
@@ -24,7 +32,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "validate"))
 import watermodels  # noqa: E402
 
 sys.path.insert(0, HERE)
-from rlfiles import tokens  # noqa: E402
+from rlfiles import idlest_cpu, tokens  # noqa: E402
 
 mm = watermodels.mm
 try:
@@ -84,7 +92,10 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--ffbench", default=os.path.join(HERE, "..", "build", "bench", "ffbench"))
     ap.add_argument("--csv", default=os.path.join(HERE, "openmm_tip4p.csv"))
+    ap.add_argument("--pin", default="auto", help="CPU for the one-thread rows of both codes: auto (the "
+                    "idlest when the row starts), a CPU number, or none")
     a = ap.parse_args()
+    allowed = os.sched_getaffinity(0)
     rows = []
     print("TIP4P-RF, rc 0.9 nm, eps_rf 78.3, 2 fs: time per step, best of %d alternating rounds" % a.rounds)
     print("%7s %3s %12s %12s %8s %10s %10s %8s %7s" % ("N", "T", "rotleap ms", "OpenMM ms", "ratio",
@@ -92,6 +103,14 @@ def main():
     for n in [int(x) for x in a.sizes.split(",")]:
         for threads in [int(x) for x in a.threads.split(",")]:
             steps = steps_for(n)
+            # pinned before the context exists: OpenMM's worker threads inherit the affinity,
+            # and so do the ffbench processes
+            pin = None
+            if threads == 1 and a.pin != "none":
+                pin = idlest_cpu() if a.pin == "auto" else int(a.pin)
+                os.sched_setaffinity(0, {pin})
+            else:
+                os.sched_setaffinity(0, allowed)
             with tempfile.TemporaryDirectory() as tmp:
                 dump = os.path.join(tmp, "state.txt")
                 kv = rotleap_run(a.ffbench, n, threads, steps, dump)
@@ -110,15 +129,17 @@ def main():
             ratio = best_rl / best_omm
             nsday = lambda ms: 0.002e-3 * 86400.0 / (ms * 1e-3)  # ns per day at 2 fs
             verdict = "met" if ratio <= 0.7 else "missed x%.2f" % (ratio / 0.7)
-            print("%7d %3d %12.3f %12.3f %8.3f %10.2f %10.2f %8s %6.1f%%" % (
+            print("%7d %3d %12.3f %12.3f %8.3f %10.2f %10.2f %8s %6.1f%% %s" % (
                 n, threads, best_rl, best_omm, ratio, nsday(best_rl), nsday(best_omm), verdict,
-                100 * share), flush=True)
-            rows.append((n, threads, best_rl, best_omm, ratio, nsday(best_rl), nsday(best_omm), share))
+                100 * share, "" if pin is None else "(both on CPU %d)" % pin), flush=True)
+            rows.append((n, threads, best_rl, best_omm, ratio, nsday(best_rl), nsday(best_omm), share,
+                         "" if pin is None else str(pin)))
+    os.sched_setaffinity(0, allowed)
     with open(a.csv, "w") as f:
         f.write("N,threads,rotleap_ms_per_step,openmm_ms_per_step,ratio,rotleap_ns_per_day,"
-                "openmm_ns_per_day,rotleap_ff_share\n")
+                "openmm_ns_per_day,rotleap_ff_share,pinned_cpu\n")
         for r in rows:
-            f.write("%d,%d,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f\n" % r)
+            f.write("%d,%d,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%s\n" % r)
     print("written:", a.csv)
     print("target: rotleap <= 0.7 x OpenMM CPU time per step (rotleap in double precision, OpenMM "
           "CPU mixed/single)")

@@ -1,4 +1,7 @@
-"""Readers for rotleap's text outputs, shared by the bench scripts (standard library only)."""
+"""Readers for rotleap's text outputs, and the CPU choice for pinned timings, shared by the bench
+scripts (standard library only)."""
+import os
+import time
 
 
 def keyvals(path):
@@ -21,3 +24,20 @@ def tokens(text):
                 k, v = tok.split("=", 1)
                 kv[k] = v
     return kv
+
+
+def idlest_cpu(seconds=1.0):
+    """The CPU (of those this process may use) with the most idle time over `seconds` (/proc/stat)."""
+    allowed = sorted(os.sched_getaffinity(0))
+
+    def idle():
+        out = {}
+        for ln in open("/proc/stat"):
+            f = ln.split()
+            if f[0].startswith("cpu") and f[0] != "cpu":
+                out[int(f[0][3:])] = int(f[4]) + int(f[5])  # idle + iowait
+        return out
+    a = idle()
+    time.sleep(seconds)
+    b = idle()
+    return max(allowed, key=lambda c: b.get(c, 0) - a.get(c, 0))

@@ -119,7 +119,7 @@ import rlcheckpoint  # noqa: E402
 import watermodels  # noqa: E402
 
 sys.path.insert(0, HERE)
-from rlfiles import keyvals  # noqa: E402
+from rlfiles import idlest_cpu, keyvals  # noqa: E402
 
 nc = ns.nc
 N, T_K, Z_TOL = ns.N, ns.T_K, ns.Z_TOL
@@ -263,23 +263,6 @@ class OpenMMTimer:
         if not math.isfinite(u):
             raise RuntimeError("non-finite energy while timing")
         return dt / steps
-
-
-def idlest_cpu(seconds=1.0):
-    """The CPU (of those this process may use) with the most idle time over `seconds` (/proc/stat)."""
-    allowed = sorted(os.sched_getaffinity(0))
-
-    def idle():
-        out = {}
-        for ln in open("/proc/stat"):
-            f = ln.split()
-            if f[0].startswith("cpu") and f[0] != "cpu":
-                out[int(f[0][3:])] = int(f[4]) + int(f[5])  # idle + iowait
-        return out
-    a = idle()
-    time.sleep(seconds)
-    b = idle()
-    return max(allowed, key=lambda c: b.get(c, 0) - a.get(c, 0))
 
 
 def ns_per_day(h_fs, s_per_step):
