@@ -23,8 +23,10 @@
  * batches with transposes of 128-byte records instead (tip4p_fill512), and the dipole rows keep
  * no batch at all: they pack each eight neighbours within the cutoff into registers and form
  * their terms there (dipole_row512).  TIP4P runs its 10 terms in one
- * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is
- * rl_rsqrt (a few ulp, no divider), a * b + c may be one FMA, and separations and sums are
+ * loop (on AVX-512 its 9 Coulomb terms in registers after it, tip4p_coul512); "charge-lj" one
+ * loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt (a few ulp, no
+ * divider; vrsqrt14pd and two Newton steps in the AVX-512 rows), a * b + c may be one FMA, and
+ * separations and sums are
  * formed in another order, so results agree with the reference to round-off.
  *
  * Threads: rows are split into contiguous ranges of nearly equal cost, one per thread; each
@@ -590,7 +592,8 @@ RL_T512 static inline void sep8(const sep8_consts *S, const double *const q[8], 
   R[2] = _mm512_permutex2var_pd(cl01, S->odd, cl23);
   for (int d = 0; d < 3; d++) {
     const __m512d X = _mm512_sub_pd(S->c[d], R[d]);
-    R[d] = _mm512_fnmadd_pd(S->L[d], _mm512_sub_pd(_mm512_fmadd_pd(X, S->iL[d], S->big), S->big), X);
+    const __m512d k = _mm512_sub_pd(_mm512_fmadd_pd(X, S->iL[d], S->big), S->big);
+    R[d] = _mm512_fnmadd_pd(S->L[d], k, X);
   }
 }
 
@@ -613,8 +616,9 @@ RL_T512 static inline int fill_append512(batch *b, int n, __mmask8 keep, __m512i
  * (sep8), the minimum image and the pruning test run in one vector each, and the kept ones are
  * packed (vcompresspd) onto the batch in list order.  The batch gets the same neighbours in the
  * same lanes as from batch_fill, and ends where batch_fill's does (when full, or before a
- * neighbour whose images would not all fit), so the pair sums do not depend on which candidates beyond rp the list holds, that is on when
- * it was built: restarts stay bit for bit.  In a box that needs the other images (img), eight
+ * neighbour whose images would not all fit), so the pair sums do not depend on which
+ * candidates beyond rp the list holds, that is on when it was built: restarts stay bit for
+ * bit (tests/cli/restart_tests.sh).  In a box that needs the other images (img), eight
  * candidates of which one has another image within rp go one by one through take_candidate,
  * which puts a neighbour's images right after it; for 256 TIP4P at rc = 0.9 nm that is about
  * one group in eight. */
@@ -708,6 +712,64 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
   b->np = np;
 }
 
+/* The nine Coulomb terms of a TIP4P batch (charge sites 1-3 of i at a[1..3], relative to i's
+ * centre, against the neighbours' charge sites 1-3; P_SHIFT or P_MOL), eight neighbours per
+ * vector: the terms of rl_coulomb_rf_pair with 1/sqrt from vrsqrt14pd and two Newton steps
+ * (relative error 2^-14 -> 6e-9 -> 5e-17, as the dipole rows), where the `omp simd` loop's
+ * rl_rsqrt takes four steps from a bit trick: 8 vector operations instead of 15, of about 40 per
+ * term.  Writes the forces on the neighbours' charge sites (b->f[1..3]) and on i's from each
+ * neighbour (b->g[1..3]), lowers b->r2min (set by the LJ term) and returns the energy summed
+ * over the lanes.  The cutoff (P_SHIFT) and the padding are masks. */
+RL_T512 static inline double tip4p_coul512(const int MODE, const box_consts *B,
+                                           const double a[4][3], const double qq[3][3], batch *b)
+{
+  const __m512d half = _mm512_set1_pd(0.5), rc2 = _mm512_set1_pd(B->rc2);
+  const __m512d krf = _mm512_set1_pd(B->krf), krf2 = _mm512_set1_pd(2.0 * B->krf),
+                crf = _mm512_set1_pd(B->crf), zero = _mm512_setzero_pd();
+  __m512d e = zero;
+  for (int k = 0; k < b->np; k += RL_FAST_W) {
+    const __mmask8 live = _mm512_cmp_pd_mask(_mm512_load_pd(b->w + k), zero, _CMP_NEQ_OQ);
+    const __m512d R[3] = {_mm512_load_pd(b->R[0] + k), _mm512_load_pd(b->R[1] + k),
+                          _mm512_load_pd(b->R[2] + k)};
+    __m512d r2min = _mm512_load_pd(b->r2min + k);
+    __m512d gj[3][3];
+    for (int q = 0; q < 3; q++)
+      for (int c = 0; c < 3; c++) gj[q][c] = zero;
+    for (int p = 0; p < 3; p++) {
+      __m512d ra[3], gi[3] = {zero, zero, zero}; /* R + a: the separation before - site of j */
+      for (int c = 0; c < 3; c++) ra[c] = _mm512_add_pd(R[c], _mm512_set1_pd(a[1 + p][c]));
+      for (int q = 0; q < 3; q++) {
+        __m512d d[3];
+        for (int c = 0; c < 3; c++) d[c] = _mm512_sub_pd(ra[c], _mm512_load_pd(&b->x[1 + q][c][k]));
+        const __m512d r2 =
+            _mm512_fmadd_pd(d[2], d[2], _mm512_fmadd_pd(d[1], d[1], _mm512_mul_pd(d[0], d[0])));
+        const __mmask8 in =
+            MODE == P_MOL ? live : _mm512_mask_cmp_pd_mask(live, r2, rc2, _CMP_LT_OQ);
+        r2min = _mm512_min_pd(r2min, r2);
+        const __m512d h = _mm512_mul_pd(half, r2);
+        __m512d ir = _mm512_rsqrt14_pd(r2);
+        ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, _mm512_mul_pd(ir, ir), half), ir);
+        ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, _mm512_mul_pd(ir, ir), half), ir);
+        const __m512d qv = _mm512_set1_pd(qq[p][q]);
+        const __m512d ir3 = _mm512_mul_pd(_mm512_mul_pd(ir, ir), ir);
+        const __m512d fr = _mm512_maskz_mul_pd(in, qv, _mm512_sub_pd(ir3, krf2));
+        const __m512d u = _mm512_sub_pd(_mm512_fmadd_pd(krf, r2, ir), crf);
+        e = _mm512_mask3_fmadd_pd(_mm512_maskz_mov_pd(in, qv), u, e, in);
+        for (int c = 0; c < 3; c++) {
+          const __m512d f = _mm512_mul_pd(fr, d[c]);
+          gi[c] = _mm512_add_pd(gi[c], f);
+          gj[q][c] = _mm512_sub_pd(gj[q][c], f);
+        }
+      }
+      for (int c = 0; c < 3; c++) _mm512_store_pd(&b->g[1 + p][c][k], gi[c]);
+    }
+    for (int q = 0; q < 3; q++)
+      for (int c = 0; c < 3; c++) _mm512_store_pd(&b->f[1 + q][c][k], gj[q][c]);
+    _mm512_store_pd(b->r2min + k, r2min);
+  }
+  return _mm512_reduce_add_pd(e);
+}
+
 /* Add the batch's site forces b->f on the neighbours to their records in ft4. */
 RL_T512 static inline void tip4p_scatter512(const batch *b, double (*ft4)[16])
 {
@@ -736,7 +798,8 @@ RL_T512 static inline void tip4p_scatter512(const batch *b, double (*ft4)[16])
 /* One LJ site without charge and three charges without LJ (TIP4P and its reparametrisations):
  * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
  * + 9 Coulomb terms run in one loop, so each neighbour's sites are loaded once and its forces
- * stored once.  Each term is the reference formula (1/sqrt by rl_rsqrt).
+ * stored once.  Each term is the reference formula (1/sqrt by rl_rsqrt).  On AVX-512 the loop
+ * keeps the LJ term only, and tip4p_coul512 forms the nine Coulomb terms after it.
  *
  * Virial: with the centres' image (P_SHIFT, P_MOL) every term's separation is r = R + d_a -
  * d_b, so the pair's share of the molecular virial is R (x) F with F the pair's total force:
@@ -794,37 +857,50 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
           w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
         }
       }
-      /* the term loops must be unrolled before the k loop can be vectorised */
+      /* the term loops must be unrolled before the k loop can be vectorised; on AVX-512
+       * tip4p_coul512 forms the Coulomb terms after this loop */
+      if (!X512) {
 #pragma GCC unroll 3
-      for (int p = 0; p < 3; p++)
+        for (int p = 0; p < 3; p++)
 #pragma GCC unroll 3
-        for (int q = 0; q < 3; q++) { /* rl_coulomb_rf_pair */
-          double dx, dy, dz;
-          sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
-          double r2 = dx * dx + dy * dy + dz * dz;
-          const double in = inside(MODE, &B, &b, k, r2);
-          r2min = r2 < r2min ? r2 : r2min;
-          /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
-          const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
-          const double fr = qin * (ir * ir * ir - 2.0 * krf);
-          ecoul += qin * (ir + krf * r2 - crf);
-          const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
-          gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
-          gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
-          if (SITEVIR) {
-            w0 += dx * fx; w1 += dx * fy; w2 += dx * fz;
-            w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
+          for (int q = 0; q < 3; q++) { /* rl_coulomb_rf_pair */
+            double dx, dy, dz;
+            sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
+            double r2 = dx * dx + dy * dy + dz * dz;
+            const double in = inside(MODE, &B, &b, k, r2);
+            r2min = r2 < r2min ? r2 : r2min;
+            /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
+            const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
+            const double fr = qin * (ir * ir * ir - 2.0 * krf);
+            ecoul += qin * (ir + krf * r2 - crf);
+            const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
+            gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
+            gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
+            if (SITEVIR) {
+              w0 += dx * fx; w1 += dx * fy; w2 += dx * fz;
+              w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
+            }
           }
-        }
-#pragma GCC unroll 4
-      for (int s = 0; s < 4; s++)
-#pragma GCC unroll 3
+      }
+      if (X512) {
         for (int c = 0; c < 3; c++) {
-          b.f[s][c][k] = gj[s][c];
-          b.g[s][c][k] = gi[s][c];
+          b.f[0][c][k] = gj[0][c];
+          b.g[0][c][k] = gi[0][c];
         }
+      } else {
+#pragma GCC unroll 4
+        for (int s = 0; s < 4; s++)
+#pragma GCC unroll 3
+          for (int c = 0; c < 3; c++) {
+            b.f[s][c][k] = gj[s][c];
+            b.g[s][c][k] = gi[s][c];
+          }
+      }
       b.r2min[k] = r2min;
     }
+#if RL_X512
+    if (X512) ecoul += tip4p_coul512(MODE, &B, a, qq, &b);
+#endif
     { /* overlap: a site pair inside the cutoff closer than the minimum distance, i.e. (the
        * cutoff being a 0/1 factor) r2min < min(md2, rc2), or < md2 for a molecule cutoff; one
        * min per term in the loop above instead of a compare, select and add */

@@ -209,7 +209,8 @@ static void test_periodic_edge(void **state)
   for (int b = 0; b < few[0]; b += 2) {
     const double x = gsl_ran_flat(rng, 0.0, 0.44), y = gsl_ran_flat(rng, 0.0, 0.44);
     const double r0[3] = {x, y, 0.15 * b};
-    const double r1[3] = {x + gsl_ran_flat(rng, 0.2, 0.24), y + gsl_ran_flat(rng, 0.2, 0.24), 0.15 * b};
+    const double r1[3] = {x + gsl_ran_flat(rng, 0.2, 0.24), y + gsl_ran_flat(rng, 0.2, 0.24),
+                          0.15 * b};
     assert_int_equal(rl_system_set_position(s.sys, b, r0), RL_OK);
     assert_int_equal(rl_system_set_position(s.sys, b + 1, r1), RL_OK);
   }
