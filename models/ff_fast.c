@@ -736,7 +736,7 @@ RL_T512 static inline double tip4p_coul512(const int MODE, const box_consts *B,
     for (int q = 0; q < 3; q++)
       for (int c = 0; c < 3; c++) gj[q][c] = zero;
     for (int p = 0; p < 3; p++) {
-      __m512d ra[3], gi[3] = {zero, zero, zero}; /* R + a: the separation before - site of j */
+      __m512d ra[3], gi[3] = {zero, zero, zero}; /* separation = ra - site q of j */
       for (int c = 0; c < 3; c++) ra[c] = _mm512_add_pd(R[c], _mm512_set1_pd(a[1 + p][c]));
       for (int q = 0; q < 3; q++) {
         __m512d d[3];
@@ -754,7 +754,7 @@ RL_T512 static inline double tip4p_coul512(const int MODE, const box_consts *B,
         const __m512d ir3 = _mm512_mul_pd(_mm512_mul_pd(ir, ir), ir);
         const __m512d fr = _mm512_maskz_mul_pd(in, qv, _mm512_sub_pd(ir3, krf2));
         const __m512d u = _mm512_sub_pd(_mm512_fmadd_pd(krf, r2, ir), crf);
-        e = _mm512_mask3_fmadd_pd(_mm512_maskz_mov_pd(in, qv), u, e, in);
+        e = _mm512_mask3_fmadd_pd(qv, u, e, in); /* lanes outside keep e */
         for (int c = 0; c < 3; c++) {
           const __m512d f = _mm512_mul_pd(fr, d[c]);
           gi[c] = _mm512_add_pd(gi[c], f);
