@@ -10,15 +10,21 @@ mkdir -p "$work"; cd "$work" || exit 1
 deck="$src/tests/cli/stockmayer_short.ini"
 pass=0; fail=0
 check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+# three_runs NAME DECK ARGS...: NAME-A (2N = 100 steps, a checkpoint at N), NAME-B (N steps) and
+# NAME-C (B's checkpoint continued to 2N); their errors in NAME.err; then the first two checks
+three_runs() {
+  local name=$1 dk=$2; shift 2
+  "$rotleap" run "$dk" "$@" --set run.steps=100 --set output.checkpoint_every=50 --set output.prefix="$work/$name-A" >/dev/null 2>"$name.err" || true
+  "$rotleap" run "$dk" "$@" --set run.steps=50 --set output.prefix="$work/$name-B" >/dev/null 2>>"$name.err" || true
+  "$rotleap" run "$dk" "$@" --set run.steps=100 --set system.start="$work/$name-B.chk" --set output.prefix="$work/$name-C" >/dev/null 2>>"$name.err" || true
+  check "$name: all three runs succeeded" "[ ! -s $name.err ] && [ -e $name-A.chk ] && [ -e $name-C.chk ]"
+  check "$name: final checkpoints byte-identical (2N vs N + restart + N)" "cmp -s $name-A.chk $name-C.chk"
+}
 for ens in nve nvt-isokinetic nvt-bussi nvt-langevin; do
   extra=(); [ "$ens" != nve ] && extra=(--set run.temperature=1.35)
   case $ens in nvt-bussi|nvt-langevin) extra+=(--set run.tau=0.05) ;; esac
   common=(--set run.ensemble=$ens "${extra[@]}" --set output.thermo_every=5 --set output.trajectory_every=10)
-  "$rotleap" run "$deck" "${common[@]}" --set run.steps=100 --set output.checkpoint_every=50 --set output.prefix="$work/$ens-A" >/dev/null 2>"$ens.err" || true
-  "$rotleap" run "$deck" "${common[@]}" --set run.steps=50 --set output.prefix="$work/$ens-B" >/dev/null 2>>"$ens.err" || true
-  "$rotleap" run "$deck" "${common[@]}" --set run.steps=100 --set system.start="$work/$ens-B.chk" --set output.prefix="$work/$ens-C" >/dev/null 2>>"$ens.err" || true
-  check "$ens: all three runs succeeded" '[ ! -s "$ens.err" ] && [ -e "$ens-A.chk" ] && [ -e "$ens-C.chk" ]'
-  check "$ens: final checkpoints byte-identical (2N vs N + restart + N)" 'cmp -s "$ens-A.chk" "$ens-C.chk"'
+  three_runs "$ens" "$deck" "${common[@]}"
   check "$ens: thermo rows from step N on identical" \
     'diff <(awk -F, "NR>1 && \$1>=50" "$ens-A.thermo.csv") <(awk -F, "NR>1" "$ens-C.thermo.csv") >/dev/null'
   check "$ens: summaries agree (averages over all 2N steps)" \
@@ -31,11 +37,7 @@ done
 # the small-box path (other images of a neighbour within the pruning radius), 512 do not.
 for cnt in 216 512; do
   tw=(--set system.count=$cnt --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf=)
-  "$rotleap" run "$src/examples/tip4p.ini" "${tw[@]}" --set run.steps=100 --set output.checkpoint_every=50 --set output.prefix="$work/tip4p$cnt-A" >/dev/null 2>"tip4p$cnt.err" || true
-  "$rotleap" run "$src/examples/tip4p.ini" "${tw[@]}" --set run.steps=50 --set output.prefix="$work/tip4p$cnt-B" >/dev/null 2>>"tip4p$cnt.err" || true
-  "$rotleap" run "$src/examples/tip4p.ini" "${tw[@]}" --set run.steps=100 --set system.start="$work/tip4p$cnt-B.chk" --set output.prefix="$work/tip4p$cnt-C" >/dev/null 2>>"tip4p$cnt.err" || true
-  check "tip4p $cnt: all three runs succeeded" '[ ! -s "tip4p$cnt.err" ] && [ -e "tip4p$cnt-A.chk" ] && [ -e "tip4p$cnt-C.chk" ]'
-  check "tip4p $cnt: final checkpoints byte-identical (2N vs N + restart + N)" 'cmp -s "tip4p$cnt-A.chk" "tip4p$cnt-C.chk"'
+  three_runs "tip4p$cnt" "$src/examples/tip4p.ini" "${tw[@]}"
 done
 # Another run.seed under the same stochastic thermostat: the run continues (step count, averages)
 # with a new random stream from that seed, and says so; the same seed is the bit-for-bit case above.
