@@ -116,7 +116,7 @@ struct fast_species {
 
 typedef struct {
   int *f, *g;                    /* kernel / reference neighbours of this thread's rows */
-  int *cand;                     /* [n] scratch: one row's candidates within rlist      */
+  int *cand;                     /* [n + 16] scratch: one row's candidates within rlist */
   long fcap, gcap, fn, gn;
 } thread_rows;
 
@@ -133,6 +133,7 @@ struct rl_ff_fast {
   thread_rows *tr;               /* [nthreads]                                          */
   int *cell_of, *cell_start, *cell_body; /* cell list workspace                          */
   int ncell_cap;
+  double *bx;                    /* x512: [3 n] centres by rank, x then y then z (scan512) */
   double (*fsbuf)[3];            /* [(nthreads - 1) nsites]                             */
   double (*tqbuf)[3];            /* [(nthreads - 1) n]                                  */
   rl_acc *acc;                   /* [nthreads]                                          */
@@ -1448,7 +1449,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   if (f->tr)
     for (int t = 0; t < f->nthreads; t++) { free(f->tr[t].f); free(f->tr[t].g); free(f->tr[t].cand); }
   free(f->tr);
-  free(f->cell_of); free(f->cell_start); free(f->cell_body);
+  free(f->cell_of); free(f->cell_start); free(f->cell_body); free(f->bx);
   free(f->fsbuf); free(f->tqbuf);
   free(f->acc);
   free(f->status);
@@ -1512,7 +1513,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
   }
   for (int t = 0; t < T; t++)
-    if (!(f->tr[t].cand = malloc(sizeof(int) * n1))) {
+    if (!(f->tr[t].cand = malloc(sizeof(int) * (n1 + 16)))) { /* scan512 stores 16 at a time */
       rl_ff_fast_free(f);
       return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
     }
@@ -1550,7 +1551,8 @@ int rl_ff_fast_setup(rl_forcefield *ff)
       f->V.pk4 = alloc_records(sizeof *f->V.pk4 * n1);
       f->pft4 = alloc_records(sizeof *f->pft4 * n1 * T1);
     }
-    if ((f->ndip && (!f->V.pk || !f->pft)) || (f->ntip4p && (!f->V.pk4 || !f->pft4))) {
+    f->bx = malloc(sizeof *f->bx * 3 * n1);
+    if ((f->ndip && (!f->V.pk || !f->pft)) || (f->ntip4p && (!f->V.pk4 || !f->pft4)) || !f->bx) {
       rl_ff_fast_free(f);
       return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
     }
@@ -1580,6 +1582,49 @@ static int push(int **a, long *cap, long *len, int v)
   return 0;
 }
 
+#if RL_X512
+/* The list build's candidates on AVX-512: of the ranks in the runs [lo[r], hi[r]), those whose
+ * centre (X, Y, Z by rank) lies within rlist of ri, in rank order, eight at a time, packed
+ * with vpcompressd (the scalar loop was a tenth of a 64,000-dipole step, issue 8).  The
+ * separation, its image and r^2 take the scalar loop's operations in its order, each rounded
+ * once (the _round_ forms are not fused into FMAs under -ffp-contract=fast), so both keep the
+ * same pairs to the last bit.  Stores 16 indices at a time: cand needs 16 slots of slack. */
+RL_T512 static int scan512(const double *X, const double *Y, const double *Z, const double ri[3],
+                           const rl_box *box, double rl2, const int *lo, const int *hi, int nr,
+                           int *cand)
+{
+#define RL_CUR _MM_FROUND_CUR_DIRECTION
+  const __m512d c[3] = {_mm512_set1_pd(ri[0]), _mm512_set1_pd(ri[1]), _mm512_set1_pd(ri[2])};
+  const __m512d L[3] = {_mm512_set1_pd(box->L[0]), _mm512_set1_pd(box->L[1]), _mm512_set1_pd(box->L[2])};
+  const __m512d iL[3] = {_mm512_set1_pd(box->invL[0]), _mm512_set1_pd(box->invL[1]),
+                         _mm512_set1_pd(box->invL[2])};
+  const __m512d big = _mm512_set1_pd(6755399441055744.0), R2 = _mm512_set1_pd(rl2);
+  const __m512i iota = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+  const double *P[3] = {X, Y, Z};
+  int nin = 0;
+  for (int r = 0; r < nr; r++)
+    for (int m = lo[r]; m < hi[r]; m += 8) {
+      const int left = hi[r] - m;
+      const __mmask8 live = left >= 8 ? (__mmask8)0xFF : (__mmask8)((1u << left) - 1u);
+      __m512d d2 = _mm512_setzero_pd();
+      for (int k = 0; k < 3; k++) { /* d -= L RL_RND(d / L); d2 = (dx^2 + dy^2) + dz^2 */
+        __m512d d = _mm512_sub_round_pd(c[k], _mm512_maskz_loadu_pd(live, P[k] + m), RL_CUR);
+        __m512d q = _mm512_add_round_pd(_mm512_mul_round_pd(d, iL[k], RL_CUR), big, RL_CUR);
+        q = _mm512_sub_round_pd(q, big, RL_CUR);
+        d = _mm512_sub_round_pd(d, _mm512_mul_round_pd(L[k], q, RL_CUR), RL_CUR);
+        const __m512d dd = _mm512_mul_round_pd(d, d, RL_CUR);
+        d2 = k ? _mm512_add_round_pd(d2, dd, RL_CUR) : dd;
+      }
+      const __mmask8 keep = _mm512_mask_cmp_pd_mask(live, d2, R2, _CMP_LT_OQ);
+      const __m512i id = _mm512_add_epi32(_mm512_set1_epi32(m), iota);
+      _mm512_storeu_si512(cand + nin, _mm512_maskz_compress_epi32((__mmask16)keep, id));
+      nin += __builtin_popcount(keep);
+    }
+#undef RL_CUR
+  return nin;
+}
+#endif
+
 /* The cost of row m (species k) in units of about one pair term: kernel terms per listed
  * pair, 16 per reference pair, and for a dipole row 60 for the row itself (its setup, the
  * last partial vector, the lane sums): the later ranks list fewer neighbours of higher rank,
@@ -1602,7 +1647,7 @@ static int build(rl_forcefield *ff)
    * candidates, against 27 rlist^3 for cells >= rlist searched +-1), when every edge holds at
    * least 5; else all pairs.  With cells >= rlist a box of a few list radii had 3 per edge and
    * every body was a candidate of every other: builds took ~3 steps' time for 2,048 TIP4P. */
-  const int reach = 2;
+  enum { reach = 2 }; /* a constant: sizes the runs arrays below */
   int nc[3];
   for (int c = 0; c < 3; c++) nc[c] = (int)fmin(256.0, floor(box->L[c] / (0.5 * rl)));
   const int cells = nc[0] >= 2 * reach + 1 && nc[1] >= 2 * reach + 1 && nc[2] >= 2 * reach + 1;
@@ -1633,7 +1678,17 @@ static int build(rl_forcefield *ff)
     f->V.sp[m] = ff->body_species[i];
     o += ff->sp_nsites[f->V.sp[m]];
     for (int c = 0; c < 3; c++) f->V.c[m][c] = ff->centre[i][c]; /* candidates read these */
+    if (f->bx)
+      for (int c = 0; c < 3; c++) f->bx[(size_t)c * (size_t)n + (size_t)m] = ff->centre[i][c];
   }
+  /* one species with a kernel and sites (a neat liquid): every candidate is a kernel pair */
+  int live_species = 0, neat = 1;
+  for (int k = 0; k < ff->nspecies; k++)
+    if (ff->sp_count[k] > 0) {
+      live_species++;
+      neat &= f->sk[k].kind != K_NONE && ff->sp_nsites[k] > 0;
+    }
+  neat &= live_species == 1;
   const double(*cr)[3] = (const double(*)[3])f->V.c;
   /* rows: thread t scans ranks m in [n t / T, n (t+1) / T); body i = ord[m] lists the j of
    * higher rank, kernel pairs by rank, reference pairs by body; lengths go to f/gstart[m+1] */
@@ -1664,22 +1719,43 @@ static int build(rl_forcefield *ff)
            * stencil's bodies are inside, a branch was mispredicted often); runs of cells
            * along x are contiguous in rank unless the stencil wraps */
           const int runs = cx - reach >= 0 && cx + reach < nc[0] ? 1 : 2 * reach + 1;
-          int nin = 0;
+          int lo[(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1)], hi[sizeof lo / sizeof *lo];
+          int nr = 0, nin = 0;
           for (int dz = 0; dz <= 2 * reach; dz++)
             for (int dy = 0; dy <= 2 * reach; dy++)
               for (int r = 0; r < runs; r++) {
                 const int row = (wz[dz] * nc[1] + wy[dy]) * nc[0];
                 const int c0 = row + (runs == 1 ? wx[0] : wx[r]);
                 const int c1 = row + (runs == 1 ? wx[2 * reach] : wx[r]);
-                const int mlo = f->cell_start[c0] > mi + 1 ? f->cell_start[c0] : mi + 1;
-                const int mhi = f->cell_start[c1 + 1];
-                for (int m = mlo; m < mhi; m++) {
-                  double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
-                  for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
-                  tr->cand[nin] = m;
-                  nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
-                }
+                lo[nr] = f->cell_start[c0] > mi + 1 ? f->cell_start[c0] : mi + 1;
+                hi[nr] = f->cell_start[c1 + 1];
+                nr += hi[nr] > lo[nr];
               }
+#if RL_X512
+          if (f->bx)
+            nin = scan512(f->bx, f->bx + n, f->bx + 2 * (size_t)n, ri, box, rl2, lo, hi, nr, tr->cand);
+          else
+#endif
+            for (int r = 0; r < nr; r++)
+              for (int m = lo[r]; m < hi[r]; m++) {
+                double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
+                for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
+                tr->cand[nin] = m;
+                nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
+              }
+          if (neat) { /* all kernel pairs: one copy */
+            if (tr->fn + nin > tr->fcap) {
+              long nc2 = tr->fcap ? 2 * tr->fcap : 4096;
+              while (nc2 < tr->fn + nin) nc2 *= 2;
+              int *p = realloc(tr->f, sizeof *p * (size_t)nc2);
+              if (!p) { fail = 1; break; }
+              tr->f = p;
+              tr->fcap = nc2;
+            }
+            memcpy(tr->f + tr->fn, tr->cand, sizeof(int) * (size_t)nin);
+            tr->fn += nin;
+            nin = 0;
+          }
           for (int q = 0; q < nin && !fail; q++) {
             const int m = tr->cand[q], kj = f->V.sp[m];
             if (ff->sp_nsites[kj] == 0) continue;
