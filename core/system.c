@@ -383,11 +383,13 @@ int rl_system_site_offset(const rl_system *s, int i)
   return sp->site_off + (i - sp->first) * sp->nsites;
 }
 
-void rl_system_site_positions(const rl_system *s, double (*out)[3])
+void rl_system_site_positions_of(const rl_system *s, int i0, int i1, double (*out)[3])
 {
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
-    for (int b = 0; b < sp->count; b++) {
+    const int b0 = i0 > sp->first ? i0 - sp->first : 0;
+    const int b1 = i1 < sp->first + sp->count ? i1 - sp->first : sp->count;
+    for (int b = b0; b < b1; b++) {
       int i = sp->first + b, o = sp->site_off + b * sp->nsites;
       const double *r = s->r[i];
       for (int a = 0; a < sp->nsites; a++) {
@@ -406,11 +408,19 @@ void rl_system_site_positions(const rl_system *s, double (*out)[3])
   }
 }
 
-void rl_system_add_site_forces(const rl_system *s, const double (*fs)[3], rl_forces *out)
+void rl_system_site_positions(const rl_system *s, double (*out)[3])
+{
+  rl_system_site_positions_of(s, 0, s->n, out);
+}
+
+void rl_system_add_site_forces_of(const rl_system *s, const double (*fs)[3], rl_forces *out,
+                                  int i0, int i1)
 {
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
-    for (int b = 0; b < sp->count; b++) {
+    const int b0 = i0 > sp->first ? i0 - sp->first : 0;
+    const int b1 = i1 < sp->first + sp->count ? i1 - sp->first : sp->count;
+    for (int b = b0; b < b1; b++) {
       int i = sp->first + b, o = sp->site_off + b * sp->nsites;
       double *f = out->f[i];
       double *t = sp->rot_off >= 0 ? out->k[sp->rot_off + b] : NULL;
@@ -432,6 +442,11 @@ void rl_system_add_site_forces(const rl_system *s, const double (*fs)[3], rl_for
       }
     }
   }
+}
+
+void rl_system_add_site_forces(const rl_system *s, const double (*fs)[3], rl_forces *out)
+{
+  rl_system_add_site_forces_of(s, fs, out, 0, s->n);
 }
 
 rl_system *rl_system_clone(const rl_system *s)

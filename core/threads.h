@@ -16,6 +16,20 @@
 #define RL_THREAD_MIN_BODIES 2048
 #endif
 
+/* This thread's share [*i0, *i1) of n items, in thread order (the whole of it outside a parallel
+ * region or without OpenMP). */
+static inline void rl_thread_range(int n, int *i0, int *i1)
+{
+#ifdef _OPENMP
+  const long t = omp_get_thread_num(), T = omp_get_num_threads();
+  *i0 = (int)(n * t / T);
+  *i1 = (int)(n * (t + 1) / T);
+#else
+  *i0 = 0;
+  *i1 = n;
+#endif
+}
+
 static inline int rl_threads_resolve(int asked)
 {
 #ifdef _OPENMP

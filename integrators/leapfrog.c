@@ -213,8 +213,18 @@ void rl_integrator_free(rl_integrator *in)
 static int compute_forces(rl_integrator *in)
 {
   rl_system *s = in->sys;
-  memset(in->F.f, 0, sizeof(*in->F.f) * (size_t)s->n);
-  memset(in->F.k, 0, sizeof(*in->F.k) * (size_t)(s->nrot > 0 ? s->nrot : 1));
+  const int n = s->n, nr = s->nrot, par = in->threads > 1 && n >= RL_THREAD_MIN_BODIES;
+  (void)par; /* a build without OpenMP */
+#ifdef _OPENMP
+#pragma omp parallel num_threads(in->threads) if (par)
+#endif
+  { /* each thread its share of the forces and torques */
+    int i0, i1, k0, k1;
+    rl_thread_range(n, &i0, &i1);
+    rl_thread_range(nr, &k0, &k1);
+    if (i1 > i0) memset(in->F.f + i0, 0, sizeof(*in->F.f) * (size_t)(i1 - i0));
+    if (k1 > k0) memset(in->F.k + k0, 0, sizeof(*in->F.k) * (size_t)(k1 - k0));
+  }
   in->F.energy = 0.0;
   memset(in->F.virial, 0, sizeof in->F.virial);
   rl_error_clear();
@@ -222,14 +232,26 @@ static int compute_forces(rl_integrator *in)
   if (st) return rl_error_wrap(RL_EFORCE, "force provider failed at step %ld (t = %g)", in->steps, in->t);
   if (!isfinite(in->F.energy))
     return rl_error(RL_ENONFINITE, "non-finite potential energy at step %ld (t = %g)", in->steps, in->t);
-  for (int i = 0; i < s->n; i++)
-    if (!isfinite(in->F.f[i][0] + in->F.f[i][1] + in->F.f[i][2]))
-      return rl_error(RL_ENONFINITE, "non-finite force on body %d at step %ld (t = %g)", i,
-                      in->steps, in->t);
-  for (int i = 0; i < s->nrot; i++)
-    if (!isfinite(in->F.k[i][0] + in->F.k[i][1] + in->F.k[i][2]))
-      return rl_error(RL_ENONFINITE, "non-finite torque (rotating body %d) at step %ld (t = %g)",
-                      i, in->steps, in->t);
+  int bf = n, bk = nr; /* the first non-finite force and torque */
+#ifdef _OPENMP
+#pragma omp parallel num_threads(in->threads) if (par) reduction(min : bf, bk)
+#endif
+  {
+    int i0, i1, k0, k1;
+    rl_thread_range(n, &i0, &i1);
+    rl_thread_range(nr, &k0, &k1);
+    int i = i0, k = k0; /* (the reduction's private bf, bk start at INT_MAX) */
+    while (i < i1 && isfinite(in->F.f[i][0] + in->F.f[i][1] + in->F.f[i][2])) i++;
+    while (k < k1 && isfinite(in->F.k[k][0] + in->F.k[k][1] + in->F.k[k][2])) k++;
+    if (i < i1) bf = i;
+    if (k < k1) bk = k;
+  }
+  if (bf < n)
+    return rl_error(RL_ENONFINITE, "non-finite force on body %d at step %ld (t = %g)", bf,
+                    in->steps, in->t);
+  if (bk < nr)
+    return rl_error(RL_ENONFINITE, "non-finite torque (rotating body %d) at step %ld (t = %g)",
+                    bk, in->steps, in->t);
   return RL_OK;
 }
 
@@ -419,6 +441,19 @@ static int rotate_all(rl_integrator *in, rl_rotation_work *w)
   return RL_OK;
 }
 
+/* r += hd v for every body. */
+static void drift(rl_integrator *in, double hd)
+{
+  rl_system *s = in->sys;
+  const int n = s->n;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(in->threads) schedule(static) \
+    if (in->threads > 1 && n >= RL_THREAD_MIN_BODIES)
+#endif
+  for (int i = 0; i < n; i++)
+    for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
+}
+
 int rl_integrator_step(rl_integrator *in, rl_step_info *out)
 {
   if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_step: call rl_integrator_init first");
@@ -550,9 +585,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   rl_rotation_work rw = {hd, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
                          in->q, (const double (*)[3])in->F.k, (const double (*)[3])in->lprev,
                          in->steps, 0, 0, 0, 0.0, 0.0, in->threads};
-  if (bussi || langevin)
-    for (int i = 0; i < s->n; i++)
-      for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
+  if (bussi || langevin) drift(in, hd);
   int st = rotate_all(in, &rw);
   if (!st && langevin) {
     double K[2][2];
@@ -563,8 +596,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
      * whose law BAOAB makes exactly Maxwell's for a harmonic mode */
     info.t_trans_mid = gt > 0 ? 2.0 * K[0][0] / (gt * s->kB) : 0.0;
     info.t_rot_mid = gr > 0 ? 2.0 * K[1][0] / (gr * s->kB) : 0.0;
-    for (int i = 0; i < s->n; i++)
-      for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
+    drift(in, hd);
     st = rotate_all(in, &rw);
     rw.max_h_omega *= 2.0; /* reported as h |Omega| over the whole step */
   }

@@ -130,6 +130,9 @@ struct rl_ff_fast {
   int *fnbr, *gnbr;              /* [npairs]                                            */
   long fcap, gcap;
   int *tlo;                      /* [nthreads + 1] row ranges                           */
+  int *thi;                      /* [nthreads] thread t's rows write the kernel buffers   */
+                                 /* (pfs, ptq, pft, pft4) of ranks [tlo[t], thi[t])    */
+  int *rmax;                     /* [n] highest rank of row m and its kernel neighbours   */
   thread_rows *tr;               /* [nthreads]                                          */
   int *cell_of, *cell_start, *cell_body; /* cell list workspace                          */
   int ncell_cap;
@@ -1445,7 +1448,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->sk);
   rl_nlist_free(f->chk);
   free(f->fstart); free(f->gstart); free(f->fnbr); free(f->gnbr);
-  free(f->tlo);
+  free(f->tlo); free(f->thi); free(f->rmax);
   if (f->tr)
     for (int t = 0; t < f->nthreads; t++) { free(f->tr[t].f); free(f->tr[t].g); free(f->tr[t].cand); }
   free(f->tr);
@@ -1485,6 +1488,8 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->fstart = calloc((size_t)n + 1, sizeof(int));
   f->gstart = calloc((size_t)n + 1, sizeof(int));
   f->tlo = calloc((size_t)T + 1, sizeof(int));
+  f->thi = calloc((size_t)T, sizeof(int));
+  f->rmax = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   f->tr = calloc((size_t)T, sizeof *f->tr);
   f->acc = calloc((size_t)T, sizeof *f->acc);
   f->status = calloc((size_t)T, sizeof *f->status);
@@ -1505,7 +1510,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
-  if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->tr || !f->acc ||
+  if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax || !f->tr || !f->acc ||
       !f->status || !f->mode || !f->ord || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
       !f->V.site || !f->V.dsite || !f->pfs || !f->ptq || !f->cell_of || !f->cell_body ||
       (T > 1 && (!f->fsbuf || !f->tqbuf))) {
@@ -1778,6 +1783,9 @@ static int build(rl_forcefield *ff)
       }
       f->fstart[mi + 1] = (int)(tr->fn - f0);
       f->gstart[mi + 1] = (int)(tr->gn - g0);
+      int top = mi;
+      for (long q = f0; q < tr->fn; q++) top = tr->f[q] > top ? tr->f[q] : top;
+      f->rmax[mi] = top;
     }
   }
   if (fail) return rl_error(RL_ENOMEM, "neighbour list: out of memory");
@@ -1815,6 +1823,14 @@ static int build(rl_forcefield *ff)
     while (t < T && run >= total * t / T) f->tlo[t++] = i + 1;
   }
   while (t <= T) f->tlo[t++] = n;
+  /* the ranks each thread's rows write: its own, and their neighbours (of higher rank), so that
+   * it zeroes and the sums read only those (at 64,000 dipoles on two threads each thread's
+   * buffer was 4 MB, of which the other half stayed zero) */
+  for (int u = 0; u < T; u++) {
+    int hi = f->tlo[u + 1];
+    for (int m = f->tlo[u]; m < f->tlo[u + 1]; m++) hi = f->rmax[m] + 1 > hi ? f->rmax[m] + 1 : hi;
+    f->thi[u] = hi;
+  }
   /* positions at this build, for the rebuild test */
   rl_nlist *chk = f->chk;
   if (chk->n != n || !chk->r0) {
@@ -1838,6 +1854,10 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   const int n = ff->n, ns = ff->nsites, T = f->nthreads;
   /* the fast minimum image needs |d / L| < 2^51 */
   int far = 0;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(T) schedule(static) if (T > 1 && n >= RL_THREAD_MIN_BODIES) \
+    reduction(| : far)
+#endif
   for (int i = 0; i < n; i++)
     for (int c = 0; c < 3; c++) far |= fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12;
   if (far) return 1;
@@ -1911,14 +1931,17 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       memset(fs, 0, sizeof *fs * (size_t)ns);
       memset(tq, 0, sizeof *tq * (size_t)n);
     }
-    if (!dip_only) {
-      memset(pfs, 0, sizeof *pfs * (size_t)ns);
-      memset(ptq, 0, sizeof *ptq * (size_t)n);
+    /* this thread's rows write its kernel buffers at ranks [m0, m1) only */
+    const int m0 = f->tlo[t], m1 = f->thi[t], nm = m1 - m0;
+    if (!dip_only && nm > 0) {
+      const int s0 = V->soff[m0], s1 = m1 < n ? V->soff[m1] : ns;
+      memset(pfs + s0, 0, sizeof *pfs * (size_t)(s1 - s0));
+      memset(ptq + m0, 0, sizeof *ptq * (size_t)nm);
     }
     double(*pft)[8] = f->pft ? f->pft + (size_t)t * (size_t)n : NULL;
-    if (pft) memset(pft, 0, sizeof *pft * (size_t)n);
+    if (pft && nm > 0) memset(pft + m0, 0, sizeof *pft * (size_t)nm);
     double(*pft4)[16] = f->pft4 ? f->pft4 + (size_t)t * (size_t)n : NULL;
-    if (pft4) memset(pft4, 0, sizeof *pft4 * (size_t)n);
+    if (pft4 && nm > 0) memset(pft4 + m0, 0, sizeof *pft4 * (size_t)nm);
     rl_acc *a = &f->acc[t];
     memset(a, 0, sizeof *a);
     a->fs = fs;
@@ -1961,6 +1984,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       for (int m = 0; m < n; m++) {
         const int i = ord[m], oi = ff->body_site_off[i];
         for (int u = 0; u < T; u++) {
+          if (m < f->tlo[u] || m >= f->thi[u]) continue; /* not written by thread u */
           const double *q = f->pft[(size_t)u * (size_t)n + (size_t)m];
           for (int c = 0; c < 3; c++) {
             ff->fs[oi][c] += q[c];
@@ -1978,6 +2002,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       if (mv) /* a loop, not an initialiser: GCC made that a `rep stos`, 2.5 % of a dipole step */
         for (int a = 0; a < 4; a++) F[a][0] = F[a][1] = F[a][2] = 0.0;
       for (int u = 0; u < T; u++) {
+        if (m < f->tlo[u] || m >= f->thi[u]) continue; /* not written by thread u */
         const double(*pf)[3] = f->pfs + (size_t)u * (size_t)ns + (size_t)om;
         const double *pt = f->ptq[(size_t)u * (size_t)n + (size_t)m];
         for (int a = 0; a < ns_i; a++)
@@ -2020,6 +2045,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     for (int c = 0; c < 9; c++) out->vir[c] += f->acc[t].vir[c];
   }
   if (bad) return 1; /* the reference loop reruns and reports the overlap */
+  if (dip_only) return RL_OK; /* point dipoles: every d is zero */
   for (int s = 0; s < ns; s++) /* molecular virial: minus sum_sites d (x) F */
     for (int x = 0; x < 3; x++)
       for (int y = 0; y < 3; y++) out->vir[3 * x + y] -= ff->dsite[s][x] * ff->fs[s][y];

@@ -615,21 +615,27 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
                     ff->nspecies, rl_system_count(sys), rl_system_nsites(sys),
                     rl_system_nspecies(sys));
   int n = ff->n;
-  rl_system_site_positions(sys, ff->site);
-  /* the bodies on the pair loop's threads; the first bad one is taken again for its message
-   * (rl_error's buffer is the calling thread's) */
+  /* the bodies on the pair loop's threads, each a contiguous share: its sites, the checks, and
+   * its rows of the site forces and torques zeroed; the first bad body is taken again for its
+   * message (rl_error's buffer is the calling thread's) */
   const int T = rl_forcefield_threads(ff);
   (void)T; /* a build without OpenMP */
   int first = n;
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(T) schedule(static) \
-    if (T > 1 && n >= RL_THREAD_MIN_BODIES) reduction(min : first)
+#pragma omp parallel num_threads(T) if (T > 1 && n >= RL_THREAD_MIN_BODIES) reduction(min : first)
 #endif
-  for (int i = 0; i < n; i++)
-    if (take_body(ff, sys, i, 1) && i < first) first = i;
+  {
+    int i0, i1;
+    rl_thread_range(n, &i0, &i1);
+    rl_system_site_positions_of(sys, i0, i1, ff->site);
+    for (int i = i0; i < i1; i++)
+      if (take_body(ff, sys, i, 1) && i < first) first = i;
+    const int s0 = i0 < n ? ff->body_site_off[i0] : ff->nsites;
+    const int s1 = i1 < n ? ff->body_site_off[i1] : ff->nsites;
+    if (s1 > s0) memset(ff->fs + s0, 0, sizeof *ff->fs * (size_t)(s1 - s0));
+    if (i1 > i0) memset(ff->tq + i0, 0, sizeof *ff->tq * (size_t)(i1 - i0));
+  }
   if (first < n) return take_body(ff, sys, first, 0);
-  memset(ff->fs, 0, sizeof *ff->fs * (size_t)ff->nsites);
-  memset(ff->tq, 0, sizeof *ff->tq * (size_t)n);
   rl_acc acc;
   memset(&acc, 0, sizeof acc);
   acc.fs = ff->fs;
@@ -649,11 +655,18 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
   double e_disp = 2.0 * M_PI / V * ff->disp_e;
   double p_disp = -2.0 * M_PI / (3.0 * V * V) * ff->disp_w;
 
-  rl_system_add_site_forces(sys, (const double(*)[3])ff->fs, out);
-  for (int i = 0; i < n; i++) {
-    int ri = ff->body_rot[i];
-    if (ri < 0) continue;
-    for (int c = 0; c < 3; c++) out->k[ri][c] += ff->tq[i][c];
+#ifdef _OPENMP
+#pragma omp parallel num_threads(T) if (T > 1 && n >= RL_THREAD_MIN_BODIES)
+#endif
+  {
+    int i0, i1;
+    rl_thread_range(n, &i0, &i1);
+    rl_system_add_site_forces_of(sys, (const double(*)[3])ff->fs, out, i0, i1);
+    for (int i = i0; i < i1; i++) {
+      int ri = ff->body_rot[i];
+      if (ri < 0) continue;
+      for (int c = 0; c < 3; c++) out->k[ri][c] += ff->tq[i][c];
+    }
   }
   ff->e.lj = acc.lj;
   ff->e.coulomb = acc.coul + e_intra;

@@ -41,6 +41,9 @@ typedef struct {
 /* Accumulate site forces fs[nsites][3] (lab) into body forces and torques
  * k += (r_a - r) x f_a.  For providers that work site by site. */
 void rl_system_add_site_forces(const rl_system *sys, const double (*fs)[3], rl_forces *out);
+/* The same for bodies [i0, i1) only (for threaded callers). */
+void rl_system_add_site_forces_of(const rl_system *sys, const double (*fs)[3], rl_forces *out,
+                                  int i0, int i1);
 
 /* ------------------------------------------------------------------------- integrator */
 

@@ -122,6 +122,8 @@ int rl_system_state_bytes(const rl_system *sys, int species);
 
 /* Lab positions of every site, [nsites][3], bodies in order, sites in species order. */
 void rl_system_site_positions(const rl_system *sys, double (*out)[3]);
+/* The same for bodies [i0, i1) only (out still indexed by site; for threaded callers). */
+void rl_system_site_positions_of(const rl_system *sys, int i0, int i1, double (*out)[3]);
 /* First site of `body` in the site arrays. */
 int rl_system_site_offset(const rl_system *sys, int body);
 

@@ -4,8 +4,9 @@
  * ("charge-lj"), and a mixture of all of them with general cross pairs.  Both cutoff schemes,
  * all four LJ truncations, a box whose half edge equals the cutoff (site images differ from the
  * centre image) and larger boxes (the kernels shift sites by the centres' image), a TIP4P whose
- * LJ site is listed last, 1 against 2 threads, reproducibility for a fixed thread count, the kernel
- * choice from site patterns, and the overlap error message. */
+ * LJ site is listed last, 1 against 2 and 3 threads (a mixture and neat liquids),
+ * reproducibility for a fixed thread count and for repeated computes, the kernel choice from
+ * site patterns, and the overlap error message. */
 #include "ff_testutil.h"
 
 typedef struct {
@@ -138,19 +139,28 @@ static void sweep(scene *s, rl_ff_params *p, const char *label, const char *kern
     }
 }
 
+/* 400 TIP4P-like waters at 33.4 / nm^3 (cutoff 0.7 nm), or 500 point dipoles at 25 / nm^3
+ * (cutoff 0.75 nm), and default parameters for the box. */
+static void neat_scene(scene *s, gsl_rng *rng, int water, rl_ff_params *p)
+{
+  *s = (scene){.nsp = 1};
+  if (water) ff_water(&s->sp[0]);
+  else ff_stockmayer(&s->sp[0], 0.05);
+  int cnt[1] = {water ? 400 : 500};
+  scene_build(s, rng, RL_UNITS_REAL, cnt, water ? 33.4 : 25.0, water ? 0.25 : 0.27, 0.0);
+  rl_ff_params_default(p);
+  p->box[0] = p->box[1] = p->box[2] = s->L;
+  p->cutoff = water ? 0.7 : 0.75;
+}
+
 static void test_tip4p(void **state)
 {
   (void)state;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 11);
-  scene s = {.nsp = 1};
-  ff_water(&s.sp[0]);
-  int cnt[1] = {400};
-  scene_build(&s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
+  scene s;
   rl_ff_params p;
-  rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = s.L;
-  p.cutoff = 0.7;
+  neat_scene(&s, rng, 1, &p);
   sweep(&s, &p, "tip4p liquid (400)", "tip4p");
   setenv("ROTLEAP_NO_AVX512", "1", 1); /* the portable fill and scatter (see test_stockmayer) */
   sweep(&s, &p, "tip4p liquid (400), ROTLEAP_NO_AVX512", "tip4p");
@@ -289,14 +299,9 @@ static void test_stockmayer(void **state)
   (void)state;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 13);
-  scene s = {.nsp = 1};
-  ff_stockmayer(&s.sp[0], 0.05);
-  int cnt[1] = {500};
-  scene_build(&s, rng, RL_UNITS_REAL, cnt, 25.0, 0.27, 0.0);
+  scene s;
   rl_ff_params p;
-  rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = s.L;
-  p.cutoff = 0.75;
+  neat_scene(&s, rng, 0, &p);
   p.eps_rf = 1.0; /* plain truncation (LAMMPS lj/cut/dipole/cut) */
   sweep(&s, &p, "stockmayer, RF eps_rf = 1", "stockmayer");
   p.eps_rf = 78.3;
@@ -402,6 +407,51 @@ static void test_mixture(void **state)
 }
 
 /* Kernel choice follows the site pattern; an LJ override that breaks it falls back. */
+/* A neat liquid on 1, 2 and 3 threads: each thread zeroes and the sums read only the ranks its
+ * rows write (tlo..thi in ff_fast.c), so 2 and 3 threads must agree with 1 to round-off, and a
+ * second compute with the same force field must repeat the first bit for bit (a rank left
+ * unzeroed would add the last compute's forces again). */
+static void threads_neat(scene *s, const rl_ff_params *p, const char *label)
+{
+  rl_forcefield *f1 = make(s, p, RL_KERNEL_AUTO, 1), *f2 = make(s, p, RL_KERNEL_AUTO, 2),
+                *f3 = make(s, p, RL_KERNEL_AUTO, 3);
+  char what[200];
+  snprintf(what, sizeof what, "%s, 1 thread vs 2 threads", label);
+  compare(f1, f2, s->sys, what, 1e-13);
+  snprintf(what, sizeof what, "%s, 1 thread vs 3 threads", label);
+  compare(f1, f3, s->sys, what, 1e-13);
+  for (int t = 2; t <= 3; t++) {
+    rl_forcefield *f = t == 2 ? f2 : f3;
+    snprintf(what, sizeof what, "%s, %d threads, the same force field twice", label, t);
+    double w = compare(f, f, s->sys, what, 0.0);
+    snprintf(what, sizeof what, "%s, %d threads twice: bit-identical", label, t);
+    FF_CHECK_TRUE(what, w == 0.0);
+  }
+  rl_forcefield_free(f1);
+  rl_forcefield_free(f2);
+  rl_forcefield_free(f3);
+}
+
+static void test_threads_neat(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 16);
+  for (int water = 0; water < 2; water++) {
+    scene s;
+    rl_ff_params p;
+    neat_scene(&s, rng, water, &p);
+    const char *label[2][2] = {{"stockmayer (500)", "stockmayer (500), ROTLEAP_NO_AVX512"},
+                               {"tip4p (400)", "tip4p (400), ROTLEAP_NO_AVX512"}};
+    threads_neat(&s, &p, label[water][0]);
+    setenv("ROTLEAP_NO_AVX512", "1", 1); /* the portable rows */
+    threads_neat(&s, &p, label[water][1]);
+    unsetenv("ROTLEAP_NO_AVX512");
+    rl_system_free(s.sys);
+  }
+  gsl_rng_free(rng);
+}
+
 static void test_choice(void **state)
 {
   (void)state;
@@ -498,7 +548,8 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_tip4p),   cmocka_unit_test(test_periodic_edge),
       cmocka_unit_test(test_stockmayer), cmocka_unit_test(test_charge_lj),
-      cmocka_unit_test(test_mixture), cmocka_unit_test(test_choice),
+      cmocka_unit_test(test_mixture), cmocka_unit_test(test_threads_neat),
+      cmocka_unit_test(test_choice),
       cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
