@@ -10,10 +10,13 @@
 #include <omp.h>
 #endif
 
-/* The per-body loops (kick, drift, rotations, the force field's copies) go parallel from this
- * many bodies on; below it the threads' start costs more than the loop. */
+/* The per-body loops (kick, drift, rotations, the force field's copies and checks) go parallel
+ * from this many bodies on; below it the threads' start costs about what they save.  It was
+ * 2,048: with the pair loop's threads already running, 1,000 dipoles on two threads stepped
+ * 5-8 % faster at 512, and 512 dipoles or TIP4P were even within noise (ffbench time,
+ * alternating runs, issue 8). */
 #ifndef RL_THREAD_MIN_BODIES
-#define RL_THREAD_MIN_BODIES 2048
+#define RL_THREAD_MIN_BODIES 512
 #endif
 
 /* This thread's share [*i0, *i1) of n items, in thread order (the whole of it outside a parallel

@@ -115,10 +115,9 @@ struct fast_species {
 };
 
 typedef struct {
-  int *f, *g;                    /* kernel / reference neighbours of this thread's rows */
-  int *cand;                     /* [n + 16] scratch: one row's candidates within rlist */
+  int *f, *g;                    /* kernel / reference neighbours of this chunk's rows  */
   long fcap, gcap, fn, gn;
-} thread_rows;
+} chunk_rows;
 
 struct rl_ff_fast {
   int nthreads;
@@ -133,7 +132,10 @@ struct rl_ff_fast {
   int *thi;                      /* [nthreads] thread t's rows write the kernel buffers   */
                                  /* (pfs, ptq, pft, pft4) of ranks [tlo[t], thi[t])    */
   int *rmax;                     /* [n] highest rank of row m and its kernel neighbours   */
-  thread_rows *tr;               /* [nthreads]                                          */
+  int nchunk;                    /* the list build's rows in chunks, threads take them  */
+  chunk_rows *tr;                /* [nchunk] in turn (dynamic: the first ranks have more */
+                                 /* candidates of higher rank)                          */
+  int **cand;                    /* [nthreads][n + 16] one row's candidates within rlist */
   int *cell_of, *cell_start, *cell_body; /* cell list workspace                          */
   int ncell_cap;
   double *bx;                    /* x512: [3 n] centres by rank, x then y then z (scan512) */
@@ -1450,8 +1452,11 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->fstart); free(f->gstart); free(f->fnbr); free(f->gnbr);
   free(f->tlo); free(f->thi); free(f->rmax);
   if (f->tr)
-    for (int t = 0; t < f->nthreads; t++) { free(f->tr[t].f); free(f->tr[t].g); free(f->tr[t].cand); }
+    for (int c = 0; c < f->nchunk; c++) { free(f->tr[c].f); free(f->tr[c].g); }
   free(f->tr);
+  if (f->cand)
+    for (int t = 0; t < f->nthreads; t++) free(f->cand[t]);
+  free(f->cand);
   free(f->cell_of); free(f->cell_start); free(f->cell_body); free(f->bx);
   free(f->fsbuf); free(f->tqbuf);
   free(f->acc);
@@ -1490,7 +1495,9 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->tlo = calloc((size_t)T + 1, sizeof(int));
   f->thi = calloc((size_t)T, sizeof(int));
   f->rmax = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
-  f->tr = calloc((size_t)T, sizeof *f->tr);
+  f->nchunk = T > 1 ? 16 * T : 1;
+  f->tr = calloc((size_t)f->nchunk, sizeof *f->tr);
+  f->cand = calloc((size_t)T, sizeof *f->cand);
   f->acc = calloc((size_t)T, sizeof *f->acc);
   f->status = calloc((size_t)T, sizeof *f->status);
   f->mode = calloc((size_t)(ff->nspecies > 0 ? ff->nspecies : 1), sizeof *f->mode);
@@ -1510,15 +1517,15 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
-  if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax || !f->tr || !f->acc ||
-      !f->status || !f->mode || !f->ord || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
+  if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax ||
+      !f->tr || !f->cand || !f->acc || !f->status || !f->mode || !f->ord || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
       !f->V.site || !f->V.dsite || !f->pfs || !f->ptq || !f->cell_of || !f->cell_body ||
       (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
   }
   for (int t = 0; t < T; t++)
-    if (!(f->tr[t].cand = malloc(sizeof(int) * (n1 + 16)))) { /* scan512 stores 16 at a time */
+    if (!(f->cand[t] = malloc(sizeof(int) * (n1 + 16)))) { /* scan512 stores 16 at a time */
       rl_ff_fast_free(f);
       return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
     }
@@ -1600,7 +1607,8 @@ RL_T512 static int scan512(const double *X, const double *Y, const double *Z, co
 {
 #define RL_CUR _MM_FROUND_CUR_DIRECTION
   const __m512d c[3] = {_mm512_set1_pd(ri[0]), _mm512_set1_pd(ri[1]), _mm512_set1_pd(ri[2])};
-  const __m512d L[3] = {_mm512_set1_pd(box->L[0]), _mm512_set1_pd(box->L[1]), _mm512_set1_pd(box->L[2])};
+  const __m512d L[3] = {_mm512_set1_pd(box->L[0]), _mm512_set1_pd(box->L[1]),
+                        _mm512_set1_pd(box->L[2])};
   const __m512d iL[3] = {_mm512_set1_pd(box->invL[0]), _mm512_set1_pd(box->invL[1]),
                          _mm512_set1_pd(box->invL[2])};
   const __m512d big = _mm512_set1_pd(6755399441055744.0), R2 = _mm512_set1_pd(rl2);
@@ -1695,97 +1703,104 @@ static int build(rl_forcefield *ff)
     }
   neat &= live_species == 1;
   const double(*cr)[3] = (const double(*)[3])f->V.c;
-  /* rows: thread t scans ranks m in [n t / T, n (t+1) / T); body i = ord[m] lists the j of
-   * higher rank, kernel pairs by rank, reference pairs by body; lengths go to f/gstart[m+1] */
+  /* rows: chunk c holds ranks m in [n c / C, n (c+1) / C); body i = ord[m] lists the j of
+   * higher rank, kernel pairs by rank, reference pairs by body; lengths go to f/gstart[m+1].
+   * A chunk's rows do not depend on the thread that takes it. */
   int fail = 0;
+  const int C = f->nchunk;
 #pragma omp parallel num_threads(T) reduction(| : fail)
   {
-    int t = omp_get_thread_num();
-    thread_rows *tr = &f->tr[t];
-    tr->fn = tr->gn = 0;
-    int m0 = (int)((long)n * t / T), m1 = (int)((long)n * (t + 1) / T);
-    for (int mi = m0; mi < m1 && !fail; mi++) {
-      const int i = f->ord[mi];
-      int ki = ff->body_species[i];
-      int fast_i = f->sk[ki].kind != K_NONE;
-      long f0 = tr->fn, g0 = tr->gn;
-      const double *ri = cr[mi];
-      if (ff->sp_nsites[ki] > 0) {
-        if (cells) {
-          int id = f->cell_of[i];
-          int cx = id % nc[0], cy = (id / nc[0]) % nc[1], cz = id / (nc[0] * nc[1]);
-          int wx[2 * reach + 1], wy[2 * reach + 1], wz[2 * reach + 1]; /* wrapped, no `%` */
-          for (int d = -reach; d <= reach; d++) {
-            wx[d + reach] = cx + d < 0 ? cx + d + nc[0] : cx + d >= nc[0] ? cx + d - nc[0] : cx + d;
-            wy[d + reach] = cy + d < 0 ? cy + d + nc[1] : cy + d >= nc[1] ? cy + d - nc[1] : cy + d;
-            wz[d + reach] = cz + d < 0 ? cz + d + nc[2] : cz + d >= nc[2] ? cz + d - nc[2] : cz + d;
-          }
-          /* the candidates of higher rank within rlist, branch-free (about a quarter of the
-           * stencil's bodies are inside, a branch was mispredicted often); runs of cells
-           * along x are contiguous in rank unless the stencil wraps */
-          const int runs = cx - reach >= 0 && cx + reach < nc[0] ? 1 : 2 * reach + 1;
-          int lo[(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1)], hi[sizeof lo / sizeof *lo];
-          int nr = 0, nin = 0;
-          for (int dz = 0; dz <= 2 * reach; dz++)
-            for (int dy = 0; dy <= 2 * reach; dy++)
-              for (int r = 0; r < runs; r++) {
-                const int row = (wz[dz] * nc[1] + wy[dy]) * nc[0];
-                const int c0 = row + (runs == 1 ? wx[0] : wx[r]);
-                const int c1 = row + (runs == 1 ? wx[2 * reach] : wx[r]);
-                lo[nr] = f->cell_start[c0] > mi + 1 ? f->cell_start[c0] : mi + 1;
-                hi[nr] = f->cell_start[c1 + 1];
-                nr += hi[nr] > lo[nr];
-              }
-#if RL_X512
-          if (f->bx)
-            nin = scan512(f->bx, f->bx + n, f->bx + 2 * (size_t)n, ri, box, rl2, lo, hi, nr, tr->cand);
-          else
-#endif
-            for (int r = 0; r < nr; r++)
-              for (int m = lo[r]; m < hi[r]; m++) {
-                double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
-                for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
-                tr->cand[nin] = m;
-                nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
-              }
-          if (neat) { /* all kernel pairs: one copy */
-            if (tr->fn + nin > tr->fcap) {
-              long nc2 = tr->fcap ? 2 * tr->fcap : 4096;
-              while (nc2 < tr->fn + nin) nc2 *= 2;
-              int *p = realloc(tr->f, sizeof *p * (size_t)nc2);
-              if (!p) { fail = 1; break; }
-              tr->f = p;
-              tr->fcap = nc2;
+    int *cand = f->cand[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1)
+    for (int ch = 0; ch < C; ch++) {
+      chunk_rows *tr = &f->tr[ch];
+      tr->fn = tr->gn = 0;
+      int m0 = (int)((long)n * ch / C), m1 = (int)((long)n * (ch + 1) / C);
+      for (int mi = m0; mi < m1 && !fail; mi++) {
+        const int i = f->ord[mi];
+        int ki = ff->body_species[i];
+        int fast_i = f->sk[ki].kind != K_NONE;
+        long f0 = tr->fn, g0 = tr->gn;
+        const double *ri = cr[mi];
+        if (ff->sp_nsites[ki] > 0) {
+          if (cells) {
+            int id = f->cell_of[i];
+            int cx = id % nc[0], cy = (id / nc[0]) % nc[1], cz = id / (nc[0] * nc[1]);
+            int wx[2 * reach + 1], wy[2 * reach + 1], wz[2 * reach + 1]; /* wrapped, no `%` */
+            for (int d = -reach; d <= reach; d++) {
+              const int x = cx + d, y = cy + d, z = cz + d;
+              wx[d + reach] = x < 0 ? x + nc[0] : x >= nc[0] ? x - nc[0] : x;
+              wy[d + reach] = y < 0 ? y + nc[1] : y >= nc[1] ? y - nc[1] : y;
+              wz[d + reach] = z < 0 ? z + nc[2] : z >= nc[2] ? z - nc[2] : z;
             }
-            memcpy(tr->f + tr->fn, tr->cand, sizeof(int) * (size_t)nin);
-            tr->fn += nin;
-            nin = 0;
-          }
-          for (int q = 0; q < nin && !fail; q++) {
-            const int m = tr->cand[q], kj = f->V.sp[m];
-            if (ff->sp_nsites[kj] == 0) continue;
-            if (fast_i && kj == ki)
-              fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
+            /* the candidates of higher rank within rlist, branch-free (about a quarter of the
+             * stencil's bodies are inside, a branch was mispredicted often); runs of cells
+             * along x are contiguous in rank unless the stencil wraps */
+            const int runs = cx - reach >= 0 && cx + reach < nc[0] ? 1 : 2 * reach + 1;
+            int lo[(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1)], hi[sizeof lo / sizeof *lo];
+            int nr = 0, nin = 0;
+            for (int dz = 0; dz <= 2 * reach; dz++)
+              for (int dy = 0; dy <= 2 * reach; dy++)
+                for (int r = 0; r < runs; r++) {
+                  const int row = (wz[dz] * nc[1] + wy[dy]) * nc[0];
+                  const int c0 = row + (runs == 1 ? wx[0] : wx[r]);
+                  const int c1 = row + (runs == 1 ? wx[2 * reach] : wx[r]);
+                  lo[nr] = f->cell_start[c0] > mi + 1 ? f->cell_start[c0] : mi + 1;
+                  hi[nr] = f->cell_start[c1 + 1];
+                  nr += hi[nr] > lo[nr];
+                }
+  #if RL_X512
+            if (f->bx)
+              nin = scan512(f->bx, f->bx + n, f->bx + 2 * (size_t)n, ri, box, rl2, lo, hi, nr,
+                            cand);
             else
-              fail |= push(&tr->g, &tr->gcap, &tr->gn, f->ord[m]);
-          }
-        } else {
-          for (int j = i + 1; j < n && !fail; j++) { /* ord = identity */
-            if (ff->sp_nsites[ff->body_species[j]] == 0) continue;
-            double d[3] = {ri[0] - ff->centre[j][0], ri[1] - ff->centre[j][1],
-                           ri[2] - ff->centre[j][2]};
-            for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
-            if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rl2) continue;
-            if (fast_i && ff->body_species[j] == ki) fail |= push(&tr->f, &tr->fcap, &tr->fn, j);
-            else fail |= push(&tr->g, &tr->gcap, &tr->gn, j);
+  #endif
+              for (int r = 0; r < nr; r++)
+                for (int m = lo[r]; m < hi[r]; m++) {
+                  double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
+                  for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
+                  cand[nin] = m;
+                  nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
+                }
+            if (neat) { /* all kernel pairs: one copy */
+              if (tr->fn + nin > tr->fcap) {
+                long nc2 = tr->fcap ? 2 * tr->fcap : 4096;
+                while (nc2 < tr->fn + nin) nc2 *= 2;
+                int *p = realloc(tr->f, sizeof *p * (size_t)nc2);
+                if (!p) { fail = 1; break; }
+                tr->f = p;
+                tr->fcap = nc2;
+              }
+              memcpy(tr->f + tr->fn, cand, sizeof(int) * (size_t)nin);
+              tr->fn += nin;
+              nin = 0;
+            }
+            for (int q = 0; q < nin && !fail; q++) {
+              const int m = cand[q], kj = f->V.sp[m];
+              if (ff->sp_nsites[kj] == 0) continue;
+              if (fast_i && kj == ki)
+                fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
+              else
+                fail |= push(&tr->g, &tr->gcap, &tr->gn, f->ord[m]);
+            }
+          } else {
+            for (int j = i + 1; j < n && !fail; j++) { /* ord = identity */
+              if (ff->sp_nsites[ff->body_species[j]] == 0) continue;
+              double d[3] = {ri[0] - ff->centre[j][0], ri[1] - ff->centre[j][1],
+                             ri[2] - ff->centre[j][2]};
+              for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
+              if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rl2) continue;
+              if (fast_i && ff->body_species[j] == ki) fail |= push(&tr->f, &tr->fcap, &tr->fn, j);
+              else fail |= push(&tr->g, &tr->gcap, &tr->gn, j);
+            }
           }
         }
+        f->fstart[mi + 1] = (int)(tr->fn - f0);
+        f->gstart[mi + 1] = (int)(tr->gn - g0);
+        int top = mi;
+        for (long q = f0; q < tr->fn; q++) top = tr->f[q] > top ? tr->f[q] : top;
+        f->rmax[mi] = top;
       }
-      f->fstart[mi + 1] = (int)(tr->fn - f0);
-      f->gstart[mi + 1] = (int)(tr->gn - g0);
-      int top = mi;
-      for (long q = f0; q < tr->fn; q++) top = tr->f[q] > top ? tr->f[q] : top;
-      f->rmax[mi] = top;
     }
   }
   if (fail) return rl_error(RL_ENOMEM, "neighbour list: out of memory");
@@ -1807,10 +1822,10 @@ static int build(rl_forcefield *ff)
     f->gnbr = p;
     f->gcap = ng;
   }
-  for (int t = 0; t < T; t++) {
-    int i0 = (int)((long)n * t / T);
-    if (f->tr[t].fn) memcpy(f->fnbr + f->fstart[i0], f->tr[t].f, sizeof(int) * (size_t)f->tr[t].fn);
-    if (f->tr[t].gn) memcpy(f->gnbr + f->gstart[i0], f->tr[t].g, sizeof(int) * (size_t)f->tr[t].gn);
+  for (int c = 0; c < C; c++) {
+    int i0 = (int)((long)n * c / C);
+    if (f->tr[c].fn) memcpy(f->fnbr + f->fstart[i0], f->tr[c].f, sizeof(int) * (size_t)f->tr[c].fn);
+    if (f->tr[c].gn) memcpy(f->gnbr + f->gstart[i0], f->tr[c].g, sizeof(int) * (size_t)f->tr[c].gn);
   }
   /* compute ranges: equal shares of cost (row_cost) */
   double total = 0.0;
