@@ -632,7 +632,7 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
                                          const int *nbr, int len, int *pos, double rp2, int img,
                                          batch *b)
 {
-  const sep8_consts S = sep8_of(B, V->c[i]);
+  const sep8_consts S = sep8_of(B, V->pk4[i]); /* the record starts with the centre */
   const __m512d Lx = S.L[0], Ly = S.L[1], Lz = S.L[2], vrp2 = _mm512_set1_pd(rp2);
   const double rp = img ? sqrt(rp2) : 0.0;
   const __m512d nx = _mm512_set1_pd(B->L[0] - rp), ny = _mm512_set1_pd(B->L[1] - rp),
@@ -841,8 +841,9 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
   const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
   const lj_consts C = lj_of(&K->t[0]);
   double a[4][3], qq[3][3];
-  for (int s = 0; s < 4; s++)
-    for (int c = 0; c < 3; c++) a[s][c] = site_of_i(MODE, V, oi + K->perm[s])[c];
+  for (int s = 0; s < 4; s++) /* on AVX-512 (never P_SITE) from i's record: it alone is fresh */
+    for (int c = 0; c < 3; c++)
+      a[s][c] = X512 ? V->pk4[i][3 + 3 * s + c] : site_of_i(MODE, V, oi + K->perm[s])[c];
   for (int p = 0; p < 3; p++)
     for (int q = 0; q < 3; q++) qq[p][q] = K->t[1 + 3 * p + q].qq;
   batch b;
@@ -1930,13 +1931,22 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     } else
 #pragma omp for schedule(static)
     for (int m = 0; m < n; m++) {
-      const int i = ord[m], ns_i = ff->sp_nsites[ff->body_species[i]];
+      const int i = ord[m], k = ff->body_species[i], ns_i = ff->sp_nsites[k];
       const int oi = ff->body_site_off[i], om = V->soff[m];
+      const fast_species *K = &f->sk[k];
+      if (V->pk4 && K->kind == K_TIP4P && mode[k] != P_SITE) {
+        /* the AVX-512 TIP4P rows read only the records (and the list only kernel pairs, so no
+         * other species' row reads this rank) */
+        for (int c = 0; c < 3; c++) {
+          V->pk4[m][c] = ff->centre[i][c];
+          for (int s = 0; s < 4; s++) V->pk4[m][3 + 3 * s + c] = ff->dsite[oi + K->perm[s]][c];
+        }
+        continue;
+      }
       for (int c = 0; c < 3; c++) {
         V->c[m][c] = ff->centre[i][c];
         V->ax[m][c] = ff->axis[i][c];
       }
-      const fast_species *K = &f->sk[ff->body_species[i]];
       if (V->pk && K->kind == K_DIPOLE) { /* the AVX-512 dipole rows read no sites */
         for (int c = 0; c < 3; c++) {
           V->pk[m][c] = ff->centre[i][c];
@@ -1948,11 +1958,6 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
         for (int c = 0; c < 3; c++) {
           V->site[om + a][c] = ff->site[oi + a][c];
           V->dsite[om + a][c] = ff->dsite[oi + a][c];
-        }
-      if (V->pk4 && K->kind == K_TIP4P)
-        for (int c = 0; c < 3; c++) {
-          V->pk4[m][c] = ff->centre[i][c];
-          for (int s = 0; s < 4; s++) V->pk4[m][3 + 3 * s + c] = ff->dsite[oi + K->perm[s]][c];
         }
     } /* implicit barrier */
     double(*fs)[3] = t == 0 ? ff->fs : f->fsbuf + (size_t)(t - 1) * (size_t)ns;
@@ -2067,7 +2072,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       if (mv)
         for (int a = 0; a < 4; a++)
           for (int x = 0; x < 3; x++)
-            for (int y = 0; y < 3; y++) cv[3 * x + y] += V->dsite[om + a][x] * F[a][y];
+            for (int y = 0; y < 3; y++) cv[3 * x + y] += ff->dsite[oi + a][x] * F[a][y];
     }
     for (int c = 0; c < 9; c++) f->acc[t].vir[c] += cv[c]; /* this thread's: read in order below */
   }
