@@ -49,8 +49,9 @@ struct rl_integrator {
 };
 
 /* The per-body loops of a step run on in->threads threads (from RL_THREAD_MIN_BODIES bodies on,
- * which pay for the threads' start).  Their kinetic-energy sums are formed per block of RL_SUM_BLOCK
- * bodies and the blocks added in order, so the result does not depend on the thread count. */
+ * which pay for the threads' start).  Their kinetic-energy sums are formed per block of
+ * RL_SUM_BLOCK bodies and the blocks added in order, so the result does not depend on the thread
+ * count. */
 #define RL_SUM_BLOCK 1024
 static int nblocks(int count) { return (count + RL_SUM_BLOCK - 1) / RL_SUM_BLOCK; }
 

@@ -674,7 +674,7 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
         /* a neighbour's images follow it, as in take_candidate: each of the eight in list
          * order, its minimum image (m = 0) then its other images m = 1 .. 7 (other_images'
          * order), from the vectors' lanes (before 2026-11-22 the eight went one by one through
-         * take_candidate: a tenth of the 256-TIP4P kernel) */
+         * take_candidate; other_images alone was 4 % of a 256-TIP4P step in perf) */
         _Alignas(64) double u[2][8], v[2][8], w[2][8];
         _mm512_store_pd(u[0], X); _mm512_store_pd(u[1], xs[1]);
         _mm512_store_pd(v[0], Y); _mm512_store_pd(v[1], ys[1]);
@@ -1536,8 +1536,9 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
   if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax ||
-      !f->tr || !f->cand || !f->acc || !f->status || !f->mode || !f->ord || !f->V.soff || !f->V.sp || !f->V.c || !f->V.ax ||
-      !f->V.site || !f->V.dsite || !f->pfs || !f->ptq || !f->cell_of || !f->cell_body ||
+      !f->tr || !f->cand || !f->acc || !f->status || !f->mode || !f->ord || !f->V.soff ||
+      !f->V.sp || !f->V.c || !f->V.ax || !f->V.site || !f->V.dsite || !f->pfs || !f->ptq ||
+      !f->cell_of || !f->cell_body ||
       (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
@@ -1615,7 +1616,7 @@ static int push(int **a, long *cap, long *len, int v)
 #if RL_X512
 /* The list build's candidates on AVX-512: of the ranks in the runs [lo[r], hi[r]), those whose
  * centre (X, Y, Z by rank) lies within rlist of ri, in rank order, eight at a time, packed
- * with vpcompressd (the scalar loop was a tenth of a 64,000-dipole step, issue 8).  The
+ * with vpcompressd (the scalar loop was 11 % of a 64,000-dipole step in perf, issue 8).  The
  * separation, its image and r^2 take the scalar loop's operations in its order, each rounded
  * once (the _round_ forms are not fused into FMAs under -ffp-contract=fast), so both keep the
  * same pairs to the last bit.  Stores 16 indices at a time: cand needs 16 slots of slack. */
@@ -1767,12 +1768,12 @@ static int build(rl_forcefield *ff)
                   hi[nr] = f->cell_start[c1 + 1];
                   nr += hi[nr] > lo[nr];
                 }
-  #if RL_X512
+#if RL_X512
             if (f->bx)
               nin = scan512(f->bx, f->bx + n, f->bx + 2 * (size_t)n, ri, box, rl2, lo, hi, nr,
                             cand);
             else
-  #endif
+#endif
               for (int r = 0; r < nr; r++)
                 for (int m = lo[r]; m < hi[r]; m++) {
                   double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
