@@ -236,8 +236,9 @@ static int tether(void *ctx, const rl_system *sys, rl_forces *out)
 
 /* The per-body loops of a step (kick, drift, kinetic sums, the dipoles' and rods' rotations)
  * on 1, 2 and 3 threads: bit for bit the same trajectory.  Enough bodies of each species to
- * take the threads (2,048) and to span several summation blocks with a partial last one; the
- * Bussi thermostat makes the trajectory depend on the kinetic sums' rounding. */
+ * take the threads (RL_THREAD_MIN_BODIES, 512) and to span several summation blocks with a
+ * partial last one; the Bussi thermostat makes the trajectory depend on the kinetic sums'
+ * rounding. */
 static void threaded_body_loops(void **state)
 {
   (void)state;
