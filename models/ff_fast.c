@@ -138,7 +138,7 @@ struct rl_ff_fast {
   int **cand;                    /* [nthreads][n + 16] one row's candidates within rlist */
   int *cell_of, *cell_start, *cell_body; /* cell list workspace                          */
   int ncell_cap;
-  double *bx;                    /* x512: [3 n] centres by rank, x then y then z (scan512) */
+  double *bx;                    /* [3 n] centres by rank, x then y then z: the build's scan */
   double (*fsbuf)[3];            /* [(nthreads - 1) nsites]                             */
   double (*tqbuf)[3];            /* [(nthreads - 1) n]                                  */
   rl_acc *acc;                   /* [nthreads]                                          */
@@ -1531,6 +1531,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->V.dsite = malloc(sizeof *f->V.dsite * s1);
   f->pfs = calloc(s1 * (size_t)T, sizeof *f->pfs); /* zero between computes (see the sums) */
   f->ptq = calloc(n1 * (size_t)T, sizeof *f->ptq);
+  f->bx = malloc(sizeof *f->bx * 3 * n1);
   if (T > 1) {
     f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
@@ -1538,7 +1539,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax ||
       !f->tr || !f->cand || !f->acc || !f->status || !f->mode || !f->ord || !f->V.soff ||
       !f->V.sp || !f->V.c || !f->V.ax || !f->V.site || !f->V.dsite || !f->pfs || !f->ptq ||
-      !f->cell_of || !f->cell_body ||
+      !f->cell_of || !f->cell_body || !f->bx ||
       (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
@@ -1582,8 +1583,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
       f->V.pk4 = alloc_records(sizeof *f->V.pk4 * n1);
       f->pft4 = alloc_records(sizeof *f->pft4 * n1 * T1);
     }
-    f->bx = malloc(sizeof *f->bx * 3 * n1);
-    if ((f->ndip && (!f->V.pk || !f->pft)) || (f->ntip4p && (!f->V.pk4 || !f->pft4)) || !f->bx) {
+    if ((f->ndip && (!f->V.pk || !f->pft)) || (f->ntip4p && (!f->V.pk4 || !f->pft4))) {
       rl_ff_fast_free(f);
       return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
     }
@@ -1709,9 +1709,8 @@ static int build(rl_forcefield *ff)
     f->V.soff[m] = o;
     f->V.sp[m] = ff->body_species[i];
     o += ff->sp_nsites[f->V.sp[m]];
-    for (int c = 0; c < 3; c++) f->V.c[m][c] = ff->centre[i][c]; /* candidates read these */
-    if (f->bx)
-      for (int c = 0; c < 3; c++) f->bx[(size_t)c * (size_t)n + (size_t)m] = ff->centre[i][c];
+    for (int c = 0; c < 3; c++) /* the scan reads these */
+      f->bx[(size_t)c * (size_t)n + (size_t)m] = ff->centre[i][c];
   }
   /* one species with a kernel and sites (a neat liquid): every candidate is a kernel pair */
   int live_species = 0, neat = 1;
@@ -1721,7 +1720,7 @@ static int build(rl_forcefield *ff)
       neat &= f->sk[k].kind != K_NONE && ff->sp_nsites[k] > 0;
     }
   neat &= live_species == 1;
-  const double(*cr)[3] = (const double(*)[3])f->V.c;
+  const double *bx = f->bx, *by = bx + n, *bz = bx + 2 * (size_t)n;
   /* rows: chunk c holds ranks m in [n c / C, n (c+1) / C); body i = ord[m] lists the j of
    * higher rank, kernel pairs by rank, reference pairs by body; lengths go to f/gstart[m+1].
    * A chunk's rows do not depend on the thread that takes it. */
@@ -1740,7 +1739,7 @@ static int build(rl_forcefield *ff)
         int ki = ff->body_species[i];
         int fast_i = f->sk[ki].kind != K_NONE;
         long f0 = tr->fn, g0 = tr->gn;
-        const double *ri = cr[mi];
+        const double ri[3] = {bx[mi], by[mi], bz[mi]};
         if (ff->sp_nsites[ki] > 0) {
           if (cells) {
             int id = f->cell_of[i];
@@ -1769,14 +1768,13 @@ static int build(rl_forcefield *ff)
                   nr += hi[nr] > lo[nr];
                 }
 #if RL_X512
-            if (f->bx)
-              nin = scan512(f->bx, f->bx + n, f->bx + 2 * (size_t)n, ri, box, rl2, lo, hi, nr,
-                            cand);
+            if (f->x512)
+              nin = scan512(bx, by, bz, ri, box, rl2, lo, hi, nr, cand);
             else
 #endif
               for (int r = 0; r < nr; r++)
                 for (int m = lo[r]; m < hi[r]; m++) {
-                  double d[3] = {ri[0] - cr[m][0], ri[1] - cr[m][1], ri[2] - cr[m][2]};
+                  double d[3] = {ri[0] - bx[m], ri[1] - by[m], ri[2] - bz[m]};
                   for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
                   cand[nin] = m;
                   nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
