@@ -150,8 +150,12 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
   rl_atomic_file af;
   if (rl_atomic_open(&af, path)) return 1;
   FILE *f = af.fp;
-  fprintf(f, "# rotleap results over this invocation's %ld steps (block-averaged standard errors, "
-             "Flyvbjerg-Petersen)\n", rl_series_count(a->U));
+  if (d->energy_every > 1)
+    fprintf(f, "# rotleap results over %ld of this invocation's steps, one in %ld (output.energy_every; "
+               "block-averaged standard errors, Flyvbjerg-Petersen)\n", rl_series_count(a->U), d->energy_every);
+  else
+    fprintf(f, "# rotleap results over this invocation's %ld steps (block-averaged standard errors, "
+               "Flyvbjerg-Petersen)\n", rl_series_count(a->U));
   line_block(f, "U_per_molecule", a->U, E);
   line_block(f, "temperature", a->T, real ? "K" : "");
   line_block(f, "temperature_translational", a->Tt, real ? "K" : "");

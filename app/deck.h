@@ -34,6 +34,7 @@ typedef struct {
   /* [output] */
   char prefix[512];
   long thermo_every;
+  long energy_every;        /* potential energy and virial every this many steps        */
   long checkpoint_every;    /* 0: only at the end                                        */
   long trajectory_every;    /* 0: none                                                   */
   long sample_every;        /* configurations for RDFs and correlation functions         */

@@ -23,7 +23,7 @@ int rl_app_energy(const rl_deck *d, int json)
   scene s;
   if (scene_build(d, &s)) { fprintf(stderr, "rotleap energy: %s\n", rl_last_error()); scene_free(&s); return 1; }
   int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
-  rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])), 0.0, {0}};
+  rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])), 0.0, {0}, 0};
   int st = F.f && F.k ? rl_forcefield_compute(s.ff, s.sys, &F) : RL_ENOMEM;
   if (st) {
     fprintf(stderr, "rotleap energy: %s\n", rl_last_error());
@@ -233,6 +233,7 @@ int rl_app_run(const rl_deck *d)
   p.groups = d->thermostat_groups;
   p.force_general = d->force_general;
   p.threads = d->ff.threads; /* run.threads: the rotation solves too */
+  p.energy_every = d->energy_every;
   if (!st) in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
   run_blob rec;
   size_t hdr = 0;
@@ -284,7 +285,7 @@ int rl_app_run(const rl_deck *d)
   double t0 = now(), last_progress = 0.0;
   long done = 0, fallbacks = 0;
   int nrot = rl_system_nrot(s.sys);
-  rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}};
+  rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}, 0};
   rl_forces *fsnap = &fsnap_store;
   char chk_path[600];
   snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
@@ -301,44 +302,57 @@ int rl_app_run(const rl_deck *d)
     st = RL_EINVAL;
   }
   for (long k = first; !st && k < d->steps; k++) {
+    /* the energies, virial and averages on the steps of output.energy_every (the integrator
+     * computes forces only on the others; init and resume always compute all) */
+    const int ev = k % d->energy_every == 0;
     rl_ff_energies e;
     rl_forcefield_energies(s.ff, &e); /* terms at the current time t */
     const rl_forces *F = rl_integrator_forces(in);
     double virial[9];
-    memcpy(virial, F->virial, sizeof virial);
-    memcpy(fsnap->f, F->f, sizeof(double[3]) * (size_t)n);
-    if (nrot) memcpy(fsnap->k, F->k, sizeof(double[3]) * (size_t)nrot);
+    if (ev) {
+      memcpy(virial, F->virial, sizeof virial);
+      memcpy(fsnap->f, F->f, sizeof(double[3]) * (size_t)n);
+      if (nrot) memcpy(fsnap->k, F->k, sizeof(double[3]) * (size_t)nrot);
+    }
     rl_step_info info;
     st = rl_integrator_step(in, &info);
     if (st) { /* the library's message names the step and the cause */
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
-    if ((st = scene_watch_step(d, &s, &watch, &info, k, d->timestep, "run.timestep"))) {
+    if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
+      fprintf(stderr, "rotleap run: internal error: no energies at step %ld\n", k);
+      st = RL_ESTATE;
+      break;
+    }
+    if ((st = scene_watch_step(d, &s, &watch, &info, k, d->energy_every, d->timestep, "run.timestep"))) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
-    rl_forces Ft = {NULL, NULL, 0.0, {0}};
-    memcpy(Ft.virial, virial, sizeof virial);
-    double pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
-    analysis_step(an, &info, pr, fsnap, s.sys);
+    double pr = 0.0;
+    if (ev) {
+      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
+      memcpy(Ft.virial, virial, sizeof virial);
+      pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+      analysis_step(an, &info, pr, fsnap, s.sys);
+      run_add(&E, info.total);
+      run_add(&U, info.potential);
+      run_add(&T, info.temperature);
+      run_add(&Tt, info.t_trans);
+      run_add(&Tr, info.t_rot);
+      run_add(&P, pr);
+    }
     if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && analysis_sample(an, s.sys)) {
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
       st = RL_EINVAL;
     }
-    run_add(&E, info.total);
-    run_add(&U, info.potential);
-    run_add(&T, info.temperature);
-    run_add(&Tt, info.t_trans);
-    run_add(&Tr, info.t_rot);
-    run_add(&P, pr);
     done++;
     if (tr.every && (k + 1) % tr.every == 0 && traj_frame(&tr, &s, d, rl_integrator_time(in), k + 1)) {
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
       st = RL_EINVAL;
     }
     if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps) {
-      run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0, 0, 0};
+      run_blob b = {"", 0, E, U, T, Tt, Tr, P, k + 1, 0, 0, 0};
       if (write_checkpoint(d, &s, in, &b, chk_path)) {
         fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
         st = RL_EINVAL;
@@ -365,7 +379,7 @@ int rl_app_run(const rl_deck *d)
   free(fsnap_store.f);
   free(fsnap_store.k);
   if (!st && in) { /* the final state, for a continuation */
-    run_blob b = {"", 0, E, U, T, Tt, Tr, P, E.n, 0, 0, 0};
+    run_blob b = {"", 0, E, U, T, Tt, Tr, P, first + done, 0, 0, 0};
     if (write_checkpoint(d, &s, in, &b, chk_path)) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       st = RL_EINVAL;
@@ -381,15 +395,15 @@ int rl_app_run(const rl_deck *d)
   snprintf(text, sizeof text,
            "# rotleap %s summary of %s\n"
            "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
-           "timestep = %g %s\nwall_seconds = %.3f\nfallbacks = %ld\n"
+           "timestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\nwall_seconds = %.3f\nfallbacks = %ld\n"
            "U_per_molecule = %.8g +- sd %.3g %s\n"
            "temperature = %.6g (translational %.6g, rotational %.6g) %s\n"
            "pressure = %.6g +- sd %.3g %s\n"
            "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n"
            "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n"
            "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
-           ROTLEAP_VERSION, d->path, st ? "error" : "ok", E.n, d->steps, done, d->model->name, n,
-           d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), wall, fallbacks,
+           ROTLEAP_VERSION, d->path, st ? "error" : "ok", first + done, d->steps, done, d->model->name, n,
+           d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every, wall, fallbacks,
            U.mean / n, run_sd(&U) / n, energy_unit(d), T.mean, Tt.mean, Tr.mean,
            d->units == RL_UNITS_LJ ? "" : "K", P.mean, run_sd(&P), pressure_unit(d),
            E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0,

@@ -159,7 +159,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   analysis *an = o->analysis && sys ? analysis_alloc(d, &base->mol, sys) : NULL;
   int nrot = sys ? rl_system_nrot(sys) : 0;
   rl_forces snap = {o->analysis ? calloc((size_t)n, sizeof(double[3])) : NULL,
-                    o->analysis ? calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])) : NULL, 0.0, {0}};
+                    o->analysis ? calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])) : NULL, 0.0, {0}, 0};
   int st = !sys || !ff || !E || !U || !r->curve || (sample && !r->rdf) ||
            (o->analysis && (!an || !snap.f || !snap.k)) ? RL_EINVAL : RL_OK;
   if (!st) {
@@ -193,7 +193,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     double t0 = now();
     st = rl_integrator_step(in, &info);
     wall += now() - t0;
-    if (st || (st = scene_watch_step(d, base, &watch, &info, k, r->h, "the time step"))) break;
+    if (st || (st = scene_watch_step(d, base, &watch, &info, k, 1, r->h, "the time step"))) break;
     rl_series_add(E, info.conserved);
     rl_series_add(U, info.potential);
     st_sum += info.t; stt += info.t * info.t; sE += info.conserved; stE += info.t * info.conserved;
@@ -206,7 +206,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
       c[0] = (double)k; c[1] = info.t; c[2] = done > 1 ? rl_series_rel_fluct(E) : 0.0;
     }
     if (an) {
-      rl_forces Ft = {NULL, NULL, 0.0, {0}};
+      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, snap.virial, sizeof Ft.virial);
       analysis_step(an, &info, scene_pressure_out(d, rl_forcefield_pressure(ff, &Ft, info.ke_trans)), &snap, sys);
     }

@@ -38,9 +38,12 @@ typedef struct {
   double max_rate;        /* the largest drift seen, kT per molecule per time unit (signed) */
 } scene_watch;
 void scene_watch_init(scene_watch *w);
-/* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce. */
+/* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce.  The
+ * energy checks run on the steps that are multiples of every (output.energy_every; their info
+ * has its energies) and compare with the previous such step; the displacement check on every
+ * step. */
 int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long step,
-                     double h, const char *dt_name);
+                     long every, double h, const char *dt_name);
 /* Pressure from kJ/mol/nm^3 to the deck's output unit (bar for real units). */
 double scene_pressure_out(const rl_deck *d, double p);
 /* A checkpoint stores the half-step v(t - h/2), l(t - h/2) of the run that wrote it; for a new

@@ -1,6 +1,7 @@
 /* bench/ffbench: the cost of a whole MD step with the force field (issue 8).
  *
- *   ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve STEPS2]
+ *   ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve STEPS2] [--langevin]
+ *                [--energy-every E]
  *       MODEL tip4p: TIP4P, 298 K, 1 g/cm3, RF eps_rf 78.3, site cutoff 0.9 nm, plain LJ, h 2 fs.
  *       MODEL stockmayer: rho* 0.8, T* 1.35, mu*^2 3, I* 0.025, cutoff 2.5, plain LJ and plain
  *       dipole truncation (RF with eps_rf = 1; LAMMPS lj/cut/dipole/cut), h = 0.002.
@@ -9,6 +10,9 @@
  *       provider is wrapped and timed), memory per molecule (resident set growth / N), pairs.
  *       --dump FILE writes the relaxed state for the OpenMM / LAMMPS drivers (bench/openmm_tip4p.py, bench/lammps_stockmayer.py);
  *       --nve S2 then runs S2 NVE steps and reports the energy drift and fluctuation.
+ *       --energy-every E: the potential energy and virial every E steps only (the integrator's
+ *       energy_every; the other steps compute forces only, as OpenMM's step() and LAMMPS
+ *       between thermo steps do); U_per_molecule is computed again after the timed steps.
  *   ffbench scaling MODEL THREADS [NMAX]
  *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
  *       side (alternating, best of 3), the log-log slope of the auto kernel, memory per molecule.
@@ -161,12 +165,13 @@ static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel
 }
 
 /* Continue at the production step (NVE, Bussi, or Langevin if langevin) from the relaxed state. */
-static void restart(bench_sys *b, int nve, int langevin)
+static void restart_every(bench_sys *b, int nve, int langevin, long energy_every)
 {
   rl_integrator_free(b->in);
   rl_integrator_params ip;
   rl_integrator_params_default(&ip);
   ip.h = b->h;
+  ip.energy_every = energy_every;
   ip.threads = rl_forcefield_threads(b->ff); /* the rotation solves on the pair loop's threads */
   if (!nve) {
     ip.thermostat = langevin ? RL_THERMO_LANGEVIN : RL_THERMO_BUSSI;
@@ -177,6 +182,8 @@ static void restart(bench_sys *b, int nve, int langevin)
   b->in = rl_integrator_alloc(b->sys, &ip, (rl_force_provider){timed_compute, &b->w});
   if (!b->in || rl_integrator_init(b->in)) die("integrator");
 }
+
+static void restart(bench_sys *b, int nve, int langevin) { restart_every(b, nve, langevin, 1); }
 
 static void run(bench_sys *b, int steps, rl_step_info *last)
 {
@@ -231,34 +238,48 @@ static void dump(bench_sys *b, const char *path)
 
 static int cmd_time(int argc, char **argv)
 {
-  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin]\n"); return 2; }
+  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E]\n"); return 2; }
   const char *model = argv[2];
   int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0, langevin = 0;
+  long energy_every = 1;
   rl_kernel_choice kernel = RL_KERNEL_AUTO;
   const char *dumpfile = NULL;
   for (int k = 6; k < argc; k++) {
     if (!strcmp(argv[k], "general")) kernel = RL_KERNEL_GENERAL;
+    else if (!strcmp(argv[k], "auto")) kernel = RL_KERNEL_AUTO;
     else if (!strcmp(argv[k], "--dump") && k + 1 < argc) dumpfile = argv[++k];
     else if (!strcmp(argv[k], "--nve") && k + 1 < argc) nve = atoi(argv[++k]);
     else if (!strcmp(argv[k], "--langevin")) langevin = 1; /* the timed steps under Langevin, not Bussi */
+    else if (!strcmp(argv[k], "--energy-every") && k + 1 < argc) energy_every = atol(argv[++k]);
+    else { fprintf(stderr, "ffbench time: unknown argument %s\n", argv[k]); return 2; }
+  }
+  if (energy_every < 1 || (nve > 0 && energy_every != 1)) {
+    fprintf(stderr, "ffbench time: --energy-every must be >= 1, and 1 with --nve (its energies)\n");
+    return 2;
   }
   bench_sys b;
   setup(&b, model, n, threads, kernel);
   int relax = n >= 16384 ? 20 : 200;
   run(&b, relax, NULL);
-  restart(&b, nve > 0, langevin);
+  restart_every(&b, nve > 0, langevin, energy_every);
   run(&b, 5, NULL); /* warm-up at the production step */
   double share, t = timed(&b, steps, &share);
   rl_ff_energies e;
-  rl_forcefield_energies(b.ff, &e);
-  printf("model=%s N=%d threads=%d kernel=%s thermostat=%s ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+  { /* the energy at the end, computed again (the last step's may have been forces only) */
+    rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}, 0};
+    if (rl_forcefield_compute(b.ff, b.sys, &F)) die("compute");
+    rl_forcefield_energies(b.ff, &e);
+    free(F.f);
+    free(F.k);
+  }
+  printf("model=%s N=%d threads=%d kernel=%s thermostat=%s energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
          "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
          model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff),
-         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", 1e3 * t, share,
+         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", energy_every, 1e3 * t, share,
          1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
   if (dumpfile) {
     /* the energy of exactly the dumped configuration */
-    rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}};
+    rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}, 0};
     if (rl_forcefield_compute(b.ff, b.sys, &F)) die("compute");
     rl_forcefield_energies(b.ff, &e);
     printf("dump=%s U=%.15g U_lj=%.15g U_coulomb=%.15g U_dipolar=%.15g\n", dumpfile, e.total, e.lj,
@@ -411,7 +432,7 @@ static int cmd_kernel(int argc, char **argv)
     run(&b[v], n >= 16384 ? 20 : 200, NULL);
     if (v == 1) unsetenv(env);
   }
-  rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}};
+  rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}, 0};
   double *t = malloc(sizeof *t * (size_t)rounds * 2);
   if (!F.f || !F.k || !t) die("memory");
   const int per = (int)fmax(1.0, 20000.0 / n); /* calls per round: ~10 ms or more */

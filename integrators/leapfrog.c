@@ -137,6 +137,9 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
   if (p->threads < 0)
     return rl_error(RL_EINVAL, "integrator threads = %d must be >= 0 (0: OMP_NUM_THREADS if set, "
                     "else 1)", p->threads);
+  if (p->energy_every < 0)
+    return rl_error(RL_EINVAL, "integrator energy_every = %ld must be >= 0 (0 or 1: every step)",
+                    p->energy_every);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
   if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
     return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
@@ -211,7 +214,8 @@ void rl_integrator_free(rl_integrator *in)
   free(in);
 }
 
-static int compute_forces(rl_integrator *in)
+/* Forces and torques at the current time; energy and virial too if ev. */
+static int compute_forces(rl_integrator *in, int ev)
 {
   rl_system *s = in->sys;
   const int n = s->n, nr = s->nrot, par = in->threads > 1 && n >= RL_THREAD_MIN_BODIES;
@@ -228,10 +232,11 @@ static int compute_forces(rl_integrator *in)
   }
   in->F.energy = 0.0;
   memset(in->F.virial, 0, sizeof in->F.virial);
+  in->F.forces_only = !ev;
   rl_error_clear();
   int st = in->provider.compute(in->provider.ctx, s, &in->F);
   if (st) return rl_error_wrap(RL_EFORCE, "force provider failed at step %ld (t = %g)", in->steps, in->t);
-  if (!isfinite(in->F.energy))
+  if (ev && !isfinite(in->F.energy))
     return rl_error(RL_ENONFINITE, "non-finite potential energy at step %ld (t = %g)", in->steps, in->t);
   int bf = n, bk = nr; /* the first non-finite force and torque */
 #ifdef _OPENMP
@@ -298,7 +303,7 @@ int rl_integrator_init(rl_integrator *in)
   in->thermo_work = 0.0;
   in->fallbacks = 0;
   in->quat_iterations = 0;
-  if ((st = compute_forces(in))) return st;
+  if ((st = compute_forces(in, 1))) return st;
   kick(in, -0.5 * in->p.h, 1.0); /* v(t - h/2) = v(t) - h/2 f/m */
   in->initialized = 1;
   return RL_OK;
@@ -463,7 +468,8 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   rl_step_info info;
   memset(&info, 0, sizeof info);
   info.t = in->t;
-  info.potential = in->F.energy;
+  info.has_energy = !in->F.forces_only;
+  info.potential = info.has_energy ? in->F.energy : NAN;
 
   /* 1. on-step kinetic energies (eqs. 9, 12) */
   double ket = 0.0, ker = 0.0;
@@ -613,8 +619,8 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   in->fallbacks += info.fallbacks;
   in->quat_iterations += info.quat_iterations;
 
-  /* 5. forces at t + h */
-  st = compute_forces(in);
+  /* 5. forces at t + h, the energy and virial on the steps of energy_every */
+  st = compute_forces(in, in->p.energy_every <= 1 || in->steps % in->p.energy_every == 0);
   if (out) *out = info;
   return st;
 }
@@ -641,7 +647,7 @@ int rl_integrator_resume(rl_integrator *in, long step, double t)
   in->fallbacks = 0;
   in->quat_iterations = 0;
   in->thermo_work = 0.0;
-  if ((st = compute_forces(in))) return st;
+  if ((st = compute_forces(in, 1))) return st;
   in->initialized = 1;
   return RL_OK;
 }

@@ -112,6 +112,9 @@ struct fast_species {
   double extent;                 /* max |site - centre|                                  */
   double mu;                     /* stockmayer: dipole moment                          */
   row_fn row[3];                 /* by separation mode (P_SITE, P_SHIFT, P_MOL)         */
+  row_fn row_fo[3];              /* the same for a forces-only compute (acc->forces_only):
+                                    rows without the energy and virial sums where there is
+                                    such a variant (the AVX-512 TIP4P and dipole rows)   */
 };
 
 typedef struct {
@@ -742,8 +745,8 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
  * rl_rsqrt takes four steps from a bit trick: 8 vector operations instead of 15, of about 40 per
  * term.  Writes the forces on the neighbours' charge sites (b->f[1..3]) and on i's from each
  * neighbour (b->g[1..3]), lowers b->r2min (set by the LJ term) and returns the energy summed
- * over the lanes.  The cutoff (P_SHIFT) and the padding are masks. */
-RL_T512 static inline double tip4p_coul512(const int MODE, const box_consts *B,
+ * over the lanes (0 unless EV).  The cutoff (P_SHIFT) and the padding are masks. */
+RL_T512 static inline double tip4p_coul512(const int MODE, const int EV, const box_consts *B,
                                            const double a[4][3], const double qq[3][3], batch *b)
 {
   const __m512d half = _mm512_set1_pd(0.5), rc2 = _mm512_set1_pd(B->rc2);
@@ -777,7 +780,7 @@ RL_T512 static inline double tip4p_coul512(const int MODE, const box_consts *B,
         const __m512d ir3 = _mm512_mul_pd(_mm512_mul_pd(ir, ir), ir);
         const __m512d fr = _mm512_maskz_mul_pd(in, qv, _mm512_sub_pd(ir3, krf2));
         const __m512d u = _mm512_sub_pd(_mm512_fmadd_pd(krf, r2, ir), crf);
-        e = _mm512_mask3_fmadd_pd(qv, u, e, in); /* lanes outside keep e */
+        if (EV) e = _mm512_mask3_fmadd_pd(qv, u, e, in); /* lanes outside keep e */
         for (int c = 0; c < 3; c++) {
           const __m512d f = _mm512_mul_pd(fr, d[c]);
           gi[c] = _mm512_add_pd(gi[c], f);
@@ -829,7 +832,7 @@ RL_T512 static inline void tip4p_scatter512(const batch *b, double (*ft4)[16])
  * 9 multiply-adds per pair instead of 6 per term.  rl_ff_fast_compute adds back sum d (x) F
  * over these kernels' site forces, which the final site-to-molecule correction subtracts
  * from every site force.  With site images (P_SITE) each term keeps r (x) f. */
-RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const rl_forcefield *ff,
+RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int TRUNC, const rl_forcefield *ff,
                          const kview *V, const fast_species *K, int i, const int *nbr, int len,
                          double (*fs)[3], double (*ft4)[16], rl_acc *acc)
 {
@@ -872,7 +875,7 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
         r2min = r2;
         double fr, u = lj_eval(TRUNC, C, rc, rsw, r2, &fr);
         fr *= in;
-        elj += in * u;
+        if (EV) elj += in * u;
         const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
         gi[0][0] += fx; gi[0][1] += fy; gi[0][2] += fz;
         gj[0][0] -= fx; gj[0][1] -= fy; gj[0][2] -= fz;
@@ -896,7 +899,7 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
             /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
             const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
             const double fr = qin * (ir * ir * ir - 2.0 * krf);
-            ecoul += qin * (ir + krf * r2 - crf);
+            if (EV) ecoul += qin * (ir + krf * r2 - crf);
             const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
             gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
             gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
@@ -923,7 +926,7 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
       b.r2min[k] = r2min;
     }
 #if RL_X512
-    if (X512) ecoul += tip4p_coul512(MODE, &B, a, qq, &b);
+    if (X512) ecoul += tip4p_coul512(MODE, EV, &B, a, qq, &b);
 #endif
     { /* overlap: a site pair inside the cutoff closer than the minimum distance, i.e. (the
        * cutoff being a 0/1 factor) r2min < min(md2, rc2), or < md2 for a molecule cutoff; one
@@ -939,8 +942,8 @@ RL_INLINE void tip4p_row(const int X512, const int MODE, const int TRUNC, const 
         for (int k = 0; k < np; k++) sum += b.g[s][c][k];
         fi[s][c] += sum;
       }
-    if (!SITEVIR) { /* R (x) F, F the pair's force on i; a loop of its own, because its 9 sums
-                     * in the term loop spilled registers there */
+    if (!SITEVIR && EV) { /* R (x) F, F the pair's force on i; a loop of its own, because its 9
+                           * sums in the term loop spilled registers there */
 #pragma omp simd reduction(+ : v0, v1, v2, v3, v4, v5, v6, v7, v8)
       for (int k = 0; k < np; k++) {
         const double Fx = (b.g[0][0][k] + b.g[1][0][k]) + (b.g[2][0][k] + b.g[3][0][k]);
@@ -1002,7 +1005,7 @@ typedef struct {
 /* The pair terms of i with the eight neighbours in lanes (X, Y, Z: centre_i - centre_j,
  * m: mu_j), of which the first nv are real (the others hold copies of lane 0 and add nothing):
  * lj_eval_ir2 and rl_dipole_dipole_rf / _sf as in dipole_row, on vectors. */
-RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int TRUNC, const lj_consts C,
+RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int EV, const int TRUNC, const lj_consts C,
                                       const box_consts *B, double kc, double krf,
                                       const __m512d mi[3], __m512d X, __m512d Y, __m512d Z,
                                       __m512d mjx, __m512d mjy, __m512d mjz, const int *idx,
@@ -1066,13 +1069,15 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int TRUNC, const lj_const
   /* the padding lanes add nothing */
   fx = _mm512_maskz_mov_pd(live, fx); fy = _mm512_maskz_mov_pd(live, fy);
   fz = _mm512_maskz_mov_pd(live, fz);
-  S->elj = _mm512_mask_add_pd(S->elj, live, S->elj, ul);
-  S->edip = _mm512_mask_add_pd(S->edip, live, S->edip, ud);
-  /* force on i and virial R (x) F */
+  /* force on i, and (EV) the energies and the virial R (x) F */
   S->fx += fx; S->fy += fy; S->fz += fz;
-  S->w0 += X * fx; S->w1 += X * fy; S->w2 += X * fz;
-  S->w3 += Y * fx; S->w4 += Y * fy; S->w5 += Y * fz;
-  S->w6 += Z * fx; S->w7 += Z * fy; S->w8 += Z * fz;
+  if (EV) {
+    S->elj = _mm512_mask_add_pd(S->elj, live, S->elj, ul);
+    S->edip = _mm512_mask_add_pd(S->edip, live, S->edip, ud);
+    S->w0 += X * fx; S->w1 += X * fy; S->w2 += X * fz;
+    S->w3 += Y * fx; S->w4 += Y * fy; S->w5 += Y * fz;
+    S->w6 += Z * fx; S->w7 += Z * fy; S->w8 += Z * fz;
+  }
   /* torques -mu x g on i and on j */
   S->tx = _mm512_mask_sub_pd(S->tx, live, S->tx, mi[1] * giz - mi[2] * giy);
   S->ty = _mm512_mask_sub_pd(S->ty, live, S->ty, mi[2] * gix - mi[0] * giz);
@@ -1090,7 +1095,7 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int TRUNC, const lj_const
 #undef V1
 }
 
-RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
+RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUNC,
                                          const rl_forcefield *ff, const kview *V,
                                          const fast_species *K, int i, const int *nbr, int len,
                                          double (*fs)[3], double (*tq)[3], double (*ft)[8],
@@ -1157,7 +1162,7 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
       continue;
     }
     _mm512_store_si512(idx, aid);
-    dip_pairs8(DSF, TRUNC, C, &B, kc, krf, mi, aX, aY, aZ, amx, amy, amz, idx, RL_FAST_W, ft, &S);
+    dip_pairs8(DSF, EV, TRUNC, C, &B, kc, krf, mi, aX, aY, aZ, amx, amy, amz, idx, RL_FAST_W, ft, &S);
     pX = nX; pY = nY; pZ = nZ; pmx = nmx; pmy = nmy; pmz = nmz; pid = nid;
     pn += kc8 - RL_FAST_W;
   }
@@ -1166,7 +1171,7 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int TRUNC,
     const __m512i z = _mm512_setzero_si512();
 #define RL_PAD(V) _mm512_mask_blend_pd(old, _mm512_permutexvar_pd(z, V), V)
     _mm512_store_si512(idx, pid);
-    dip_pairs8(DSF, TRUNC, C, &B, kc, krf, mi, RL_PAD(pX), RL_PAD(pY), RL_PAD(pZ), RL_PAD(pmx),
+    dip_pairs8(DSF, EV, TRUNC, C, &B, kc, krf, mi, RL_PAD(pX), RL_PAD(pY), RL_PAD(pZ), RL_PAD(pmx),
                RL_PAD(pmy), RL_PAD(pmz), idx, pn, ft, &S);
 #undef RL_PAD
   }
@@ -1310,10 +1315,10 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
   ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
   ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
   ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))              \
-  ROW_FN(tip4p_##M##0, tip4p_row(0, P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, ft4, acc))                 \
-  ROW_FN(tip4p_##M##1, tip4p_row(0, P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, ft4, acc))               \
-  ROW_FN(tip4p_##M##2, tip4p_row(0, P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, ft4, acc))         \
-  ROW_FN(tip4p_##M##3, tip4p_row(0, P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, ft4, acc))
+  ROW_FN(tip4p_##M##0, tip4p_row(0, 1, P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, ft4, acc))                 \
+  ROW_FN(tip4p_##M##1, tip4p_row(0, 1, P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, ft4, acc))               \
+  ROW_FN(tip4p_##M##2, tip4p_row(0, 1, P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, ft4, acc))         \
+  ROW_FN(tip4p_##M##3, tip4p_row(0, 1, P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, ft4, acc))
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)
@@ -1326,35 +1331,43 @@ ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
 ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
 ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
 #if RL_X512
-#define DIP512(NAME, DSF, TRUNC)                                                               \
-  ROW_FN_T(RL_T512, NAME, dipole_row512(DSF, TRUNC, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-DIP512(dipx_r0, 0, RL_LJ_PLAIN)
-DIP512(dipx_r1, 0, RL_LJ_SHIFTED)
-DIP512(dipx_r2, 0, RL_LJ_SHIFTED_FORCE)
-DIP512(dipx_r3, 0, RL_LJ_SWITCHED)
-DIP512(dipx_f0, 1, RL_LJ_PLAIN)
-DIP512(dipx_f1, 1, RL_LJ_SHIFTED)
-DIP512(dipx_f2, 1, RL_LJ_SHIFTED_FORCE)
-DIP512(dipx_f3, 1, RL_LJ_SWITCHED)
+/* EV = 0: the forces-only rows (no energy and virial sums), dipo_* and tip4po_* */
+#define DIP512(NAME, DSF, EV, TRUNC)                                                           \
+  ROW_FN_T(RL_T512, NAME, dipole_row512(DSF, EV, TRUNC, ff, V, K, i, nbr, len, fs, tq, ft, acc))
+#define DIP512_EV(R, F, EV)                                                                    \
+  DIP512(R##0, 0, EV, RL_LJ_PLAIN)                                                             \
+  DIP512(R##1, 0, EV, RL_LJ_SHIFTED)                                                           \
+  DIP512(R##2, 0, EV, RL_LJ_SHIFTED_FORCE)                                                     \
+  DIP512(R##3, 0, EV, RL_LJ_SWITCHED)                                                          \
+  DIP512(F##0, 1, EV, RL_LJ_PLAIN)                                                             \
+  DIP512(F##1, 1, EV, RL_LJ_SHIFTED)                                                           \
+  DIP512(F##2, 1, EV, RL_LJ_SHIFTED_FORCE)                                                     \
+  DIP512(F##3, 1, EV, RL_LJ_SWITCHED)
+DIP512_EV(dipx_r, dipx_f, 1)
+DIP512_EV(dipo_r, dipo_f, 0)
 /* flatten: the fill (with other_images' branch) is too large for GCC to inline on its own */
-#define TIP512(NAME, MODE, TRUNC)                                                              \
-  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME, tip4p_row(1, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
-TIP512(tip4px_h0, P_SHIFT, RL_LJ_PLAIN)
-TIP512(tip4px_h1, P_SHIFT, RL_LJ_SHIFTED)
-TIP512(tip4px_h2, P_SHIFT, RL_LJ_SHIFTED_FORCE)
-TIP512(tip4px_h3, P_SHIFT, RL_LJ_SWITCHED)
-TIP512(tip4px_m0, P_MOL, RL_LJ_PLAIN)
-TIP512(tip4px_m1, P_MOL, RL_LJ_SHIFTED)
-TIP512(tip4px_m2, P_MOL, RL_LJ_SHIFTED_FORCE)
-TIP512(tip4px_m3, P_MOL, RL_LJ_SWITCHED)
+#define TIP512(NAME, EV, MODE, TRUNC)                                                          \
+  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME, tip4p_row(1, EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+#define TIP512_EV(H, M, EV)                                                                    \
+  TIP512(H##0, EV, P_SHIFT, RL_LJ_PLAIN)                                                       \
+  TIP512(H##1, EV, P_SHIFT, RL_LJ_SHIFTED)                                                     \
+  TIP512(H##2, EV, P_SHIFT, RL_LJ_SHIFTED_FORCE)                                               \
+  TIP512(H##3, EV, P_SHIFT, RL_LJ_SWITCHED)                                                    \
+  TIP512(M##0, EV, P_MOL, RL_LJ_PLAIN)                                                         \
+  TIP512(M##1, EV, P_MOL, RL_LJ_SHIFTED)                                                       \
+  TIP512(M##2, EV, P_MOL, RL_LJ_SHIFTED_FORCE)                                                 \
+  TIP512(M##3, EV, P_MOL, RL_LJ_SWITCHED)
+TIP512_EV(tip4px_h, tip4px_m, 1)
+TIP512_EV(tip4po_h, tip4po_m, 0)
 #endif
 
 /* [mode][truncation] */
 static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
                                        {sites_h0, sites_h1, sites_h2, sites_h3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
-/* [AVX-512 fill and scatter][mode][truncation]; site images (P_SITE) only portable */
-static const row_fn tip4p_fns[2][3][4] = {
+/* [variant][mode][truncation], variant 0 portable, 1 AVX-512 fill and scatter, 2 the same
+ * without the energy and virial sums (forces only); site images (P_SITE) only portable */
+static const row_fn tip4p_fns[3][3][4] = {
     {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
      {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
      {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
@@ -1362,18 +1375,26 @@ static const row_fn tip4p_fns[2][3][4] = {
     {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
      {tip4px_h0, tip4px_h1, tip4px_h2, tip4px_h3},
      {tip4px_m0, tip4px_m1, tip4px_m2, tip4px_m3}},
+    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
+     {tip4po_h0, tip4po_h1, tip4po_h2, tip4po_h3},
+     {tip4po_m0, tip4po_m1, tip4po_m2, tip4po_m3}},
 #else
+    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
+     {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
+     {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
     {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
      {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
      {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
 #endif
 };
-/* [AVX-512 fill and scatter][dipole method][truncation] */
-static const row_fn dipole_fns[2][2][4] = {
+/* [variant, as tip4p_fns][dipole method][truncation] */
+static const row_fn dipole_fns[3][2][4] = {
     {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
 #if RL_X512
     {{dipx_r0, dipx_r1, dipx_r2, dipx_r3}, {dipx_f0, dipx_f1, dipx_f2, dipx_f3}},
+    {{dipo_r0, dipo_r1, dipo_r2, dipo_r3}, {dipo_f0, dipo_f1, dipo_f2, dipo_f3}},
 #else
+    {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
     {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
 #endif
 };
@@ -1412,8 +1433,11 @@ static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
     K->mu = ff->mu[o];
     K->nterms = 1;
     term_set(ff, o, o, &K->t[0]);
-    for (int m = 0; m < 3; m++)
-      K->row[m] = dipole_fns[x512][ff->p.dipole_method == RL_DIPOLE_SF][ff->p.lj_truncation];
+    for (int m = 0; m < 3; m++) {
+      const int dsf = ff->p.dipole_method == RL_DIPOLE_SF, tr = ff->p.lj_truncation;
+      K->row[m] = dipole_fns[x512][dsf][tr];
+      K->row_fo[m] = dipole_fns[2 * x512][dsf][tr];
+    }
     return;
   }
   K->kind = K_SITES;
@@ -1433,7 +1457,7 @@ static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
       if (T->what == T_LJ && a == b) ljsite = a;
       term_set(ff, o + a, o + b, T);
     }
-  for (int m = 0; m < 3; m++) K->row[m] = sites_fns[m][ff->p.lj_truncation];
+  for (int m = 0; m < 3; m++) K->row[m] = K->row_fo[m] = sites_fns[m][ff->p.lj_truncation];
   /* TIP4P pattern: one LJ site (with itself only, no charge), three charges without LJ */
   if (ns == 4 && nlj == 1 && ljsite >= 0 && ncoul == 9 && nboth == 0) {
     K->kind = K_TIP4P;
@@ -1452,7 +1476,10 @@ static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
         T->b = 1 + q;
         T->what = T_COUL;
       }
-    for (int m = 0; m < 3; m++) K->row[m] = tip4p_fns[x512][m][ff->p.lj_truncation];
+    for (int m = 0; m < 3; m++) {
+      K->row[m] = tip4p_fns[x512][m][ff->p.lj_truncation];
+      K->row_fo[m] = tip4p_fns[2 * x512][m][ff->p.lj_truncation];
+    }
   }
 }
 
@@ -1977,12 +2004,15 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     a->tq = tq;
     a->site_virial = 1;
     a->quiet = 1;
+    a->forces_only = out->forces_only;
     int st = RL_OK;
     for (int m = f->tlo[t]; m < f->tlo[t + 1] && !st && !a->bad; m++) {
       const int i = ord[m], k = ff->body_species[i];
       const fast_species *K = &f->sk[k];
       int fl = f->fstart[m + 1] - f->fstart[m];
-      if (fl > 0) K->row[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl, pfs, ptq, pft, pft4, a);
+      if (fl > 0)
+        (a->forces_only ? K->row_fo : K->row)[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl,
+                                                       pfs, ptq, pft, pft4, a);
       for (int q = f->gstart[m]; q < f->gstart[m + 1] && !st; q++)
         st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
     }
@@ -2030,8 +2060,9 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
       const int i = ord[m], k = ff->body_species[i], ns_i = ff->sp_nsites[k];
       const int oi = ff->body_site_off[i], om = V->soff[m];
       const int mv = f->sk[k].kind == K_TIP4P && mode[k] != P_SITE; /* 4 sites */
-      double F[4][3];                                                 /* mv: kernel site forces */
-      if (mv) /* a loop, not an initialiser: GCC made that a `rep stos`, 2.5 % of a dipole step */
+      const int cvir = mv && !out->forces_only; /* their rows summed R (x) F */
+      double F[4][3];                           /* cvir: kernel site forces */
+      if (cvir) /* a loop, not an initialiser: GCC made that a `rep stos`, 2.5 % of a dipole step */
         for (int a = 0; a < 4; a++) F[a][0] = F[a][1] = F[a][2] = 0.0;
       for (int u = 0; u < T; u++) {
         if (m < f->tlo[u] || m >= f->thi[u]) continue; /* not written by thread u */
@@ -2040,7 +2071,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
         for (int a = 0; a < ns_i; a++)
           for (int c = 0; c < 3; c++) {
             ff->fs[oi + a][c] += pf[a][c];
-            if (mv) F[a][c] += pf[a][c];
+            if (cvir) F[a][c] += pf[a][c];
             pf[a][c] = 0.0;
           }
         for (int c = 0; c < 3; c++) {
@@ -2063,12 +2094,12 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
               for (int c = 0; c < 3; c++) {
                 const int a = f->sk[k].perm[s];
                 ff->fs[oi + a][c] += q[3 + 3 * s + c];
-                F[a][c] += q[3 + 3 * s + c];
+                if (cvir) F[a][c] += q[3 + 3 * s + c];
               }
           for (int c = 0; c < 16; c++) q[c] = 0.0;
         }
       }
-      if (mv)
+      if (cvir)
         for (int a = 0; a < 4; a++)
           for (int x = 0; x < 3; x++)
             for (int y = 0; y < 3; y++) cv[3 * x + y] += ff->dsite[oi + a][x] * F[a][y];
@@ -2085,7 +2116,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     for (int c = 0; c < 9; c++) out->vir[c] += f->acc[t].vir[c];
   }
   if (bad) return 1; /* the reference loop reruns and reports the overlap */
-  if (dip_only) return RL_OK; /* point dipoles: every d is zero */
+  if (dip_only || out->forces_only) return RL_OK; /* point dipoles: every d is zero */
   for (int s = 0; s < ns; s++) /* molecular virial: minus sum_sites d (x) F */
     for (int x = 0; x < 3; x++)
       for (int y = 0; y < 3; y++) out->vir[3 * x + y] -= ff->dsite[s][x] * ff->fs[s][y];

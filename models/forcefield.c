@@ -640,6 +640,7 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
   memset(&acc, 0, sizeof acc);
   acc.fs = ff->fs;
   acc.tq = ff->tq;
+  acc.forces_only = out->forces_only != 0;
   int st = ff->fast ? rl_ff_fast_compute(ff, &acc) : 1;
   if (st > 0) { /* the reference path, or a rerun of it that reports an overlap */
     memset(ff->fs, 0, sizeof *ff->fs * (size_t)ff->nsites);
@@ -667,6 +668,11 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
       if (ri < 0) continue;
       for (int c = 0; c < 3; c++) out->k[ri][c] += ff->tq[i][c];
     }
+  }
+  if (out->forces_only) { /* the energies were not summed (not all: the reference path's were) */
+    const double nan = NAN;
+    ff->e = (rl_ff_energies){nan, nan, nan, nan, nan, nan, nan, nan};
+    return RL_OK;
   }
   ff->e.lj = acc.lj;
   ff->e.coulomb = acc.coul + e_intra;

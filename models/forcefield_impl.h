@@ -55,6 +55,7 @@ typedef struct {
   int site_virial;         /* 0: vir += R (x) f (molecular, the reference); 1: vir += r (x) f
                               with r the site separation (the driver subtracts sum d (x) F) */
   int quiet;               /* 1: an overlap sets `bad` instead of calling rl_error            */
+  int forces_only;         /* 1: energies and virial are not needed (kernels may skip them)  */
   int bad;
 } rl_acc;
 

@@ -144,6 +144,8 @@ void rl_forcefield_get_box(const rl_forcefield *ff, double L[3]);
  * (f [n][3], k [nrot][3]; the caller zeroes them, as the provider contract says).  The virial
  * is sum over molecule pairs of r_ij (x) f_ij with r_ij the centre-centre vector (minimum
  * image consistent with the site pair) and includes the isotropic dispersion correction.
+ * With out->forces_only set, energy and virial are not added (the kernels skip their sums; the
+ * forces are the same to the bit).
  * Errors: RL_ESTATE if sys no longer matches (counts), RL_ENONFINITE for non-finite positions
  * or orientations (body named), RL_EINVAL for overlapping sites (bodies and sites named). */
 int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *out);
@@ -151,7 +153,7 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
 /* The force field as a provider for rl_integrator_alloc (ctx = ff). */
 rl_force_provider rl_forcefield_provider(rl_forcefield *ff);
 
-/* Energies of the last successful compute. */
+/* Energies of the last successful compute (NaN after one with out->forces_only set). */
 void rl_forcefield_energies(const rl_forcefield *ff, rl_ff_energies *e);
 
 /* Molecular pressure P = (2 ke_trans + tr virial) / (3 V), with ke_trans the centre-of-mass

@@ -34,6 +34,8 @@ check "quiet when not a terminal" '[ ! -s err.txt ]'
 check "negative time step rejected" '[ $code -eq 2 ] && grep -q "run.timestep -0.002 must be positive" err.txt'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=5 --set output.prefix="$work/abs" >out.txt 2>err.txt; code=$?
 check "absurd time step rejected" '[ $code -eq 2 ] && grep -q "no step can follow the rotation" err.txt'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set output.energy_every=3 --set output.prefix="$work/ee3" >out.txt 2>err.txt; code=$?
+check "thermo_every not a multiple of energy_every rejected" '[ $code -eq 2 ] && grep -q "output.thermo_every = 10 must be a multiple of output.energy_every = 3" err.txt && [ ! -e "$work/ee3.summary.txt" ]'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.model=stockmayr >out.txt 2>err.txt; code=$?
 check "unknown model names the known ones" '[ $code -eq 2 ] && grep -q "unknown model .stockmayr. (known: stockmayer" err.txt'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set model.charge=1 >out.txt 2>err.txt; code=$?
@@ -45,6 +47,12 @@ check "unwritable prefix is an error before running" '[ $code -eq 1 ] && grep -q
 check "blow-up ends the run with exit 1" '[ $code -eq 1 ]'
 check "blow-up message names the step and the cause" 'grep -qE "step [0-9]+ \(t = .*\): the total energy jumped by .* reduce run.timestep" err.txt'
 check "blow-up keeps the rows written and marks the summary" '[ -s "$work/blow.thermo.csv" ] && grep -q "status = error" "$work/blow.summary.txt"'
+# the same blow-up with energies every 10 steps only (forces only in between): still stopped,
+# named, and no NaN written
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=0.05 --set run.steps=2000 --set output.energy_every=10 \
+  --set output.prefix="$work/blow10" >out.txt 2>err.txt; code=$?
+check "blow-up with energy_every = 10 ends the run with exit 1, named" '[ $code -eq 1 ] && grep -qE "step [0-9]+ \(t = .*\): (the total energy jumped by .* since its last evaluation|molecule [0-9]+ moved|the total energy is not finite).* reduce run.timestep" err.txt'
+check "blow-up with energy_every = 10 writes no NaN" '[ -s "$work/blow10.thermo.csv" ] && ! grep -qi nan "$work/blow10.thermo.csv" "$work/blow10.summary.txt"'
 
 L=4.3088694997
 { echo 64; echo "Lattice=\"$L 0 0 0 $L 0 0 0 $L\" Properties=species:S:1:pos:R:3:orientation:R:3"

@@ -39,6 +39,19 @@ for cnt in 216 512; do
   tw=(--set system.count=$cnt --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf=)
   three_runs "tip4p$cnt" "$src/examples/tip4p.ini" "${tw[@]}"
 done
+# output.energy_every = 5: forces only on four steps in five.  The continuation stays bit for bit
+# (the averages are over the steps that are multiples of 5, counted from step 0 in both), and the
+# trajectory and the thermo rows (apart from calE, a running statistic over the averaged steps)
+# are those of energy_every = 1.
+ee=(--set run.ensemble=nvt-bussi --set run.temperature=1.35 --set run.tau=0.05 --set output.thermo_every=5 --set output.trajectory_every=10 --set output.energy_every=5)
+three_runs "ee-stockmayer" "$deck" "${ee[@]}"
+check "energy_every: summary says so, and its averages agree after a restart" \
+  'grep -q "^energy_every = 5 " ee-stockmayer-A.summary.txt && diff <(grep -vE "wall_seconds|this invocation|summary of" ee-stockmayer-A.summary.txt) <(grep -vE "wall_seconds|this invocation|summary of" ee-stockmayer-C.summary.txt) >/dev/null'
+check "energy_every: Stockmayer trajectory and thermo rows as with energy_every = 1" \
+  'cmp -s ee-stockmayer-A.xyz nvt-bussi-A.xyz && diff <(cut -d, -f1-16,18- ee-stockmayer-A.thermo.csv) <(cut -d, -f1-16,18- nvt-bussi-A.thermo.csv) >/dev/null'
+three_runs "ee-tip4p512" "$src/examples/tip4p.ini" --set system.count=512 --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf= --set output.energy_every=5
+check "energy_every: TIP4P thermo rows (U, pressure, conserved) as with energy_every = 1" \
+  'diff <(cut -d, -f1-16,18- ee-tip4p512-A.thermo.csv) <(cut -d, -f1-16,18- tip4p512-A.thermo.csv) >/dev/null'
 # Another run.seed under the same stochastic thermostat: the run continues (step count, averages)
 # with a new random stream from that seed, and says so; the same seed is the bit-for-bit case above.
 common=(--set run.ensemble=nvt-langevin --set run.temperature=1.35 --set run.tau=0.05 --set output.thermo_every=5)

@@ -188,7 +188,7 @@ static inline double ff_energy(rl_forcefield *ff, rl_system *sys)
   int n = rl_system_count(sys), nr = rl_system_nrot(sys);
   double(*f)[3] = calloc((size_t)n + 1, sizeof *f);
   double(*k)[3] = calloc((size_t)nr + 1, sizeof *k);
-  rl_forces out = {f, k, 0.0, {0}};
+  rl_forces out = {f, k, 0.0, {0}, 0};
   int st = rl_forcefield_compute(ff, sys, &out);
   if (st) fprintf(stderr, "compute: %s\n", rl_last_error());
   assert_int_equal(st, RL_OK);
@@ -209,7 +209,7 @@ static inline void ff_result_compute(ff_result *res, rl_forcefield *ff, rl_syste
   res->nrot = rl_system_nrot(sys);
   res->f = calloc((size_t)res->n + 1, sizeof *res->f);
   res->k = calloc((size_t)res->nrot + 1, sizeof *res->k);
-  rl_forces o = {res->f, res->k, 0.0, {0}};
+  rl_forces o = {res->f, res->k, 0.0, {0}, 0};
   int st = rl_forcefield_compute(ff, sys, &o);
   if (st) fprintf(stderr, "compute: %s\n", rl_last_error());
   assert_int_equal(st, RL_OK);

@@ -57,7 +57,7 @@ static int compute_status(setup *u)
   rl_forcefield *ff = rl_forcefield_alloc(u->sys, &u->p, u->sff, 2);
   assert_non_null(ff);
   double f[8][3], k[8][3];
-  rl_forces out = {f, k, 0.0, {0}};
+  rl_forces out = {f, k, 0.0, {0}, 0};
   memset(f, 0, sizeof f);
   memset(k, 0, sizeof k);
   int st = rl_forcefield_compute(ff, u->sys, &out);
@@ -232,7 +232,7 @@ static void test_configurations(void **state)
   assert_non_null(ff);
   assert_int_equal(rl_system_add_species(u.sys, &u.s.desc, 1, NULL), RL_OK);
   double f[8][3] = {{0}}, k[8][3] = {{0}};
-  rl_forces out = {f, k, 0.0, {0}};
+  rl_forces out = {f, k, 0.0, {0}, 0};
   expect("system changed after alloc", rl_forcefield_compute(ff, u.sys, &out), RL_ESTATE,
          "system changed", "5 bodies", NULL);
   rl_forcefield_free(ff);

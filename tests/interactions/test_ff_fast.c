@@ -452,6 +452,64 @@ static void test_threads_neat(void **state)
   gsl_rng_free(rng);
 }
 
+/* out->forces_only: the forces and torques of a full compute to the bit, no energy or virial
+ * (energy and virial stay 0, the energies read NaN), and a full compute after it repeats the
+ * one before bit for bit (the forces-only rows leave the buffers as the full rows do). */
+static void forces_only(scene *s, const rl_ff_params *p, int threads, const char *label)
+{
+  rl_forcefield *ff = make(s, p, RL_KERNEL_AUTO, threads);
+  ff_result a, b, c;
+  ff_result_compute(&a, ff, s->sys);
+  b.n = a.n;
+  b.nrot = a.nrot;
+  b.f = calloc((size_t)b.n + 1, sizeof *b.f);
+  b.k = calloc((size_t)b.nrot + 1, sizeof *b.k);
+  rl_forces o = {b.f, b.k, 0.0, {0}, 1};
+  assert_int_equal(rl_forcefield_compute(ff, s->sys, &o), RL_OK);
+  rl_ff_energies e;
+  rl_forcefield_energies(ff, &e);
+  ff_result_compute(&c, ff, s->sys);
+  char what[200];
+  int same_f = !memcmp(a.f, b.f, sizeof *a.f * (size_t)a.n) && !memcmp(a.k, b.k, sizeof *a.k * (size_t)a.nrot);
+  snprintf(what, sizeof what, "%s, %d thread(s): forces-only forces and torques bit-identical", label, threads);
+  FF_CHECK_TRUE(what, same_f);
+  int none = o.energy == 0.0 && isnan(e.total) && isnan(e.lj);
+  for (int q = 0; q < 9; q++) none &= o.virial[q] == 0.0;
+  snprintf(what, sizeof what, "%s, %d thread(s): forces only: no energy or virial", label, threads);
+  FF_CHECK_TRUE(what, none);
+  int again = !memcmp(a.f, c.f, sizeof *a.f * (size_t)a.n) && !memcmp(a.k, c.k, sizeof *a.k * (size_t)a.nrot) &&
+              a.out.energy == c.out.energy && !memcmp(a.out.virial, c.out.virial, sizeof a.out.virial) &&
+              a.out.energy != 0.0;
+  snprintf(what, sizeof what, "%s, %d thread(s): a full compute after a forces-only one repeats the first", label, threads);
+  FF_CHECK_TRUE(what, again);
+  ff_result_free(&a);
+  ff_result_free(&b);
+  ff_result_free(&c);
+  rl_forcefield_free(ff);
+}
+
+static void test_forces_only(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 17);
+  for (int water = 0; water < 2; water++) {
+    scene s;
+    rl_ff_params p;
+    neat_scene(&s, rng, water, &p);
+    for (int portable = 0; portable < 2; portable++) {
+      if (portable) setenv("ROTLEAP_NO_AVX512", "1", 1);
+      char label[100];
+      snprintf(label, sizeof label, "%s%s", water ? "tip4p (400)" : "stockmayer (500)",
+               portable ? ", ROTLEAP_NO_AVX512" : "");
+      for (int t = 1; t <= 2; t++) forces_only(&s, &p, t, label);
+      unsetenv("ROTLEAP_NO_AVX512");
+    }
+    rl_system_free(s.sys);
+  }
+  gsl_rng_free(rng);
+}
+
 static void test_choice(void **state)
 {
   (void)state;
@@ -521,7 +579,7 @@ static void test_overlap(void **state)
       char msg_a[512], msg_g[512];
       int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
       double(*f)[3] = calloc((size_t)n, sizeof *f), (*k)[3] = calloc((size_t)nr + 1, sizeof *k);
-      rl_forces out = {f, k, 0.0, {0}};
+      rl_forces out = {f, k, 0.0, {0}, 0};
       rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
       int sa = rl_forcefield_compute(fa, s.sys, &out);
       snprintf(msg_a, sizeof msg_a, "%s", rl_last_error());
@@ -549,7 +607,7 @@ int main(void)
       cmocka_unit_test(test_tip4p),   cmocka_unit_test(test_periodic_edge),
       cmocka_unit_test(test_stockmayer), cmocka_unit_test(test_charge_lj),
       cmocka_unit_test(test_mixture), cmocka_unit_test(test_threads_neat),
-      cmocka_unit_test(test_choice),
+      cmocka_unit_test(test_forces_only), cmocka_unit_test(test_choice),
       cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
