@@ -12,6 +12,9 @@ dipoles (mu* along rho), velocities and angular velocities (atom_style hybrid sp
 diameter 0.5 so that I* = 0.4 m (d/2)^2 = 0.025; fix nve/sphere update dipole).
 1. Energy of the dumped configuration in both codes (`run 0`), relative difference.
 2. Time per step, best of the rounds, cores = threads (rotleap) or MPI ranks (LAMMPS, mpirun).
+   Energies only where each code reports them: LAMMPS's thermo at the first and the last step
+   (no pressure), rotleap's --energy-every STEPS (output.energy_every; before 2026-11-22 rotleap
+   summed the energy and the virial on every step).
 3. Energy conservation at equal dt from the same state (--nve steps, smallest N only).
 Prints tables, writes bench/lammps_stockmayer.csv.
 """
@@ -34,6 +37,8 @@ DENS = 1.0 / (math.pi / 6.0 * DIAM ** 3)  # mass 1
 
 def rotleap(ffbench, n, threads, steps, dump=None, nve=0):
     cmd = [ffbench, "time", "stockmayer", str(n), str(threads), str(steps)]
+    if not nve:  # the NVE run reports the energy of every step
+        cmd += ["--energy-every", str(steps)]
     if dump:
         cmd += ["--dump", dump]
     if nve:

@@ -10,7 +10,10 @@ eps_rf 78.3, plain LJ, no dispersion correction (validate/watermodels.build_syst
 waters by SETTLE), a VerletIntegrator at 2 fs and CPU platform property Threads = T.  Then
 rounds alternate: rotleap (a fresh ffbench run; only its timed steps count) and OpenMM (timed
 steps after a warm-up), keeping the best of each.  Prints a table, writes bench/openmm_tip4p.csv.
-Both are whole MD steps: forces plus integration (and constraints for OpenMM).
+Both are whole MD steps: forces plus integration (and constraints for OpenMM).  Neither code
+computes energies on the timed steps: OpenMM's integrator.step() computes forces only, and
+rotleap runs with --energy-every STEPS (output.energy_every), energy and virial at the start and
+the end only (before 2026-11-22 rotleap summed both on every step, about 10 % of its step).
 
 With one thread both codes run pinned to one CPU (--pin: auto = the idlest CPU when the row
 starts, a CPU number, or none), as in bench/sampling_speed.py: OpenMM's CPU platform hands each
@@ -49,7 +52,7 @@ def steps_for(n):
 
 
 def rotleap_run(ffbench, n, threads, steps, dump=None):
-    cmd = [ffbench, "time", "tip4p", str(n), str(threads), str(steps)]
+    cmd = [ffbench, "time", "tip4p", str(n), str(threads), str(steps), "--energy-every", str(steps)]
     if dump:
         cmd += ["--dump", dump]
     return tokens(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)

@@ -75,7 +75,8 @@ KVM guest, the two threads often sat on different vCPUs: in an unpinned full run
 were 1.80-2.39 ms per step and the ratio 1.52, while a pinned re-timing of the same runs gave
 1.21-1.23 ms for both codes at 6 fs and a ratio of 1.01.  rotleap, a single thread, is unaffected.
   * rotleap: a `rotleap run` of --timing-steps steps from the run's own start checkpoint, same deck
-    (Bussi, tau as above) with no trajectory, no sampling, one thermo row; seconds per step = the
+    (Bussi, tau as above) with no trajectory, no sampling, one thermo row, energies at the first
+    and the last step only (output.energy_every; OpenMM's step() computes none); seconds per step = the
     summary's wall_seconds (rotleap's timing of its step loop) / steps.  Timed at the run's own h
     because the Verlet list is rebuilt more often per step at larger h.
   * OpenMM: the production's system and integrator in a Context with Threads = --threads, 200
@@ -228,7 +229,9 @@ def rotleap_timer(rotleap, work, run, box, steps, threads):
     start = os.path.join(work, tag + "_start.chk")
     pre = os.path.join(work, "time_" + tag)
     text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0)
-    text = text.replace("thermo_every = 1\n", "thermo_every = %d\n" % steps)
+    # energies at the first and the last step only (output.energy_every), as OpenMM's step()
+    # computes none: before 2026-11-22 rotleap summed energy and virial on every timed step
+    text = text.replace("thermo_every = 1\n", "thermo_every = %d\nenergy_every = %d\n" % (steps, steps))
     text = text.replace("[output]", "threads = %d\n[output]" % threads)
     with open(pre + ".ini", "w") as f:
         f.write(text)
