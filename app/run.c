@@ -148,8 +148,14 @@ static void traj_close(traj *t)
 }
 
 /* What a checkpoint carries besides the state: the run's own bookkeeping, so that a restart
- * continues bit for bit (thermostat account and random stream, the summary's accumulators). */
-#define RUN_BLOB_MAGIC "rotleap-run-2"
+ * continues bit for bit (thermostat account and random stream, the summary's accumulators), and
+ * from version 3 the neighbour list's origin (rl_forcefield_list_origin: the centres at its last
+ * build, which fix the list and the order of the pair sums; without them a restart rebuilds the
+ * list from its own centres and continues to round-off only, once the box has a cell grid or the
+ * pair loop has threads).  Layout: run_blob, the random state (rng_size bytes), then (version 3)
+ * a long count (0 or the number of bodies) and count x 3 doubles. */
+#define RUN_BLOB_MAGIC "rotleap-run-3"
+#define RUN_BLOB_MAGIC_V2 "rotleap-run-2" /* before the list origin */
 #define RUN_BLOB_MAGIC_V1 "rotleap-run-1" /* before the thermostat and the seed were recorded */
 typedef struct {
   char magic[16];
@@ -163,12 +169,17 @@ typedef struct {
 } run_blob;
 #define RUN_BLOB_V1_SIZE offsetof(run_blob, thermostat)
 
-/* The run record of a checkpoint into *b, the random state following it at blob + *hdr: 2 or 1
- * (its version), 0 if the checkpoint has none. */
+/* The run record of a checkpoint into *b, the random state following it at blob + *hdr: 3, 2
+ * or 1 (its version), 0 if the checkpoint has none. */
 static int read_blob(const scene *s, run_blob *b, size_t *hdr)
 {
   memset(b, 0, sizeof *b);
   if (s->blob_size >= sizeof *b && !memcmp(s->blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
+    memcpy(b, s->blob, sizeof *b);
+    *hdr = sizeof *b;
+    return 3;
+  }
+  if (s->blob_size >= sizeof *b && !memcmp(s->blob, RUN_BLOB_MAGIC_V2, sizeof RUN_BLOB_MAGIC_V2)) {
     memcpy(b, s->blob, sizeof *b);
     *hdr = sizeof *b;
     return 2;
@@ -190,11 +201,19 @@ static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const
   b.rng_size = (unsigned long)rl_integrator_rng_size(in);
   b.thermostat = d->thermostat;
   b.seed = d->thermostat_seed;
-  size_t size = sizeof b + b.rng_size;
+  const int n = rl_system_count(s->sys);
+  const size_t list_bytes = sizeof(long) + sizeof(double[3]) * (size_t)n;
+  size_t size = sizeof b + b.rng_size + list_bytes;
   unsigned char *buf = malloc(size);
   if (!buf) return rl_error(RL_ENOMEM, "out of memory");
   memcpy(buf, &b, sizeof b);
   if (b.rng_size) memcpy(buf + sizeof b, rl_integrator_rng_state(in), b.rng_size);
+  { /* the list's origin, or a count of 0 (no list yet) */
+    unsigned char *p = buf + sizeof b + b.rng_size;
+    long count = n > 0 && rl_forcefield_list_origin(s->ff, (double(*)[3])(void *)(p + sizeof(long))) ? n : 0;
+    memcpy(p, &count, sizeof count);
+    if (!count) size = sizeof b + b.rng_size + sizeof(long);
+  }
   rl_checkpoint_meta meta = {rl_integrator_time(in), rl_integrator_steps(in), {d->box[0], d->box[1], d->box[2]}, buf, size};
   int st = rl_checkpoint_write(path, s->sys, &meta);
   free(buf);
@@ -243,7 +262,7 @@ int rl_app_run(const rl_deck *d)
      * say) is a start, not a continuation: its half-step v, l are completed to on-step values
      * with run.timestep and the run, its step count and its averages start afresh.  A version 1
      * record says only whether the thermostat drew random numbers */
-    if (ver == 2 ? rec.thermostat != (long)d->thermostat : rec.rng_size != rl_integrator_rng_size(in)) {
+    if (ver >= 2 ? rec.thermostat != (long)d->thermostat : rec.rng_size != rl_integrator_rng_size(in)) {
       fprintf(stderr, "rotleap run: %s was written by a run with another thermostat: starting a new run from its "
                       "state (step 0; v and l completed to on-step with run.timestep = %g)\n", d->start, d->timestep);
       st = scene_onstep(d, &s);
@@ -262,13 +281,32 @@ int rl_app_run(const rl_deck *d)
     if (!ver) {
       st = rl_error(RL_EINVAL, "%s was not written by rotleap run (no run record)", d->start);
     } else {
-      if (rec.rng_size != rl_integrator_rng_size(in) || s.blob_size != hdr + rec.rng_size)
+      const size_t rest = ver == 3 ? s.blob_size - hdr - rec.rng_size : 0; /* the list's origin */
+      long count = -1;
+      if (ver == 3 && s.blob_size >= hdr + rec.rng_size + sizeof count)
+        memcpy(&count, (unsigned char *)s.blob + hdr + rec.rng_size, sizeof count);
+      const int list_ok = ver < 3 || ((count == 0 || count == n) &&
+                                      rest == sizeof count + sizeof(double[3]) * (size_t)(count > 0 ? count : 0));
+      if (rec.rng_size != rl_integrator_rng_size(in) || s.blob_size < hdr + rec.rng_size ||
+          (ver < 3 && s.blob_size != hdr + rec.rng_size))
         st = rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %lu bytes, "
                       "this run needs %lu)", d->start, rec.rng_size, (unsigned long)rl_integrator_rng_size(in));
+      else if (!list_ok)
+        st = rl_error(RL_EINVAL, "%s: its neighbour-list record is damaged (%ld bodies in %zu bytes; the "
+                      "system has %d)", d->start, count, rest, n);
       else {
-        st = rl_integrator_resume(in, s.step0, s.t0);
+        if (count == n) { /* the list the run had, so that the pair sums keep their order */
+          double(*r0)[3] = malloc(sizeof *r0 * (size_t)n);
+          if (!r0) st = rl_error(RL_ENOMEM, "out of memory");
+          else {
+            memcpy(r0, (unsigned char *)s.blob + hdr + rec.rng_size + sizeof count, sizeof *r0 * (size_t)n);
+            st = rl_forcefield_set_list_origin(s.ff, (const double(*)[3])r0);
+            free(r0);
+          }
+        }
+        if (!st) st = rl_integrator_resume(in, s.step0, s.t0);
         /* a changed run.seed asks for a new random stream: the integrator was seeded with it */
-        const int reseed = ver == 2 && rec.rng_size && rec.seed != d->thermostat_seed;
+        const int reseed = ver >= 2 && rec.rng_size && rec.seed != d->thermostat_seed;
         if (!st && reseed)
           fprintf(stderr, "rotleap run: run.seed = %lu differs from the seed %lu of the run that wrote %s: the "
                           "%s thermostat continues with a new random stream from seed %lu (not bit for bit "

@@ -1625,6 +1625,11 @@ const char *rl_ff_fast_name(const rl_ff_fast *f) { return f->name; }
 int rl_ff_fast_threads(const rl_ff_fast *f) { return f->nthreads; }
 long rl_ff_fast_builds(const rl_ff_fast *f) { return f ? f->chk->builds : 0; }
 
+const double (*rl_ff_fast_origin(const rl_ff_fast *f, int n))[3]
+{
+  return f && f->chk->n == n && f->chk->r0 ? (const double(*)[3])f->chk->r0 : NULL;
+}
+
 /* ------------------------------------------------------------------------ the list */
 
 static int push(int **a, long *cap, long *len, int v)
@@ -1920,6 +1925,15 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   for (int i = 0; i < n; i++)
     for (int c = 0; c < 3; c++) far |= fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12;
   if (far) return 1;
+  if (ff->origin) { /* a restart: first the list the run had, built from its centres */
+    double(*cur)[3] = ff->centre;
+    ff->centre = ff->origin;
+    int st = build(ff);
+    ff->centre = cur;
+    free(ff->origin);
+    ff->origin = NULL;
+    if (st) return st;
+  }
   if (rl_nlist_needs_rebuild(f->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL, T) ||
       f->chk->rlist != ff->rlist) {
     int st = build(ff);

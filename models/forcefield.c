@@ -59,6 +59,7 @@ void rl_forcefield_free(rl_forcefield *ff)
   free(ff->tq);
   rl_nlist_free(ff->nl);
   rl_ff_fast_free(ff->fast);
+  free(ff->origin);
   free(ff);
 }
 
@@ -398,6 +399,26 @@ const char *rl_forcefield_kernel(const rl_forcefield *ff)
 int rl_forcefield_threads(const rl_forcefield *ff) { return ff->fast ? rl_ff_fast_threads(ff->fast) : 1; }
 double rl_forcefield_list_radius(const rl_forcefield *ff) { return ff->rlist; }
 
+int rl_forcefield_list_origin(const rl_forcefield *ff, double (*r0)[3])
+{
+  const double(*o)[3] = ff->fast ? rl_ff_fast_origin(ff->fast, ff->n) : NULL;
+  if (!ff->fast && ff->nl && ff->nl->n == ff->n) o = (const double(*)[3])ff->nl->r0;
+  if (!o || ff->n < 1) return 0;
+  memcpy(r0, o, sizeof *r0 * (size_t)ff->n);
+  return 1;
+}
+
+int rl_forcefield_set_list_origin(rl_forcefield *ff, const double (*r0)[3])
+{
+  for (int i = 0; i < ff->n; i++)
+    if (!isfinite(r0[i][0]) || !isfinite(r0[i][1]) || !isfinite(r0[i][2]))
+      return rl_error(RL_EINVAL, "forcefield: list origin of body %d is not finite", i);
+  if (!ff->origin && !(ff->origin = malloc(sizeof *ff->origin * (size_t)(ff->n > 0 ? ff->n : 1))))
+    return rl_error(RL_ENOMEM, "forcefield: out of memory");
+  memcpy(ff->origin, r0, sizeof *r0 * (size_t)ff->n);
+  return RL_OK;
+}
+
 void rl_forcefield_energies(const rl_forcefield *ff, rl_ff_energies *e) { *e = ff->e; }
 
 double rl_forcefield_pressure(const rl_forcefield *ff, const rl_forces *f, double ke_trans)
@@ -563,6 +584,12 @@ static int reference_pairs(rl_forcefield *ff, rl_acc *acc, int rebuild)
 {
   int n = ff->n, st = RL_OK;
   if (ff->nl) {
+    if (ff->origin && !rebuild) { /* a restart: the list the run had (list_origin) */
+      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->origin);
+      free(ff->origin);
+      ff->origin = NULL;
+      if (st) return st;
+    }
     if (rebuild ||
         rl_nlist_needs_rebuild(ff->nl, &ff->box, n, (const double(*)[3])ff->centre, NULL, 1)) {
       st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->centre);

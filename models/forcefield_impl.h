@@ -42,6 +42,8 @@ struct rl_forcefield {
   double (*fs)[3];         /* [nsites] site forces                                         */
   double (*tq)[3];         /* [n] direct (dipole/quadrupole) torques                       */
   rl_nlist *nl;
+  double (*origin)[3];     /* [n] set_list_origin: the centres the next list build uses (NULL:
+                              the current ones)                                             */
   rl_ff_fast *fast;        /* NULL: the reference path (kernel = general or no list)       */
   rl_ff_energies e;
 };
@@ -74,5 +76,7 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *acc);
 const char *rl_ff_fast_name(const rl_ff_fast *fast);
 int rl_ff_fast_threads(const rl_ff_fast *fast);
 long rl_ff_fast_builds(const rl_ff_fast *fast); /* 0 for NULL */
+/* The centres at the kernels' last list build (NULL before the first). */
+const double (*rl_ff_fast_origin(const rl_ff_fast *fast, int n))[3];
 
 #endif

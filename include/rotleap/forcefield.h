@@ -169,6 +169,16 @@ const char *rl_forcefield_kernel(const rl_forcefield *ff);
 int rl_forcefield_threads(const rl_forcefield *ff);
 double rl_forcefield_list_radius(const rl_forcefield *ff);
 
+/* The neighbour list's origin: the centres at its last build.  The list (its pairs, their order
+ * and the threads' shares of rows) is a function of those centres, and so is the order of every
+ * sum over pairs.  A checkpoint that stores them lets a restart build the same list and continue
+ * bit for bit: rl_forcefield_list_origin fills r0 [n][3] and returns 1 (0, nothing written, while
+ * there is no list); rl_forcefield_set_list_origin (before the first compute) makes the next build
+ * use r0 instead of the current centres, after which the usual displacement test against r0
+ * decides whether to build again at once.  RL_EINVAL for non-finite r0. */
+int rl_forcefield_list_origin(const rl_forcefield *ff, double (*r0)[3]);
+int rl_forcefield_set_list_origin(rl_forcefield *ff, const double (*r0)[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -2,7 +2,8 @@
 # Checkpoint continuation is bit for bit: 2N steps in one run, and N steps + restart from the
 # checkpoint + N steps, give byte-identical final checkpoints (state, time, thermostat account,
 # random stream, accumulators) and identical thermo rows, for NVE and every NVT thermostat
-# (Stockmayer), and final checkpoints for TIP4P in a small and a larger box.
+# (Stockmayer), and final checkpoints for TIP4P in a small and a larger box, with a cell grid and
+# on two threads.
 # usage: restart_tests.sh ROTLEAP SRCDIR WORKDIR
 set -u
 rotleap=$1; src=$2; work=$3
@@ -38,6 +39,15 @@ done
 for cnt in 216 512; do
   tw=(--set system.count=$cnt --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf=)
   three_runs "tip4p$cnt" "$src/examples/tip4p.ini" "${tw[@]}"
+done
+# A box with a cell grid (1,024 TIP4P: 5 cells per edge) and a pair loop on two threads (512): the
+# list, and so the order of the pair sums, depends on the centres at its build.  The checkpoint
+# carries them (rl_forcefield_list_origin) and the restart builds the same list; without them
+# both continued to round-off only.
+for spec in "1024 1" "512 2"; do
+  set -- $spec
+  three_runs "tip4p$1-t$2" "$src/examples/tip4p.ini" --set system.count=$1 --set run.threads=$2 --set run.equilibrate=100 \
+    --set output.thermo_every=10 --set output.rdf= --set output.sample_every=0
 done
 # output.energy_every = 5: forces only on four steps in five.  The continuation stays bit for bit
 # (the averages are over the steps that are multiples of 5, counted from step 0 in both), and the
