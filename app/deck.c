@@ -48,7 +48,7 @@ static const key_def keys[NKEYS] = {
     [K_DISP] = {"interactions", "dispersion_correction", K_BOOL, Q_NONE, "no", NULL, "long-range LJ correction of energy and pressure"},
     [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting)"},
     [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles: reaction field or shifted force"},
-    [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff"},
+    [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff, growing at large steps as sqrt(v h / 0.0015 cutoff) (v the thermal speed sqrt(3kT/m)) up to 0.25 cutoff: 0.1 cutoff for TIP4P up to 2 fs, 0.2 at 8 fs. The summary prints the skin used"},
     [K_KERNEL] = {"interactions", "kernel", K_CHOICE, Q_NONE, "auto", "auto|general", "auto: pair kernels specialised by site pattern (TIP4P, charges+LJ, Stockmayer), threaded; general: the serial reference routine (docs/interactions.md)"},
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},

@@ -43,10 +43,21 @@ int scene_build(const rl_deck *d, scene *s)
   return s->ff ? 0 : 1;
 }
 
+double scene_skin(const rl_deck *d, const rl_molecule *mol)
+{
+  if (d->ff.skin >= 0.0) return d->ff.skin;
+  const double rc = d->ff.cutoff, T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
+  if (!(T > 0) || !(mol->mass > 0) || !(d->timestep > 0)) return 0.1 * rc;
+  const double x = sqrt(3.0 * rl_units_kB(d->units) * T / mol->mass) * d->timestep / (0.0015 * rc);
+  return fmin(0.25, 0.1 * sqrt(fmax(1.0, x))) * rc;
+}
+
 rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
   rl_species_ff sff = rl_molecule_ff(mol);
-  rl_forcefield *ff = rl_forcefield_alloc(sys, &d->ff, &sff, 1);
+  rl_ff_params p = d->ff;
+  p.skin = scene_skin(d, mol);
+  rl_forcefield *ff = rl_forcefield_alloc(sys, &p, &sff, 1);
   if (ff && d->model->geometric_mixing) /* OPLS, EPM2: sigma_ab = sqrt(sigma_a sigma_b) */
     for (int a = 0; a < mol->nsites; a++)
       for (int b = a; b < mol->nsites; b++)

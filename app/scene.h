@@ -23,6 +23,16 @@ int scene_build(const rl_deck *d, scene *s);
 void scene_free(scene *s);
 /* A force field for `sys` with the deck's interactions (and the model's geometric mixing), or
  * NULL with a message. */
+/* The Verlet skin: interactions.skin, or if not given 0.1 cutoff, the fastest in the scans at
+ * 2 fs for TIP4P and h* = 0.002 for Stockmayer (bench/skin_*.csv), where a molecule's thermal
+ * displacement per step v h (v = sqrt(3 kT / m), T the thermostat's or the start's) is about
+ * 0.0015 cutoff.  At larger steps the list is rebuilt more often (every few steps at 8 fs, where
+ * the builds took 8.5 % of a 256-TIP4P step), so the skin grows as sqrt(v h / (0.0015 cutoff)),
+ * the minimum of a cost linear in the skin plus one in v h / skin, up to 0.25 cutoff.  The skin
+ * changes the speed, and with a cell grid (edges >= 2.5 list radii) the cells and so the order
+ * of the pair sums (round-off); the kernels' sums do not depend on the candidates beyond the
+ * cutoff. */
+double scene_skin(const rl_deck *d, const rl_molecule *mol);
 rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
 /* The deck's relaxation phase (run.equilibrate steps; nothing for a checkpoint start). */
 int scene_relax(const rl_deck *d, scene *s);

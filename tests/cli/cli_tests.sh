@@ -34,6 +34,15 @@ check "quiet when not a terminal" '[ ! -s err.txt ]'
 check "negative time step rejected" '[ $code -eq 2 ] && grep -q "run.timestep -0.002 must be positive" err.txt'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=5 --set output.prefix="$work/abs" >out.txt 2>err.txt; code=$?
 check "absurd time step rejected" '[ $code -eq 2 ] && grep -q "no step can follow the rotation" err.txt'
+# the default skin: 0.1 cutoff at 2 fs for water, sqrt(v h / 0.0015 rc) times that at 8 fs (0.1756 nm
+# for TIP4P at 298 K, rc 0.9 nm), and a given skin as given
+for spec in "2fs 0.09" "8fs 0.1756" "8fs@0.05 0.05"; do
+  set -- $spec; h=${1%@*}; sk=""; want=$2; [ "$h" != "$1" ] && sk="--set interactions.skin=${1#*@}"
+  rm -f "$work/skin.summary.txt"
+  "$rotleap" run "$src/examples/tip4p.ini" --set run.timestep=$h --set run.steps=2 --set run.equilibrate=0 $sk \
+    --set output.prefix="$work/skin" >/dev/null 2>&1
+  check "skin for $1: $want nm" 'grep -q "^neighbour_list = skin $want nm, " "$work/skin.summary.txt"'
+done
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set output.energy_every=3 --set output.prefix="$work/ee3" >out.txt 2>err.txt; code=$?
 check "thermo_every not a multiple of energy_every rejected" '[ $code -eq 2 ] && grep -q "output.thermo_every = 10 must be a multiple of output.energy_every = 3" err.txt && [ ! -e "$work/ee3.summary.txt" ]'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.model=stockmayr >out.txt 2>err.txt; code=$?
