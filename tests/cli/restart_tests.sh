@@ -2,8 +2,8 @@
 # Checkpoint continuation is bit for bit: 2N steps in one run, and N steps + restart from the
 # checkpoint + N steps, give byte-identical final checkpoints (state, time, thermostat account,
 # random stream, accumulators) and identical thermo rows, for NVE and every NVT thermostat
-# (Stockmayer), and final checkpoints for TIP4P in a small and a larger box, with a cell grid and
-# on two threads.
+# (Stockmayer), and final checkpoints for TIP4P in a small and a larger box, for dipoles with a
+# cell grid and for TIP4P on two threads.
 # usage: restart_tests.sh ROTLEAP SRCDIR WORKDIR
 set -u
 rotleap=$1; src=$2; work=$3
@@ -40,15 +40,14 @@ for cnt in 216 512; do
   tw=(--set system.count=$cnt --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf=)
   three_runs "tip4p$cnt" "$src/examples/tip4p.ini" "${tw[@]}"
 done
-# A box with a cell grid (1,024 TIP4P: 5 cells per edge) and a pair loop on two threads (512): the
-# list, and so the order of the pair sums, depends on the centres at its build.  The checkpoint
-# carries them (rl_forcefield_list_origin) and the restart builds the same list; without them
-# both continued to round-off only.
-for spec in "1024 1" "512 2"; do
-  set -- $spec
-  three_runs "tip4p$1-t$2" "$src/examples/tip4p.ini" --set system.count=$1 --set run.threads=$2 --set run.equilibrate=100 \
-    --set output.thermo_every=10 --set output.rdf= --set output.sample_every=0
-done
+# A box with a cell grid (1,000 dipoles: 7 cells per edge) and a pair loop on two threads (512
+# TIP4P): the list, and so the order of the pair sums, depends on the centres at its build.  The
+# checkpoint carries them (rl_forcefield_list_origin) and the restart builds the same list;
+# without them both continued to round-off only (as did 1,024 TIP4P with its 5 cells per edge).
+three_runs "stockmayer1000" "$deck" --set system.count=1000 --set run.ensemble=nvt-bussi --set run.temperature=1.35 \
+  --set run.tau=0.05 --set output.thermo_every=10 --set output.sample_every=0
+three_runs "tip4p512-t2" "$src/examples/tip4p.ini" --set system.count=512 --set run.threads=2 --set run.equilibrate=50 \
+  --set output.thermo_every=10 --set output.rdf= --set output.sample_every=0
 # output.energy_every = 5: forces only on four steps in five.  The continuation stays bit for bit
 # (the averages are over the steps that are multiples of 5, counted from step 0 in both), and the
 # trajectory and the thermo rows (apart from calE, a running statistic over the averaged steps)
@@ -59,9 +58,9 @@ check "energy_every: summary says so, and its averages agree after a restart" \
   'grep -q "^energy_every = 5 " ee-stockmayer-A.summary.txt && diff <(grep -vE "wall_seconds|this invocation|summary of" ee-stockmayer-A.summary.txt) <(grep -vE "wall_seconds|this invocation|summary of" ee-stockmayer-C.summary.txt) >/dev/null'
 check "energy_every: Stockmayer trajectory and thermo rows as with energy_every = 1" \
   'cmp -s ee-stockmayer-A.xyz nvt-bussi-A.xyz && diff <(cut -d, -f1-16,18- ee-stockmayer-A.thermo.csv) <(cut -d, -f1-16,18- nvt-bussi-A.thermo.csv) >/dev/null'
-three_runs "ee-tip4p512" "$src/examples/tip4p.ini" --set system.count=512 --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf= --set output.energy_every=5
+three_runs "ee-tip4p216" "$src/examples/tip4p.ini" --set system.count=216 --set run.equilibrate=200 --set output.thermo_every=10 --set output.rdf= --set output.energy_every=5
 check "energy_every: TIP4P thermo rows (U, pressure, conserved) as with energy_every = 1" \
-  'diff <(cut -d, -f1-16,18- ee-tip4p512-A.thermo.csv) <(cut -d, -f1-16,18- tip4p512-A.thermo.csv) >/dev/null'
+  'diff <(cut -d, -f1-16,18- ee-tip4p216-A.thermo.csv) <(cut -d, -f1-16,18- tip4p216-A.thermo.csv) >/dev/null'
 # Another run.seed under the same stochastic thermostat: the run continues (step count, averages)
 # with a new random stream from that seed, and says so; the same seed is the bit-for-bit case above.
 common=(--set run.ensemble=nvt-langevin --set run.temperature=1.35 --set run.tau=0.05 --set output.thermo_every=5)
