@@ -19,12 +19,12 @@
  * within the centres' interaction range (the list holds about twice as many), copies their
  * sites into structure-of-arrays buffers padded to 8 lanes, runs branch-free `omp simd` loops
  * (the cutoff as a 0/1 factor), then scatters the forces.  Where the CPU has AVX-512 (and
- * ROTLEAP_NO_AVX512 is unset) the TIP4P rows with the centres' image fill and scatter their
- * batches with transposes of 128-byte records instead (tip4p_fill512), and the dipole rows keep
- * no batch at all: they pack each eight neighbours within the cutoff into registers and form
- * their terms there (dipole_row512).  TIP4P runs its 10 terms in one
- * loop (on AVX-512 its 9 Coulomb terms in registers after it, tip4p_coul512); "charge-lj" one
- * loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt (a few ulp, no
+ * ROTLEAP_NO_AVX512 is unset) the TIP4P rows with the centres' image keep only the
+ * neighbours' indices and centre separations in their batches (tip4p_fill512) and form all
+ * terms in registers from transposes of 128-byte records (tip4p_row512), and the dipole rows
+ * keep no batch at all: they pack each eight neighbours within the cutoff into registers and
+ * form their terms there (dipole_row512).  The portable TIP4P rows run their 10 terms in one
+ * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt (a few ulp, no
  * divider; vrsqrt14pd and two Newton steps in the AVX-512 rows), a * b + c may be one FMA, and
  * separations and sums are
  * formed in another order, so results agree with the reference to round-off.
@@ -530,13 +530,14 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
 /* ------------------------------------------------------------------------ TIP4P kernel */
 
 #if RL_X512
-/* The TIP4P rows' batches on AVX-512: each TIP4P rank's centre and sites relative to it sit
- * in a 128-byte record (V->pk4), two 512-bit rows.  The fill tests eight candidates at a time
+/* The TIP4P rows on AVX-512: each TIP4P rank's centre and sites relative to it sit in a
+ * 128-byte record (V->pk4), two 512-bit rows.  The fill tests eight candidates at a time
  * against the pruning radius (their centres transposed from the records, sep8) and packs the
- * kept ones onto the batch (a scalar pass over the candidates was a fifth of the TIP4P time,
- * issue 8), then loads the kept ones' records eight at a time and transposes each half
- * (8 x 8) into the batch's sites.  The scatter transposes the site forces back into records and
- * adds them with two 512-bit adds per neighbour into the thread's buffer (ft4). */
+ * kept ones' indices and separations onto the batch (a scalar pass over the candidates was a
+ * fifth of the TIP4P time, issue 8).  tip4p_pairs512 then loads the kept ones' records eight at
+ * a time, transposes each half (8 x 8) into their sites, forms the terms, and transposes the
+ * site forces back into records, added with two 512-bit adds per neighbour into the thread's
+ * buffer (ft4). */
 
 /* in[r][c] -> out[c][r], eight rows of eight doubles: 24 shuffles */
 RL_T512 static inline void tr8x8(const __m512d in[8], __m512d out[8])
@@ -562,6 +563,47 @@ RL_T512 static inline void tr8x8(const __m512d in[8], __m512d out[8])
   out[5] = _mm512_shuffle_f64x2(u[2], v[2], 0xEE);
   out[3] = _mm512_shuffle_f64x2(u[3], v[3], 0x44);
   out[7] = _mm512_shuffle_f64x2(u[3], v[3], 0xEE);
+}
+
+/* 1 / sqrt(x) on 8 lanes: vrsqrt14pd (relative error < 2^-14) and two Newton steps
+ * (error ~ 1.5 e^2 each: 6e-9, then 5e-17), within a few ulp like rl_rsqrt */
+RL_T512 static inline __m512d rsqrt8(__m512d x)
+{
+  const __m512d half = _mm512_set1_pd(0.5), h = _mm512_mul_pd(half, x);
+  __m512d y = _mm512_rsqrt14_pd(x);
+  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, half), y);
+  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, half), y);
+  return y;
+}
+
+/* lj_eval_ir2 on 8 lanes, given ir2 = 1 / r^2 and, for the truncations, rr = |r| and
+ * ir = 1 / |r| (the dipole rows pass rsqrt8's, the TIP4P rows a divide's) */
+RL_T512 RL_INLINE void lj8(const int TRUNC, const lj_consts C, const box_consts *B, __m512d ir2,
+                           __m512d rr, __m512d ir, __m512d *u, __m512d *fr)
+{
+#define V1(a) _mm512_set1_pd(a)
+  const __m512d ir6 = ir2 * ir2 * ir2;
+  __m512d ul = (V1(C.c12) * ir6 - V1(C.c6)) * ir6;
+  __m512d frl = (V1(12.0 * C.c12) * ir6 - V1(6.0 * C.c6)) * ir6 * ir2;
+  if (TRUNC == RL_LJ_SHIFTED) {
+    ul = ul - V1(C.eshift);
+  } else if (TRUNC == RL_LJ_SHIFTED_FORCE) {
+    ul = ul - (V1(C.eshift) + (rr - V1(B->rc)) * V1(C.fshift));
+    frl = frl + V1(C.fshift) * ir;
+  } else if (TRUNC == RL_LJ_SWITCHED) {
+    const double w = B->rc - B->rsw;
+    const __m512d x = (rr - V1(B->rsw)) * V1(1.0 / w);
+    const __m512d Sw = V1(1.0) + x * x * x * (V1(-10.0) + x * (V1(15.0) - V1(6.0) * x));
+    const __m512d dS = x * x * (V1(-30.0) + x * (V1(60.0) - V1(30.0) * x)) * V1(1.0 / w);
+    const __m512d fsw = frl * Sw - ul * dS * ir, usw = ul * Sw;
+    const __mmask8 sw = _mm512_cmp_pd_mask(rr, V1(B->rsw), _CMP_GT_OQ);
+    const __mmask8 in = _mm512_cmp_pd_mask(rr, V1(B->rc), _CMP_LT_OQ);
+    frl = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, frl, fsw));
+    ul = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, ul, usw));
+  }
+  *u = ul;
+  *fr = frl;
+#undef V1
 }
 
 /* The box and the centre of row i, broadcast, for sep8. */
@@ -715,108 +757,171 @@ RL_T512 static inline void tip4p_fill512(const kview *V, const box_consts *B, in
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
-  for (int k = n; k < np; k++) { /* padding: a copy of the first neighbour, weight 0 */
+  for (int k = n; k < np; k++) { /* padding: a copy of the first neighbour, masked out */
     b->idx[k] = b->idx[0];
     for (int c = 0; c < 3; c++) b->R[c][k] = b->R[c][0];
-  }
-  for (int k = 0; k < np; k++) b->w[k] = k < n ? 1.0 : 0.0;
-  for (int k = 0; k < np; k += RL_FAST_W) {
-    __m512d lo[8], hi[8], a[8], c[8];
-    for (int l = 0; l < 8; l++) {
-      const double *q = V->pk4[b->idx[k + l]];
-      lo[l] = _mm512_load_pd(q);
-      hi[l] = _mm512_load_pd(q + 8);
-    }
-    tr8x8(lo, a); /* a[3 + 3 s + c] = site s, c; s = 0, 1 (c < 2) */
-    tr8x8(hi, c); /* c[3 + 3 s + c - 8] for the rest */
-    for (int e = 3; e < 15; e++) {
-      const int s = (e - 3) / 3, d = (e - 3) % 3;
-      _mm512_store_pd(&b->x[s][d][k], e < 8 ? a[e] : c[e - 8]);
-    }
   }
   b->n = n;
   b->np = np;
 }
 
-/* The nine Coulomb terms of a TIP4P batch (charge sites 1-3 of i at a[1..3], relative to i's
- * centre, against the neighbours' charge sites 1-3; P_SHIFT or P_MOL), eight neighbours per
- * vector: the terms of rl_coulomb_rf_pair with 1/sqrt from vrsqrt14pd and two Newton steps
- * (relative error 2^-14 -> 6e-9 -> 5e-17, as the dipole rows), where the `omp simd` loop's
- * rl_rsqrt takes four steps from a bit trick: 8 vector operations instead of 15, of about 40 per
- * term.  Writes the forces on the neighbours' charge sites (b->f[1..3]) and on i's from each
- * neighbour (b->g[1..3]), lowers b->r2min (set by the LJ term) and returns the energy summed
- * over the lanes (0 unless EV).  The cutoff (P_SHIFT) and the padding are masks. */
-RL_T512 static inline double tip4p_coul512(const int MODE, const int EV, const box_consts *B,
-                                           const double a[4][3], const double qq[3][3], batch *b)
+/* The sums of a TIP4P row on AVX-512 over all its neighbours, lane by lane (tip4p_pairs512). */
+typedef struct {
+  __m512d fi[4][3]; /* forces on i's sites, by slot (LJ site, then charges) */
+  __m512d w[9];     /* EV: R (x) F, F the pair's force on i */
+  __m512d elj, ecoul;
+  __m512d r2min;    /* the closest site pair of each lane's neighbours */
+} tip_sums;
+
+/* The 1 LJ + 9 Coulomb terms of a TIP4P batch (P_SHIFT or P_MOL), eight neighbours per
+ * vector, in registers: each eight neighbours' records are loaded and transposed into their
+ * sites, the terms formed (lj8 with a divide for 1 / r^2; the Coulomb terms as
+ * rl_coulomb_rf_pair with 1/sqrt from vrsqrt14pd and two Newton steps, relative error
+ * 2^-14 -> 6e-9 -> 5e-17, where the portable rows' rl_rsqrt takes four steps from a bit trick),
+ * the forces on i's sites added to the row's running sums S, and the forces on the
+ * neighbours' sites transposed back into records and added to the thread's buffer (ft4).
+ * Until 2026-11-22 the batch went through memory between an `omp simd` LJ loop, a Coulomb
+ * loop, a reduction per site component and a scatter loop, which took half of a 256-TIP4P
+ * row's time (perf).  Neighbour k of a batch takes lane k mod 8 as before, and the batches end
+ * where batch_fill's do, so the sums do not depend on when the list was built.  The cutoff
+ * (P_SHIFT) and the padding are masks. */
+RL_T512 RL_INLINE void tip4p_pairs512(const int MODE, const int EV, const int TRUNC,
+                                      const lj_consts C, const box_consts *B,
+                                      const double a[4][3], const double qq[3][3],
+                                      const kview *V, const batch *b, double (*ft4)[16],
+                                      tip_sums *S)
 {
-  const __m512d half = _mm512_set1_pd(0.5), rc2 = _mm512_set1_pd(B->rc2);
-  const __m512d krf = _mm512_set1_pd(B->krf), krf2 = _mm512_set1_pd(2.0 * B->krf),
-                crf = _mm512_set1_pd(B->crf), zero = _mm512_setzero_pd();
-  __m512d e = zero;
-  for (int k = 0; k < b->np; k += RL_FAST_W) {
-    const __mmask8 live = _mm512_cmp_pd_mask(_mm512_load_pd(b->w + k), zero, _CMP_NEQ_OQ);
+#define V1(x) _mm512_set1_pd(x)
+  const __m512d zero = _mm512_setzero_pd(), half = V1(0.5), rc2 = V1(B->rc2);
+  const __m512d krf = V1(B->krf), krf2 = V1(2.0 * B->krf), crf = V1(B->crf);
+  for (int k = 0; k < b->n; k += RL_FAST_W) {
+    const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
+    const __mmask8 live = (__mmask8)((1u << cnt) - 1u);
     const __m512d R[3] = {_mm512_load_pd(b->R[0] + k), _mm512_load_pd(b->R[1] + k),
                           _mm512_load_pd(b->R[2] + k)};
-    __m512d r2min = _mm512_load_pd(b->r2min + k);
-    __m512d gj[3][3];
+    __m512d lo[8], hi[8], A[8], H[8];
+    for (int l = 0; l < 8; l++) {
+      const double *q = V->pk4[b->idx[k + l]];
+      lo[l] = _mm512_load_pd(q);
+      hi[l] = _mm512_load_pd(q + 8);
+    }
+    tr8x8(lo, A); /* A[3 + 3 s + c]: site s, component c of the eight (s = 0, 1; c < 2) */
+    tr8x8(hi, H); /* H[3 + 3 s + c - 8]: the rest */
+    __m512d xj[4][3], gj[4][3];
+    for (int s = 0; s < 4; s++)
+      for (int c = 0; c < 3; c++) {
+        const int e = 3 + 3 * s + c;
+        xj[s][c] = e < 8 ? A[e] : H[e - 8];
+      }
+    { /* LJ between the LJ sites (slot 0): lj_eval */
+      __m512d d[3];
+      for (int c = 0; c < 3; c++) d[c] = R[c] + V1(a[0][c]) - xj[0][c];
+      const __m512d r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      const __mmask8 in = MODE == P_MOL ? live : _mm512_mask_cmp_pd_mask(live, r2, rc2, _CMP_LT_OQ);
+      S->r2min = _mm512_mask_min_pd(S->r2min, live, S->r2min, r2);
+      const __m512d ir2 = V1(1.0) / r2;
+      __m512d rr = zero, ir = zero;
+      if (TRUNC == RL_LJ_SHIFTED_FORCE || TRUNC == RL_LJ_SWITCHED) {
+        rr = _mm512_sqrt_pd(r2);
+        ir = V1(1.0) / rr;
+      }
+      __m512d u, fr;
+      lj8(TRUNC, C, B, ir2, rr, ir, &u, &fr);
+      fr = _mm512_maskz_mov_pd(in, fr);
+      if (EV) S->elj = _mm512_mask_add_pd(S->elj, in, S->elj, u);
+      for (int c = 0; c < 3; c++) {
+        const __m512d f = fr * d[c];
+        S->fi[0][c] = S->fi[0][c] + f;
+        gj[0][c] = zero - f;
+      }
+    }
     for (int q = 0; q < 3; q++)
-      for (int c = 0; c < 3; c++) gj[q][c] = zero;
-    for (int p = 0; p < 3; p++) {
-      __m512d ra[3], gi[3] = {zero, zero, zero}; /* separation = ra - site q of j */
-      for (int c = 0; c < 3; c++) ra[c] = _mm512_add_pd(R[c], _mm512_set1_pd(a[1 + p][c]));
+      for (int c = 0; c < 3; c++) gj[1 + q][c] = zero;
+    for (int p = 0; p < 3; p++) { /* charge p of i against charge q of j: rl_coulomb_rf_pair */
+      __m512d ra[3];
+      for (int c = 0; c < 3; c++) ra[c] = R[c] + V1(a[1 + p][c]);
       for (int q = 0; q < 3; q++) {
         __m512d d[3];
-        for (int c = 0; c < 3; c++) d[c] = _mm512_sub_pd(ra[c], _mm512_load_pd(&b->x[1 + q][c][k]));
+        for (int c = 0; c < 3; c++) d[c] = ra[c] - xj[1 + q][c];
         const __m512d r2 =
             _mm512_fmadd_pd(d[2], d[2], _mm512_fmadd_pd(d[1], d[1], _mm512_mul_pd(d[0], d[0])));
         const __mmask8 in =
             MODE == P_MOL ? live : _mm512_mask_cmp_pd_mask(live, r2, rc2, _CMP_LT_OQ);
-        r2min = _mm512_min_pd(r2min, r2);
-        const __m512d h = _mm512_mul_pd(half, r2);
+        S->r2min = _mm512_mask_min_pd(S->r2min, live, S->r2min, r2);
+        const __m512d h = half * r2;
         __m512d ir = _mm512_rsqrt14_pd(r2);
-        ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, _mm512_mul_pd(ir, ir), half), ir);
-        ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, _mm512_mul_pd(ir, ir), half), ir);
-        const __m512d qv = _mm512_set1_pd(qq[p][q]);
-        const __m512d ir3 = _mm512_mul_pd(_mm512_mul_pd(ir, ir), ir);
-        const __m512d fr = _mm512_maskz_mul_pd(in, qv, _mm512_sub_pd(ir3, krf2));
-        const __m512d u = _mm512_sub_pd(_mm512_fmadd_pd(krf, r2, ir), crf);
-        if (EV) e = _mm512_mask3_fmadd_pd(qv, u, e, in); /* lanes outside keep e */
+        ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, ir * ir, half), ir);
+        ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, ir * ir, half), ir);
+        const __m512d qv = V1(qq[p][q]);
+        const __m512d fr = _mm512_maskz_mul_pd(in, qv, ir * ir * ir - krf2);
+        if (EV) S->ecoul = _mm512_mask3_fmadd_pd(qv, _mm512_fmadd_pd(krf, r2, ir) - crf, S->ecoul, in);
         for (int c = 0; c < 3; c++) {
-          const __m512d f = _mm512_mul_pd(fr, d[c]);
-          gi[c] = _mm512_add_pd(gi[c], f);
-          gj[q][c] = _mm512_sub_pd(gj[q][c], f);
+          const __m512d f = fr * d[c];
+          S->fi[1 + p][c] = S->fi[1 + p][c] + f;
+          gj[1 + q][c] = gj[1 + q][c] - f;
         }
       }
-      for (int c = 0; c < 3; c++) _mm512_store_pd(&b->g[1 + p][c][k], gi[c]);
     }
-    for (int q = 0; q < 3; q++)
-      for (int c = 0; c < 3; c++) _mm512_store_pd(&b->f[1 + q][c][k], gj[q][c]);
-    _mm512_store_pd(b->r2min + k, r2min);
-  }
-  return _mm512_reduce_add_pd(e);
-}
-
-/* Add the batch's site forces b->f on the neighbours to their records in ft4. */
-RL_T512 static inline void tip4p_scatter512(const batch *b, double (*ft4)[16])
-{
-  const __m512d zero = _mm512_setzero_pd();
-  for (int k = 0; k < b->n; k += RL_FAST_W) {
-    const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
-    __m512d lo[8], hi[8], a[8], c[8];
-    for (int e = 0; e < 16; e++) {
-      const int s = (e - 3) / 3, d = (e - 3) % 3;
-      const __m512d v = e < 3 || e == 15 ? zero : _mm512_load_pd(&b->f[s][d][k]);
-      if (e < 8) a[e] = v;
-      else c[e - 8] = v;
-    }
-    tr8x8(a, lo);
-    tr8x8(c, hi);
+    if (EV) /* R (x) F, F = -(sum of the forces on j's sites) the pair's force on i */
+      for (int c = 0; c < 3; c++) {
+        const __m512d F = zero - ((gj[0][c] + gj[1][c]) + (gj[2][c] + gj[3][c]));
+        for (int r = 0; r < 3; r++) S->w[3 * r + c] = S->w[3 * r + c] + R[r] * F;
+      }
+    /* the forces on the neighbours' sites, as records (centre 0, sites, 0), added in order */
+    const __m512d ea[8] = {zero, zero, zero, gj[0][0], gj[0][1], gj[0][2], gj[1][0], gj[1][1]};
+    const __m512d eh[8] = {gj[1][2], gj[2][0], gj[2][1], gj[2][2],
+                           gj[3][0], gj[3][1], gj[3][2], zero};
+    tr8x8(ea, lo);
+    tr8x8(eh, hi);
     for (int l = 0; l < cnt; l++) {
       double *o = ft4[b->idx[k + l]];
       _mm512_store_pd(o, _mm512_add_pd(_mm512_load_pd(o), lo[l]));
       _mm512_store_pd(o + 8, _mm512_add_pd(_mm512_load_pd(o + 8), hi[l]));
     }
   }
+#undef V1
+}
+
+/* tip4p_row on AVX-512 (P_SHIFT, P_MOL): the batches from tip4p_fill512, their terms in
+ * registers (tip4p_pairs512), i's site forces and (EV) the energies and R (x) F summed lane by
+ * lane over the row and reduced at its end. */
+RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUNC,
+                                    const rl_forcefield *ff, const kview *V, const fast_species *K,
+                                    int i, const int *nbr, int len, double (*fs)[3],
+                                    double (*ft4)[16], rl_acc *acc)
+{
+  const box_consts B = consts_of(ff);
+  const double rp2 = prune2(MODE, &B, K);
+  const int img = needs_images(MODE, &B, rp2);
+  const lj_consts C = lj_of(&K->t[0]);
+  double a[4][3], qq[3][3];
+  for (int s = 0; s < 4; s++) /* i's record: it alone is fresh (the site buffers are not) */
+    for (int c = 0; c < 3; c++) a[s][c] = V->pk4[i][3 + 3 * s + c];
+  for (int p = 0; p < 3; p++)
+    for (int q = 0; q < 3; q++) qq[p][q] = K->t[1 + 3 * p + q].qq;
+  const __m512d z = _mm512_setzero_pd();
+  tip_sums S;
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) S.fi[s][c] = z;
+  for (int c = 0; c < 9; c++) S.w[c] = z;
+  S.elj = S.ecoul = z;
+  S.r2min = _mm512_set1_pd(HUGE_VAL);
+  batch b;
+  for (int pos = 0; pos < len;) {
+    tip4p_fill512(V, &B, i, nbr, len, &pos, rp2, img, &b);
+    if (b.n) tip4p_pairs512(MODE, EV, TRUNC, C, &B, a, qq, V, &b, ft4, &S);
+  }
+  const int oi = V->soff[i];
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += _mm512_reduce_add_pd(S.fi[s][c]);
+  if (EV) {
+    acc->lj += _mm512_reduce_add_pd(S.elj);
+    acc->coul += _mm512_reduce_add_pd(S.ecoul);
+    for (int c = 0; c < 9; c++) acc->vir[c] += _mm512_reduce_add_pd(S.w[c]);
+  }
+  /* overlap: a site pair inside the cutoff closer than the minimum distance, as tip4p_row */
+  const double lim = MODE == P_MOL || B.md2 < B.rc2 ? B.md2 : B.rc2;
+  acc->bad |= _mm512_cmp_pd_mask(S.r2min, _mm512_set1_pd(lim), _CMP_LT_OQ) != 0;
 }
 #endif
 
@@ -824,19 +929,18 @@ RL_T512 static inline void tip4p_scatter512(const batch *b, double (*ft4)[16])
 /* One LJ site without charge and three charges without LJ (TIP4P and its reparametrisations):
  * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
  * + 9 Coulomb terms run in one loop, so each neighbour's sites are loaded once and its forces
- * stored once.  Each term is the reference formula (1/sqrt by rl_rsqrt).  On AVX-512 the loop
- * keeps the LJ term only, and tip4p_coul512 forms the nine Coulomb terms after it.
+ * stored once.  Each term is the reference formula (1/sqrt by rl_rsqrt).  On AVX-512
+ * tip4p_row512 forms the same terms in registers instead.
  *
  * Virial: with the centres' image (P_SHIFT, P_MOL) every term's separation is r = R + d_a -
  * d_b, so the pair's share of the molecular virial is R (x) F with F the pair's total force:
  * 9 multiply-adds per pair instead of 6 per term.  rl_ff_fast_compute adds back sum d (x) F
  * over these kernels' site forces, which the final site-to-molecule correction subtracts
  * from every site force.  With site images (P_SITE) each term keeps r (x) f. */
-RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int TRUNC, const rl_forcefield *ff,
+RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *ff,
                          const kview *V, const fast_species *K, int i, const int *nbr, int len,
-                         double (*fs)[3], double (*ft4)[16], rl_acc *acc)
+                         double (*fs)[3], rl_acc *acc)
 {
-  (void)X512; /* without RL_X512 only the portable fill and scatter exist */
   const int oi = V->soff[i];
   const box_consts B = consts_of(ff);
   const double rp2 = prune2(MODE, &B, K);
@@ -844,9 +948,8 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
   const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
   const lj_consts C = lj_of(&K->t[0]);
   double a[4][3], qq[3][3];
-  for (int s = 0; s < 4; s++) /* on AVX-512 (never P_SITE) from i's record: it alone is fresh */
-    for (int c = 0; c < 3; c++)
-      a[s][c] = X512 ? V->pk4[i][3 + 3 * s + c] : site_of_i(MODE, V, oi + K->perm[s])[c];
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) a[s][c] = site_of_i(MODE, V, oi + K->perm[s])[c];
   for (int p = 0; p < 3; p++)
     for (int q = 0; q < 3; q++) qq[p][q] = K->t[1 + 3 * p + q].qq;
   batch b;
@@ -856,11 +959,7 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
   double v0 = 0.0, v1 = 0.0, v2 = 0.0, v3 = 0.0, v4 = 0.0, v5 = 0.0, v6 = 0.0, v7 = 0.0, v8 = 0.0;
   const int SITEVIR = MODE == P_SITE;
   for (int pos = 0; pos < len;) {
-#if RL_X512
-    if (X512) tip4p_fill512(V, &B, i, nbr, len, &pos, rp2, img, &b);
-    else
-#endif
-      batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, img, &b);
+    batch_fill(MODE, 0, 0, V, &B, i, nbr, len, &pos, K, rp2, img, &b);
     if (b.n == 0) continue;
     const int np = b.np;
 #pragma omp simd reduction(+ : elj, ecoul, w0, w1, w2, w3, w4, w5)
@@ -875,7 +974,7 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
         r2min = r2;
         double fr, u = lj_eval(TRUNC, C, rc, rsw, r2, &fr);
         fr *= in;
-        if (EV) elj += in * u;
+        elj += in * u;
         const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
         gi[0][0] += fx; gi[0][1] += fy; gi[0][2] += fz;
         gj[0][0] -= fx; gj[0][1] -= fy; gj[0][2] -= fz;
@@ -884,50 +983,37 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
           w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
         }
       }
-      /* the term loops must be unrolled before the k loop can be vectorised; on AVX-512
-       * tip4p_coul512 forms the Coulomb terms after this loop */
-      if (!X512) {
+      /* the term loops must be unrolled before the k loop can be vectorised */
 #pragma GCC unroll 3
-        for (int p = 0; p < 3; p++)
+      for (int p = 0; p < 3; p++)
 #pragma GCC unroll 3
-          for (int q = 0; q < 3; q++) { /* rl_coulomb_rf_pair */
-            double dx, dy, dz;
-            sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
-            double r2 = dx * dx + dy * dy + dz * dz;
-            const double in = inside(MODE, &B, &b, k, r2);
-            r2min = r2 < r2min ? r2 : r2min;
-            /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
-            const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
-            const double fr = qin * (ir * ir * ir - 2.0 * krf);
-            if (EV) ecoul += qin * (ir + krf * r2 - crf);
-            const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
-            gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
-            gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
-            if (SITEVIR) {
-              w0 += dx * fx; w1 += dx * fy; w2 += dx * fz;
-              w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
-            }
+        for (int q = 0; q < 3; q++) { /* rl_coulomb_rf_pair */
+          double dx, dy, dz;
+          sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
+          double r2 = dx * dx + dy * dy + dz * dz;
+          const double in = inside(MODE, &B, &b, k, r2);
+          r2min = r2 < r2min ? r2 : r2min;
+          /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
+          const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
+          const double fr = qin * (ir * ir * ir - 2.0 * krf);
+          ecoul += qin * (ir + krf * r2 - crf);
+          const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
+          gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
+          gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
+          if (SITEVIR) {
+            w0 += dx * fx; w1 += dx * fy; w2 += dx * fz;
+            w3 += dy * fy; w4 += dy * fz; w5 += dz * fz;
           }
-      }
-      if (X512) {
-        for (int c = 0; c < 3; c++) {
-          b.f[0][c][k] = gj[0][c];
-          b.g[0][c][k] = gi[0][c];
         }
-      } else {
 #pragma GCC unroll 4
-        for (int s = 0; s < 4; s++)
+      for (int s = 0; s < 4; s++)
 #pragma GCC unroll 3
-          for (int c = 0; c < 3; c++) {
-            b.f[s][c][k] = gj[s][c];
-            b.g[s][c][k] = gi[s][c];
-          }
-      }
+        for (int c = 0; c < 3; c++) {
+          b.f[s][c][k] = gj[s][c];
+          b.g[s][c][k] = gi[s][c];
+        }
       b.r2min[k] = r2min;
     }
-#if RL_X512
-    if (X512) ecoul += tip4p_coul512(MODE, EV, &B, a, qq, &b);
-#endif
     { /* overlap: a site pair inside the cutoff closer than the minimum distance, i.e. (the
        * cutoff being a 0/1 factor) r2min < min(md2, rc2), or < md2 for a molecule cutoff; one
        * min per term in the loop above instead of a compare, select and add */
@@ -942,7 +1028,7 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
         for (int k = 0; k < np; k++) sum += b.g[s][c][k];
         fi[s][c] += sum;
       }
-    if (!SITEVIR && EV) { /* R (x) F, F the pair's force on i; a loop of its own, because its 9
+    if (!SITEVIR) { /* R (x) F, F the pair's force on i; a loop of its own, because its 9
                            * sums in the term loop spilled registers there */
 #pragma omp simd reduction(+ : v0, v1, v2, v3, v4, v5, v6, v7, v8)
       for (int k = 0; k < np; k++) {
@@ -955,13 +1041,8 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
         v6 += Rz * Fx; v7 += Rz * Fy; v8 += Rz * Fz;
       }
     }
-#if RL_X512
-    if (X512) tip4p_scatter512(&b, ft4);
-    else
-#endif
-      batch_scatter(0, V, &b, K, fs, NULL);
+    batch_scatter(0, V, &b, K, fs, NULL);
   }
-  (void)ft4;
   for (int s = 0; s < 4; s++)
     for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += fi[s][c];
   const double w[6] = {w0, w1, w2, w3, w4, w5};
@@ -985,17 +1066,6 @@ RL_INLINE void tip4p_row(const int X512, const int EV, const int MODE, const int
  * cutoff the list holds (a run restarted from a checkpoint rebuilds the list at another step
  * and continues bit for bit). */
 
-/* 1 / sqrt(x) on 8 lanes: vrsqrt14pd (relative error < 2^-14) and two Newton steps
- * (error ~ 1.5 e^2 each: 6e-9, then 5e-17), within a few ulp like rl_rsqrt */
-RL_T512 static inline __m512d rsqrt8(__m512d x)
-{
-  const __m512d half = _mm512_set1_pd(0.5), h = _mm512_mul_pd(half, x);
-  __m512d y = _mm512_rsqrt14_pd(x);
-  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, half), y);
-  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, half), y);
-  return y;
-}
-
 /* The row's running sums: force and torque on i, virial, energies, overlaps. */
 typedef struct {
   __m512d fx, fy, fz, tx, ty, tz, w0, w1, w2, w3, w4, w5, w6, w7, w8, elj, edip;
@@ -1016,27 +1086,9 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int EV, const int TRUNC, 
   const __m512d r2 = X * X + Y * Y + Z * Z;
   S->bad |= _mm512_mask_cmp_pd_mask(live, r2, V1(B->md2), _CMP_LT_OQ);
   const __m512d ir = rsqrt8(r2), ir2 = ir * ir, ir3 = ir * ir2, ir5 = ir3 * ir2;
-  /* lj_eval_ir2 */
-  const __m512d ir6 = ir2 * ir2 * ir2;
-  __m512d ul = (V1(C.c12) * ir6 - V1(C.c6)) * ir6;
-  __m512d frl = (V1(12.0 * C.c12) * ir6 - V1(6.0 * C.c6)) * ir6 * ir2;
   const __m512d rr = r2 * ir; /* |r|, for the truncations and the shifted-force dipoles */
-  if (TRUNC == RL_LJ_SHIFTED) {
-    ul = ul - V1(C.eshift);
-  } else if (TRUNC == RL_LJ_SHIFTED_FORCE) {
-    ul = ul - (V1(C.eshift) + (rr - V1(B->rc)) * V1(C.fshift));
-    frl = frl + V1(C.fshift) * ir;
-  } else if (TRUNC == RL_LJ_SWITCHED) {
-    const double w = B->rc - B->rsw;
-    const __m512d x = (rr - V1(B->rsw)) * V1(1.0 / w);
-    const __m512d Sw = V1(1.0) + x * x * x * (V1(-10.0) + x * (V1(15.0) - V1(6.0) * x));
-    const __m512d dS = x * x * (V1(-30.0) + x * (V1(60.0) - V1(30.0) * x)) * V1(1.0 / w);
-    const __m512d fsw = frl * Sw - ul * dS * ir, usw = ul * Sw;
-    const __mmask8 sw = _mm512_cmp_pd_mask(rr, V1(B->rsw), _CMP_GT_OQ);
-    const __mmask8 in = _mm512_cmp_pd_mask(rr, V1(B->rc), _CMP_LT_OQ);
-    frl = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, frl, fsw));
-    ul = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, ul, usw));
-  }
+  __m512d ul, frl;
+  lj8(TRUNC, C, B, ir2, rr, ir, &ul, &frl);
   /* rl_dipole_dipole_rf / _sf (dd_plain in dipole.c), regrouped: with K = kc (RF) or kc b(x)
    * (SF), m3 = -3 / r^5, Bj = K m3 pj and Bi = K m3 pi, the force on i is s R - Bj mu_i - Bi mu_j,
    * and the fields are g_i = A mu_j + Bj R, g_j = A mu_i + Bi R with A = K (1 / r^3 - 2 krf)
@@ -1315,10 +1367,10 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
   ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
   ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
   ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))              \
-  ROW_FN(tip4p_##M##0, tip4p_row(0, 1, P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, ft4, acc))                 \
-  ROW_FN(tip4p_##M##1, tip4p_row(0, 1, P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, ft4, acc))               \
-  ROW_FN(tip4p_##M##2, tip4p_row(0, 1, P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, ft4, acc))         \
-  ROW_FN(tip4p_##M##3, tip4p_row(0, 1, P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, ft4, acc))
+  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
+  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
+  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)
@@ -1347,7 +1399,8 @@ DIP512_EV(dipx_r, dipx_f, 1)
 DIP512_EV(dipo_r, dipo_f, 0)
 /* flatten: the fill (with other_images' branch) is too large for GCC to inline on its own */
 #define TIP512(NAME, EV, MODE, TRUNC)                                                          \
-  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME, tip4p_row(1, EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME,                                             \
+           tip4p_row512(EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
 #define TIP512_EV(H, M, EV)                                                                    \
   TIP512(H##0, EV, P_SHIFT, RL_LJ_PLAIN)                                                       \
   TIP512(H##1, EV, P_SHIFT, RL_LJ_SHIFTED)                                                     \

@@ -565,16 +565,25 @@ static void test_overlap(void **state)
     rl_ff_params_default(&p);
     p.box[0] = p.box[1] = p.box[2] = s.L;
     p.cutoff = 0.6;
-    /* put body 7 exactly on body 3 */
-    double r[3];
-    rl_system_get_position(s.sys, 3, r);
-    rl_system_set_position(s.sys, 7, r);
-    if (kind == 0) {
-      double A[9];
-      rl_system_get_orientation(s.sys, 3, A);
-      rl_system_set_orientation(s.sys, 7, A);
-    }
+    /* place 0: body 7 exactly on body 3; place 1 (water): body 7 with body 3's orientation,
+     * moved by H1 - H2, so that its H2 sits on body 3's H1 and only charge sites overlap
+     * (the oxygens are 0.15 nm apart) */
+    for (int place = 0; place < (kind == 0 ? 2 : 1); place++)
     for (int scheme = 0; scheme < 2; scheme++) {
+      double r[3];
+      rl_system_get_position(s.sys, 3, r);
+      if (kind == 0) {
+        double A[9];
+        rl_system_get_orientation(s.sys, 3, A);
+        rl_system_set_orientation(s.sys, 7, A);
+        if (place == 1) {
+          double(*x)[3] = malloc(sizeof *x * (size_t)rl_system_nsites(s.sys));
+          rl_system_site_positions(s.sys, x);
+          for (int c = 0; c < 3; c++) r[c] += x[4 * 3 + 1][c] - x[4 * 3 + 2][c];
+          free(x);
+        }
+      }
+      rl_system_set_position(s.sys, 7, r);
       p.scheme = (rl_cutoff_scheme)scheme;
       char msg_a[512], msg_g[512];
       int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
@@ -587,7 +596,7 @@ static void test_overlap(void **state)
       snprintf(msg_g, sizeof msg_g, "%s", rl_last_error());
       char name[200];
       snprintf(name, sizeof name, "overlap (%s, %s cutoff): same status and message as general",
-               kind ? "dipoles" : "water", scheme ? "molecule" : "site");
+               kind ? "dipoles" : place ? "water, H on H" : "water", scheme ? "molecule" : "site");
       printf("  auto:    %s\n  general: %s\n", msg_a, msg_g);
       FF_CHECK_TRUE(name, sa == RL_EINVAL && sg == RL_EINVAL && strcmp(msg_a, msg_g) == 0 &&
                               strstr(msg_a, "overlapping sites") != NULL);
