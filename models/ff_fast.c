@@ -24,10 +24,10 @@
  * terms in registers from transposes of 128-byte records (tip4p_row512), and the dipole rows
  * keep no batch at all: they pack each eight neighbours within the cutoff into registers and
  * form their terms there (dipole_row512).  The portable TIP4P rows run their 10 terms in one
- * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt (a few ulp, no
- * divider; vrsqrt14pd and two Newton steps in the AVX-512 rows), a * b + c may be one FMA, and
- * separations and sums are
- * formed in another order, so results agree with the reference to round-off.
+ * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt
+ * (a few ulp, no divider; vrsqrt14pd and two Newton steps in the AVX-512 rows), a * b + c may
+ * be one FMA, and separations and sums are formed in another order, so results agree with the
+ * reference to round-off.
  *
  * Threads: rows are split into contiguous ranges of nearly equal cost, one per thread; each
  * thread adds into its own site-force and torque buffers; the buffers and the per-thread energy
@@ -854,7 +854,8 @@ RL_T512 RL_INLINE void tip4p_pairs512(const int MODE, const int EV, const int TR
         ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, ir * ir, half), ir);
         const __m512d qv = V1(qq[p][q]);
         const __m512d fr = _mm512_maskz_mul_pd(in, qv, ir * ir * ir - krf2);
-        if (EV) S->ecoul = _mm512_mask3_fmadd_pd(qv, _mm512_fmadd_pd(krf, r2, ir) - crf, S->ecoul, in);
+        if (EV) /* qq (1/r + krf r^2 - crf) */
+          S->ecoul = _mm512_mask3_fmadd_pd(qv, _mm512_fmadd_pd(krf, r2, ir) - crf, S->ecoul, in);
         for (int c = 0; c < 3; c++) {
           const __m512d f = fr * d[c];
           S->fi[1 + p][c] = S->fi[1 + p][c] + f;
