@@ -62,9 +62,8 @@
 #endif
 #define RL_INLINE static inline __attribute__((always_inline))
 
-/* The dipole rows in AVX-512 registers (dipole_row512) and the TIP4P rows' AVX-512 fill and
- * scatter (tip4p_fill512), picked at setup when the CPU has AVX-512F and ROTLEAP_NO_AVX512 is
- * not set in the environment. */
+/* The dipole and TIP4P rows in AVX-512 registers (dipole_row512, tip4p_row512), picked at
+ * setup when the CPU has AVX-512F and ROTLEAP_NO_AVX512 is not set in the environment. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROTLEAP_NO_CLONES)
 #define RL_X512 1
 #include <immintrin.h>
@@ -155,7 +154,7 @@ struct rl_ff_fast {
   kview V;
   double (*pfs)[3];              /* [nthreads nsites] kernel site forces, rank order    */
   double (*ptq)[3];              /* [nthreads n] kernel torques, rank order             */
-  int x512;                      /* the dipole rows take the AVX-512 fill and scatter    */
+  int x512;                      /* the dipole and TIP4P rows take the AVX-512 rows      */
   int ndip;                      /* bodies of K_DIPOLE species                           */
   double (*pft)[8];              /* x512: [nthreads n] force 0..2, torque 4..6 on dipole  */
                                  /* ranks from the batches (rows add their own to pfs) */
@@ -1349,9 +1348,9 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *f
 }
 
 /* Instances: one function per (mode, truncation) and (dipole method, truncation), each
- * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole rows in
- * AVX-512 registers and the TIP4P rows with the AVX-512 fill and scatter (dipx_*, tip4px_*),
- * picked at setup. */
+ * compiled for AVX-512, AVX2 and baseline x86-64 and picked at load time; the dipole and
+ * TIP4P rows in AVX-512 registers (dipx_*, tip4px_*; forces only: dipo_*, tip4po_*), picked
+ * at setup. */
 #define ROW_FN_T(ATTR, NAME, BODY)                                                             \
   ATTR static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,  \
                         const int *nbr, int len, double (*fs)[3], double (*tq)[3],             \
@@ -1419,7 +1418,7 @@ TIP512_EV(tip4po_h, tip4po_m, 0)
 static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
                                        {sites_h0, sites_h1, sites_h2, sites_h3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
-/* [variant][mode][truncation], variant 0 portable, 1 AVX-512 fill and scatter, 2 the same
+/* [variant][mode][truncation], variant 0 portable, 1 AVX-512 registers, 2 the same
  * without the energy and virial sums (forces only); site images (P_SITE) only portable */
 static const row_fn tip4p_fns[3][3][4] = {
     {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
