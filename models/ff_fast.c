@@ -154,12 +154,13 @@ struct rl_ff_fast {
   kview V;
   double (*pfs)[3];              /* [nthreads nsites] kernel site forces, rank order    */
   double (*ptq)[3];              /* [nthreads n] kernel torques, rank order             */
-  int x512;                      /* the dipole and TIP4P rows take the AVX-512 rows      */
+  int vec;                       /* the dipole and TIP4P rows: VEC_PORTABLE, or the      */
+                                 /* register rows on VEC_512 (AVX-512) or VEC_256 (AVX2) */
   int ndip;                      /* bodies of K_DIPOLE species                           */
-  double (*pft)[8];              /* x512: [nthreads n] force 0..2, torque 4..6 on dipole  */
+  double (*pft)[8];              /* vec:  [nthreads n] force 0..2, torque 4..6 on dipole  */
                                  /* ranks from the batches (rows add their own to pfs) */
   int ntip4p;                    /* bodies of K_TIP4P species                            */
-  double (*pft4)[16];            /* x512: [nthreads n] forces on TIP4P ranks' sites from */
+  double (*pft4)[16];            /* vec:  [nthreads n] forces on TIP4P ranks' sites from */
                                  /* the batches, as in pk4                              */
 };
 
@@ -528,6 +529,55 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *f
 
 /* ------------------------------------------------------------------------ TIP4P kernel */
 
+/* What a TIP4P register row (tip4p_row512, tip4p_row256) needs of row i: the box, the pruning
+ * radius, the LJ and charge-pair constants, i's sites relative to its centre (from its record:
+ * it alone is fresh, the site buffers are not), and the overlap limit (as tip4p_row's). */
+typedef struct {
+  box_consts B;
+  double rp2, lim, a[4][3], qq[3][3];
+  int img;
+  lj_consts C;
+} tip_row;
+
+RL_INLINE void tip_row_of(const int MODE, const rl_forcefield *ff, const kview *V,
+                          const fast_species *K, int i, tip_row *T)
+{
+  T->B = consts_of(ff);
+  T->rp2 = prune2(MODE, &T->B, K);
+  T->img = needs_images(MODE, &T->B, T->rp2);
+  T->C = lj_of(&K->t[0]);
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) T->a[s][c] = V->pk4[i][3 + 3 * s + c];
+  for (int p = 0; p < 3; p++)
+    for (int q = 0; q < 3; q++) T->qq[p][q] = K->t[1 + 3 * p + q].qq;
+  T->lim = MODE == P_MOL || T->B.md2 < T->B.rc2 ? T->B.md2 : T->B.rc2;
+}
+
+
+/* lj_eval_ir2 on a vector type VT (lj8, lj4), given ir2 = 1 / r^2 and, for the truncations,
+ * rr = |r| and ir = 1 / |r|; V1 broadcasts, SEL(rr, a, b) is b beyond r_switch, 0 beyond the
+ * cutoff, else a. */
+#define RL_LJ_VEC(VT, V1, SEL)                                                                 \
+  const VT ir6 = ir2 * ir2 * ir2;                                                              \
+  VT ul = (V1(C.c12) * ir6 - V1(C.c6)) * ir6;                                                  \
+  VT frl = (V1(12.0 * C.c12) * ir6 - V1(6.0 * C.c6)) * ir6 * ir2;                              \
+  if (TRUNC == RL_LJ_SHIFTED) {                                                                \
+    ul = ul - V1(C.eshift);                                                                    \
+  } else if (TRUNC == RL_LJ_SHIFTED_FORCE) {                                                   \
+    ul = ul - (V1(C.eshift) + (rr - V1(B->rc)) * V1(C.fshift));                                \
+    frl = frl + V1(C.fshift) * ir;                                                             \
+  } else if (TRUNC == RL_LJ_SWITCHED) {                                                        \
+    const double w = B->rc - B->rsw;                                                           \
+    const VT x = (rr - V1(B->rsw)) * V1(1.0 / w);                                              \
+    const VT Sw = V1(1.0) + x * x * x * (V1(-10.0) + x * (V1(15.0) - V1(6.0) * x));           \
+    const VT dS = x * x * (V1(-30.0) + x * (V1(60.0) - V1(30.0) * x)) * V1(1.0 / w);          \
+    const VT fsw = frl * Sw - ul * dS * ir, usw = ul * Sw;                                     \
+    frl = SEL(rr, frl, fsw);                                                                   \
+    ul = SEL(rr, ul, usw);                                                                     \
+  }                                                                                            \
+  *u = ul;                                                                                     \
+  *fr = frl
+
 #if RL_X512
 /* The TIP4P rows on AVX-512: each TIP4P rank's centre and sites relative to it sit in a
  * 128-byte record (V->pk4), two 512-bit rows.  The fill tests eight candidates at a time
@@ -575,35 +625,18 @@ RL_T512 static inline __m512d rsqrt8(__m512d x)
   return y;
 }
 
-/* lj_eval_ir2 on 8 lanes, given ir2 = 1 / r^2 and, for the truncations, rr = |r| and
- * ir = 1 / |r| (the dipole rows pass rsqrt8's, the TIP4P rows a divide's) */
+/* lj_eval_ir2 on 8 lanes (RL_LJ_VEC; the dipole rows pass rsqrt8's rr and ir, the TIP4P rows
+ * a divide's) */
+#define RL_SEL8(rr, a, b)                                                                      \
+  _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(rr, _mm512_set1_pd(B->rc), _CMP_LT_OQ),              \
+                      _mm512_mask_blend_pd(_mm512_cmp_pd_mask(rr, _mm512_set1_pd(B->rsw),     \
+                                                              _CMP_GT_OQ), a, b))
 RL_T512 RL_INLINE void lj8(const int TRUNC, const lj_consts C, const box_consts *B, __m512d ir2,
                            __m512d rr, __m512d ir, __m512d *u, __m512d *fr)
 {
-#define V1(a) _mm512_set1_pd(a)
-  const __m512d ir6 = ir2 * ir2 * ir2;
-  __m512d ul = (V1(C.c12) * ir6 - V1(C.c6)) * ir6;
-  __m512d frl = (V1(12.0 * C.c12) * ir6 - V1(6.0 * C.c6)) * ir6 * ir2;
-  if (TRUNC == RL_LJ_SHIFTED) {
-    ul = ul - V1(C.eshift);
-  } else if (TRUNC == RL_LJ_SHIFTED_FORCE) {
-    ul = ul - (V1(C.eshift) + (rr - V1(B->rc)) * V1(C.fshift));
-    frl = frl + V1(C.fshift) * ir;
-  } else if (TRUNC == RL_LJ_SWITCHED) {
-    const double w = B->rc - B->rsw;
-    const __m512d x = (rr - V1(B->rsw)) * V1(1.0 / w);
-    const __m512d Sw = V1(1.0) + x * x * x * (V1(-10.0) + x * (V1(15.0) - V1(6.0) * x));
-    const __m512d dS = x * x * (V1(-30.0) + x * (V1(60.0) - V1(30.0) * x)) * V1(1.0 / w);
-    const __m512d fsw = frl * Sw - ul * dS * ir, usw = ul * Sw;
-    const __mmask8 sw = _mm512_cmp_pd_mask(rr, V1(B->rsw), _CMP_GT_OQ);
-    const __mmask8 in = _mm512_cmp_pd_mask(rr, V1(B->rc), _CMP_LT_OQ);
-    frl = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, frl, fsw));
-    ul = _mm512_maskz_mov_pd(in, _mm512_mask_blend_pd(sw, ul, usw));
-  }
-  *u = ul;
-  *fr = frl;
-#undef V1
+  RL_LJ_VEC(__m512d, _mm512_set1_pd, RL_SEL8);
 }
+#undef RL_SEL8
 
 /* The box and the centre of row i, broadcast, for sep8. */
 typedef struct {
@@ -890,15 +923,8 @@ RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUN
                                     int i, const int *nbr, int len, double (*fs)[3],
                                     double (*ft4)[16], rl_acc *acc)
 {
-  const box_consts B = consts_of(ff);
-  const double rp2 = prune2(MODE, &B, K);
-  const int img = needs_images(MODE, &B, rp2);
-  const lj_consts C = lj_of(&K->t[0]);
-  double a[4][3], qq[3][3];
-  for (int s = 0; s < 4; s++) /* i's record: it alone is fresh (the site buffers are not) */
-    for (int c = 0; c < 3; c++) a[s][c] = V->pk4[i][3 + 3 * s + c];
-  for (int p = 0; p < 3; p++)
-    for (int q = 0; q < 3; q++) qq[p][q] = K->t[1 + 3 * p + q].qq;
+  tip_row T;
+  tip_row_of(MODE, ff, V, K, i, &T);
   const __m512d z = _mm512_setzero_pd();
   tip_sums S;
   for (int s = 0; s < 4; s++)
@@ -908,8 +934,8 @@ RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUN
   S.r2min = _mm512_set1_pd(HUGE_VAL);
   batch b;
   for (int pos = 0; pos < len;) {
-    tip4p_fill512(V, &B, i, nbr, len, &pos, rp2, img, &b);
-    if (b.n) tip4p_pairs512(MODE, EV, TRUNC, C, &B, a, qq, V, &b, ft4, &S);
+    tip4p_fill512(V, &T.B, i, nbr, len, &pos, T.rp2, T.img, &b);
+    if (b.n) tip4p_pairs512(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
   }
   const int oi = V->soff[i];
   for (int s = 0; s < 4; s++)
@@ -920,8 +946,7 @@ RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUN
     for (int c = 0; c < 9; c++) acc->vir[c] += _mm512_reduce_add_pd(S.w[c]);
   }
   /* overlap: a site pair inside the cutoff closer than the minimum distance, as tip4p_row */
-  const double lim = MODE == P_MOL || B.md2 < B.rc2 ? B.md2 : B.rc2;
-  acc->bad |= _mm512_cmp_pd_mask(S.r2min, _mm512_set1_pd(lim), _CMP_LT_OQ) != 0;
+  acc->bad |= _mm512_cmp_pd_mask(S.r2min, _mm512_set1_pd(T.lim), _CMP_LT_OQ) != 0;
 }
 #endif
 
@@ -1244,6 +1269,407 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUN
 }
 #endif
 
+#if RL_X512
+/* The TIP4P and dipole rows on AVX2 (issue 8; 4 doubles per vector, 16 registers), for CPUs
+ * without AVX-512 (AMD Zen 2/3, older Intel): the design of the AVX-512 rows above, four
+ * neighbours to a vector.  A fill (fill256) tests four candidates at a time against the
+ * pruning radius, their centres transposed from the records (V->pk4 or V->pk, which start
+ * with the centre), and appends the kept ones' indices and separations to the batch, in list
+ * order, with branch-free scalar stores (AVX2 has no compress).  The batches end where
+ * batch_fill's do, and neighbour k of a batch takes lane k mod 4, so the sums do not depend
+ * on when the list was built.  The pair loops load each four neighbours' records, transpose
+ * them (4 x 4) into sites or dipoles, form the terms in registers, and transpose the forces
+ * on the neighbours back into records added to the thread's buffer (ft4, ft).  1 / sqrt is
+ * rsqrt4: vrsqrtps on the value rounded to single precision, then three Newton steps. */
+
+#define RL_T256 __attribute__((target("avx2,fma")))
+
+/* in[r][c] -> out[c][r], four rows of four doubles */
+RL_T256 static inline void tr4x4(const __m256d in[4], __m256d out[4])
+{
+  const __m256d t0 = _mm256_unpacklo_pd(in[0], in[1]), t1 = _mm256_unpackhi_pd(in[0], in[1]);
+  const __m256d t2 = _mm256_unpacklo_pd(in[2], in[3]), t3 = _mm256_unpackhi_pd(in[2], in[3]);
+  out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+/* 1 / sqrt(x) on 4 lanes for 2^-126 < x < 2^127 (single-precision range): vrsqrtps (relative
+ * error < 1.5 2^-12 = 3.7e-4) and three Newton steps (error ~ 1.5 e^2 each: 2e-7, 6e-14, then
+ * below round-off), within a few ulp like rl_rsqrt */
+RL_T256 static inline __m256d rsqrt4(__m256d x)
+{
+  const __m256d half = _mm256_set1_pd(0.5), h = _mm256_mul_pd(half, x);
+  __m256d y = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(x)));
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; k++)
+    y = _mm256_fmadd_pd(y, _mm256_fnmadd_pd(_mm256_mul_pd(h, y), y, half), y);
+  return y;
+}
+
+RL_T256 static inline double hsum4(__m256d v)
+{
+  const __m128d s = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+  return _mm_cvtsd_f64(_mm_add_sd(s, _mm_unpackhi_pd(s, s)));
+}
+
+/* lj_eval_ir2 on 4 lanes (RL_LJ_VEC) */
+#define RL_SEL4(rr, a, b)                                                                      \
+  _mm256_and_pd(_mm256_cmp_pd(rr, _mm256_set1_pd(B->rc), _CMP_LT_OQ),                         \
+                _mm256_blendv_pd(a, b, _mm256_cmp_pd(rr, _mm256_set1_pd(B->rsw), _CMP_GT_OQ)))
+RL_T256 RL_INLINE void lj4(const int TRUNC, const lj_consts C, const box_consts *B, __m256d ir2,
+                           __m256d rr, __m256d ir, __m256d *u, __m256d *fr)
+{
+  RL_LJ_VEC(__m256d, _mm256_set1_pd, RL_SEL4);
+}
+#undef RL_SEL4
+
+/* The lanes below cnt (1..4) as a mask vector. */
+RL_T256 static inline __m256d live4(int cnt)
+{
+  const __m256d iota = _mm256_set_pd(3.0, 2.0, 1.0, 0.0);
+  return _mm256_cmp_pd(iota, _mm256_set1_pd((double)cnt), _CMP_LT_OQ);
+}
+
+/* batch_fill's neighbours (indices and centre separations only) for rows whose records
+ * rec + stride j (stride 8 or 16 doubles, 32-byte aligned) start with the centre, four
+ * candidates at a time: the minimum image as take_candidate's RL_RND, the pruning test in one
+ * vector, the kept ones appended in list order.  In a box that needs the other images (img),
+ * four candidates of which one has a component beyond L - rp go one by one through
+ * take_candidate, which puts a neighbour's images right after it.  A batch ends where
+ * batch_fill's does: when full, or before a neighbour whose images would not all fit. */
+RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *B,
+                                   const double *ci, const int *nbr, int len, int *pos,
+                                   double rp2, int img, batch *b)
+{
+  const __m256d c[3] = {_mm256_set1_pd(ci[0]), _mm256_set1_pd(ci[1]), _mm256_set1_pd(ci[2])};
+  const __m256d L[3] = {_mm256_set1_pd(B->L[0]), _mm256_set1_pd(B->L[1]),
+                        _mm256_set1_pd(B->L[2])};
+  const __m256d iL[3] = {_mm256_set1_pd(B->iL[0]), _mm256_set1_pd(B->iL[1]),
+                         _mm256_set1_pd(B->iL[2])};
+  const __m256d big = _mm256_set1_pd(6755399441055744.0), vrp2 = _mm256_set1_pd(rp2);
+  const double rp = img ? sqrt(rp2) : 0.0;
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  const __m256d near[3] = {_mm256_set1_pd(B->L[0] - rp), _mm256_set1_pd(B->L[1] - rp),
+                           _mm256_set1_pd(B->L[2] - rp)};
+  int n = 0, p = *pos;
+  while (p < len && n < RL_FAST_B) {
+    const int cnt = len - p < 4 ? len - p : 4;
+    const unsigned live = (1u << cnt) - 1u;
+    __m256d q[4], t[4];
+    for (int l = 0; l < 4; l++) q[l] = _mm256_load_pd(rec + (size_t)stride * nbr[p + (l < cnt ? l : 0)]);
+    tr4x4(q, t);
+    __m256d R[3];
+    for (int d = 0; d < 3; d++) {
+      const __m256d X = _mm256_sub_pd(c[d], t[d]);
+      const __m256d k = _mm256_sub_pd(_mm256_fmadd_pd(X, iL[d], big), big);
+      R[d] = _mm256_fnmadd_pd(L[d], k, X);
+    }
+    const __m256d r2 = _mm256_fmadd_pd(R[2], R[2], _mm256_fmadd_pd(R[1], R[1], _mm256_mul_pd(R[0], R[0])));
+    const unsigned keep = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(r2, vrp2, _CMP_LT_OQ)) & live;
+    _Alignas(32) double x[2][3][4]; /* [shifted][component][lane] */
+    for (int d = 0; d < 3; d++) _mm256_store_pd(x[0][d], R[d]);
+    if (img) { /* the other images within rp (other_images), as in tip4p_fill512 */
+      unsigned fc[3];
+      for (int d = 0; d < 3; d++) {
+        fc[d] = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, R[d]), near[d], _CMP_GT_OQ)) & live;
+        const __m256d pos = _mm256_cmp_pd(R[d], _mm256_setzero_pd(), _CMP_GT_OQ);
+        _mm256_store_pd(x[1][d], _mm256_blendv_pd(_mm256_add_pd(R[d], L[d]), _mm256_sub_pd(R[d], L[d]), pos));
+      }
+      if (fc[0] | fc[1] | fc[2]) {
+        unsigned kept[4] = {0, 0, 0, 0}; /* lane l: bit m if image m is kept (m = 0: minimum) */
+        for (int l = 0; l < 4; l++) kept[l] = (keep >> l) & 1u;
+        for (int m = 1; m < 8; m++) {
+          const unsigned far = (m & 1 ? fc[0] : live) & (m & 2 ? fc[1] : live) & (m & 4 ? fc[2] : live);
+          if (!far) continue;
+          for (int l = 0; l < 4; l++) {
+            const double u = x[m & 1][0][l], v = x[(m >> 1) & 1][1][l], w = x[m >> 2][2][l];
+            kept[l] |= (((far >> l) & 1u) & (u * u + v * v + w * w < rp2)) << m;
+          }
+        }
+        int l, full = 0;
+        for (l = 0; l < cnt && n < RL_FAST_B; l++) {
+          if (n + __builtin_popcount(kept[l]) > RL_FAST_B) { /* the next batch takes it */
+            full = 1;
+            break;
+          }
+          for (unsigned bits = kept[l]; bits; bits &= bits - 1) {
+            const int m = __builtin_ctz(bits);
+            b->idx[n] = nbr[p + l];
+            b->R[0][n] = x[m & 1][0][l];
+            b->R[1][n] = x[(m >> 1) & 1][1][l];
+            b->R[2][n] = x[m >> 2][2][l];
+            n++;
+          }
+        }
+        p += l;
+        if (full) break;
+        continue;
+      }
+    }
+    int l;
+    for (l = 0; l < cnt && n < RL_FAST_B; l++) { /* slot n is kept only if lane l is */
+      b->idx[n] = nbr[p + l];
+      b->R[0][n] = x[0][0][l]; b->R[1][n] = x[0][1][l]; b->R[2][n] = x[0][2][l];
+      n += (keep >> l) & 1u;
+    }
+    p += l;
+  }
+  *pos = p;
+  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
+  for (int k = n; k < np; k++) { /* padding: the first neighbour's record, 1 um away (every */
+    b->idx[k] = b->idx[0];         /* site pair beyond the cutoff, and no closest pair)     */
+    for (int d = 0; d < 3; d++) b->R[d][k] = 1e3;
+  }
+  b->n = n;
+  b->np = np;
+}
+
+/* The sums of a TIP4P row on AVX2, lane by lane, as tip_sums. */
+typedef struct {
+  __m256d fi[4][3], w[9], elj, ecoul, r2min;
+} tip_sums4;
+
+/* tip4p_pairs512 on four lanes. */
+RL_T256 RL_INLINE void tip4p_pairs256(const int MODE, const int EV, const int TRUNC,
+                                      const lj_consts C, const box_consts *B,
+                                      const double a[4][3], const double qq[3][3],
+                                      const kview *V, const batch *b, double (*ft4)[16],
+                                      tip_sums4 *S)
+{
+#define V1(x) _mm256_set1_pd(x)
+  const __m256d zero = _mm256_setzero_pd(), rc2 = V1(B->rc2);
+  const __m256d krf = V1(B->krf), krf2 = V1(2.0 * B->krf), crf = V1(B->crf);
+  for (int k = 0; k < b->n; k += 4) {
+    const int cnt = b->n - k < 4 ? b->n - k : 4;
+    const __m256d live = live4(cnt); /* P_MOL: the padding (P_SHIFT: beyond the cutoff) */
+    const __m256d R[3] = {_mm256_load_pd(b->R[0] + k), _mm256_load_pd(b->R[1] + k),
+                          _mm256_load_pd(b->R[2] + k)};
+    __m256d Q[4][4]; /* Q[u][e]: element 4 u + e of the four records */
+#pragma GCC unroll 4
+    for (int u = 0; u < 4; u++) {
+      __m256d r[4];
+#pragma GCC unroll 4
+      for (int l = 0; l < 4; l++) r[l] = _mm256_load_pd(V->pk4[b->idx[k + l]] + 4 * u);
+      tr4x4(r, Q[u]);
+    }
+    __m256d xj[4][3], gj[4][3];
+#pragma GCC unroll 4
+    for (int s = 0; s < 4; s++)
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) {
+        const int e = 3 + 3 * s + c;
+        xj[s][c] = Q[e / 4][e % 4];
+      }
+    { /* LJ between the LJ sites (slot 0): lj_eval */
+      __m256d d[3];
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) d[c] = R[c] + V1(a[0][c]) - xj[0][c];
+      const __m256d r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      const __m256d in = MODE == P_MOL ? live : _mm256_cmp_pd(r2, rc2, _CMP_LT_OQ);
+      S->r2min = _mm256_min_pd(S->r2min, r2);
+      const __m256d ir2 = V1(1.0) / r2;
+      __m256d rr = zero, ir = zero;
+      if (TRUNC == RL_LJ_SHIFTED_FORCE || TRUNC == RL_LJ_SWITCHED) {
+        rr = _mm256_sqrt_pd(r2);
+        ir = V1(1.0) / rr;
+      }
+      __m256d u, fr;
+      lj4(TRUNC, C, B, ir2, rr, ir, &u, &fr);
+      fr = _mm256_and_pd(in, fr);
+      if (EV) S->elj = S->elj + _mm256_and_pd(in, u);
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) {
+        S->fi[0][c] = _mm256_fmadd_pd(fr, d[c], S->fi[0][c]);
+        gj[0][c] = _mm256_fnmadd_pd(fr, d[c], zero);
+      }
+    }
+#pragma GCC unroll 3
+    for (int q = 0; q < 3; q++)
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) gj[1 + q][c] = zero;
+#pragma GCC unroll 3
+    for (int p = 0; p < 3; p++) { /* charge p of i against charge q of j: rl_coulomb_rf_pair */
+      __m256d ra[3];
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) ra[c] = R[c] + V1(a[1 + p][c]);
+#pragma GCC unroll 3
+      for (int q = 0; q < 3; q++) {
+        __m256d d[3];
+#pragma GCC unroll 3
+        for (int c = 0; c < 3; c++) d[c] = ra[c] - xj[1 + q][c];
+        const __m256d r2 =
+            _mm256_fmadd_pd(d[2], d[2], _mm256_fmadd_pd(d[1], d[1], _mm256_mul_pd(d[0], d[0])));
+        const __m256d in = MODE == P_MOL ? live : _mm256_cmp_pd(r2, rc2, _CMP_LT_OQ);
+        S->r2min = _mm256_min_pd(S->r2min, r2);
+        const __m256d ir = rsqrt4(r2);
+        const __m256d qv = _mm256_and_pd(in, V1(qq[p][q]));
+        const __m256d fr = qv * (ir * ir * ir - krf2);
+        if (EV) /* qq (1/r + krf r^2 - crf) */
+          S->ecoul = _mm256_fmadd_pd(qv, _mm256_fmadd_pd(krf, r2, ir) - crf, S->ecoul);
+#pragma GCC unroll 3
+        for (int c = 0; c < 3; c++) {
+          S->fi[1 + p][c] = _mm256_fmadd_pd(fr, d[c], S->fi[1 + p][c]);
+          gj[1 + q][c] = _mm256_fnmadd_pd(fr, d[c], gj[1 + q][c]);
+        }
+      }
+    }
+    if (EV) /* R (x) F, F = -(sum of the forces on j's sites) the pair's force on i */
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) {
+        const __m256d F = zero - ((gj[0][c] + gj[1][c]) + (gj[2][c] + gj[3][c]));
+#pragma GCC unroll 3
+        for (int r = 0; r < 3; r++) S->w[3 * r + c] = S->w[3 * r + c] + R[r] * F;
+      }
+    /* the forces on the neighbours' sites, as records (centre 0, sites, 0), added in order */
+    const __m256d e[4][4] = {{zero, zero, zero, gj[0][0]},
+                             {gj[0][1], gj[0][2], gj[1][0], gj[1][1]},
+                             {gj[1][2], gj[2][0], gj[2][1], gj[2][2]},
+                             {gj[3][0], gj[3][1], gj[3][2], zero}};
+    __m256d o[4][4]; /* o[u][l]: quarter u of neighbour l's record */
+#pragma GCC unroll 4
+    for (int u = 0; u < 4; u++) tr4x4(e[u], o[u]);
+    for (int l = 0; l < cnt; l++) {
+      double *r = ft4[b->idx[k + l]];
+#pragma GCC unroll 4
+      for (int u = 0; u < 4; u++)
+        _mm256_store_pd(r + 4 * u, _mm256_add_pd(_mm256_load_pd(r + 4 * u), o[u][l]));
+    }
+  }
+#undef V1
+}
+
+/* tip4p_row512 on AVX2. */
+RL_T256 RL_INLINE void tip4p_row256(const int EV, const int MODE, const int TRUNC,
+                                    const rl_forcefield *ff, const kview *V, const fast_species *K,
+                                    int i, const int *nbr, int len, double (*fs)[3],
+                                    double (*ft4)[16], rl_acc *acc)
+{
+  tip_row T;
+  tip_row_of(MODE, ff, V, K, i, &T);
+  const __m256d z = _mm256_setzero_pd();
+  tip_sums4 S;
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) S.fi[s][c] = z;
+  for (int c = 0; c < 9; c++) S.w[c] = z;
+  S.elj = S.ecoul = z;
+  S.r2min = _mm256_set1_pd(HUGE_VAL);
+  batch b;
+  for (int pos = 0; pos < len;) {
+    fill256(V->pk4[0], 16, &T.B, V->pk4[i], nbr, len, &pos, T.rp2, T.img, &b);
+    if (b.n) tip4p_pairs256(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
+  }
+  const int oi = V->soff[i];
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += hsum4(S.fi[s][c]);
+  if (EV) {
+    acc->lj += hsum4(S.elj);
+    acc->coul += hsum4(S.ecoul);
+    for (int c = 0; c < 9; c++) acc->vir[c] += hsum4(S.w[c]);
+  }
+  /* overlap: a site pair inside the cutoff closer than the minimum distance, as tip4p_row */
+  acc->bad |= _mm256_movemask_pd(_mm256_cmp_pd(S.r2min, _mm256_set1_pd(T.lim), _CMP_LT_OQ)) != 0;
+}
+
+/* dipole_row512 on AVX2: the neighbours within the cutoff from fill256 (records V->pk:
+ * centre, 0, mu axis, 0), four at a time; the terms as dip_pairs8. */
+RL_T256 RL_INLINE void dipole_row256(const int DSF, const int EV, const int TRUNC,
+                                     const rl_forcefield *ff, const kview *V,
+                                     const fast_species *K, int i, const int *nbr, int len,
+                                     double (*ft)[8], rl_acc *acc)
+{
+#define V1(a) _mm256_set1_pd(a)
+  const box_consts B = consts_of(ff);
+  const lj_consts C = lj_of(&K->t[0]);
+  const double kc = ff->kc, krf = ff->rf.krf;
+  const double *pr = V->pk[i];
+  const __m256d mi[3] = {V1(pr[4]), V1(pr[5]), V1(pr[6])};
+  const __m256d zero = _mm256_setzero_pd(), md2 = V1(B.md2);
+  __m256d Sf[3] = {zero, zero, zero}, St[3] = {zero, zero, zero}, Sw[9], elj = zero, edip = zero;
+  for (int c = 0; c < 9; c++) Sw[c] = zero;
+  int bad = 0;
+  batch b;
+  for (int pos = 0; pos < len;) {
+    fill256(V->pk[0], 8, &B, pr, nbr, len, &pos, B.rc2, 0, &b);
+    for (int k = 0; k < b.n; k += 4) {
+      const int cnt = b.n - k < 4 ? b.n - k : 4;
+      const __m256d live = live4(cnt);
+      const __m256d X = _mm256_load_pd(b.R[0] + k), Y = _mm256_load_pd(b.R[1] + k),
+                    Z = _mm256_load_pd(b.R[2] + k);
+      __m256d q[4], m[4];
+      for (int l = 0; l < 4; l++) q[l] = _mm256_load_pd(V->pk[b.idx[k + l]] + 4);
+      tr4x4(q, m);
+      const __m256d mjx = m[0], mjy = m[1], mjz = m[2];
+      const __m256d r2 = X * X + Y * Y + Z * Z;
+      bad |= _mm256_movemask_pd(_mm256_and_pd(live, _mm256_cmp_pd(r2, md2, _CMP_LT_OQ)));
+      const __m256d ir = rsqrt4(r2), ir2 = ir * ir, ir3 = ir * ir2, ir5 = ir3 * ir2;
+      const __m256d rr = r2 * ir;
+      __m256d ul, frl;
+      lj4(TRUNC, C, &B, ir2, rr, ir, &ul, &frl);
+      /* dip_pairs8's regrouping of rl_dipole_dipole_rf / _sf */
+      const __m256d pij = mi[0] * mjx + mi[1] * mjy + mi[2] * mjz;
+      const __m256d pi = mi[0] * X + mi[1] * Y + mi[2] * Z;
+      const __m256d pj = mjx * X + mjy * Y + mjz * Z;
+      const __m256d m3 = V1(-3.0) * ir5, e15 = V1(-5.0) * m3 * pi * pj * ir2;
+      __m256d Kd, A, s;
+      if (DSF) {
+        const __m256d x = rr * V1(1.0 / B.rc);
+        const __m256d bb = V1(1.0) + x * x * x * (V1(-4.0) + V1(3.0) * x);
+        const __m256d db = x * x * (V1(-12.0) + V1(12.0) * x) * V1(1.0 / B.rc);
+        const __m256d g0 = pij * ir3 + m3 * pi * pj;
+        Kd = V1(kc) * bb;
+        A = Kd * ir3;
+        s = frl - Kd * (m3 * pij + e15) - V1(kc) * g0 * db * ir;
+      } else {
+        Kd = V1(kc);
+        A = Kd * (ir3 - V1(2.0 * krf));
+        s = frl - Kd * (m3 * pij + e15);
+      }
+      const __m256d Bj = Kd * m3 * pj, Bi = Kd * m3 * pi;
+      const __m256d fx = _mm256_and_pd(live, s * X - Bj * mi[0] - Bi * mjx);
+      const __m256d fy = _mm256_and_pd(live, s * Y - Bj * mi[1] - Bi * mjy);
+      const __m256d fz = _mm256_and_pd(live, s * Z - Bj * mi[2] - Bi * mjz);
+      const __m256d gix = A * mjx + Bj * X, giy = A * mjy + Bj * Y, giz = A * mjz + Bj * Z;
+      const __m256d gjx = A * mi[0] + Bi * X, gjy = A * mi[1] + Bi * Y, gjz = A * mi[2] + Bi * Z;
+      Sf[0] = Sf[0] + fx; Sf[1] = Sf[1] + fy; Sf[2] = Sf[2] + fz;
+      if (EV) {
+        elj = elj + _mm256_and_pd(live, ul);
+        edip = edip + _mm256_and_pd(live, pij * A + Bi * pj);
+        const __m256d Rv[3] = {X, Y, Z}, Fv[3] = {fx, fy, fz};
+        for (int r = 0; r < 3; r++)
+          for (int c = 0; c < 3; c++) Sw[3 * r + c] = Sw[3 * r + c] + Rv[r] * Fv[c];
+      }
+      St[0] = St[0] - _mm256_and_pd(live, mi[1] * giz - mi[2] * giy);
+      St[1] = St[1] - _mm256_and_pd(live, mi[2] * gix - mi[0] * giz);
+      St[2] = St[2] - _mm256_and_pd(live, mi[0] * giy - mi[1] * gix);
+      const __m256d e0[4] = {zero - fx, zero - fy, zero - fz, zero};
+      const __m256d e1[4] = {mjz * gjy - mjy * gjz, mjx * gjz - mjz * gjx, mjy * gjx - mjx * gjy, zero};
+      __m256d o0[4], o1[4];
+      tr4x4(e0, o0);
+      tr4x4(e1, o1);
+      for (int l = 0; l < cnt; l++) {
+        double *o = ft[b.idx[k + l]];
+        _mm256_store_pd(o, _mm256_add_pd(_mm256_load_pd(o), o0[l]));
+        _mm256_store_pd(o + 4, _mm256_add_pd(_mm256_load_pd(o + 4), o1[l]));
+      }
+    }
+  }
+  /* the force and torque on i go to its record, as in dipole_row512 */
+  for (int c = 0; c < 3; c++) {
+    ft[i][c] += hsum4(Sf[c]);
+    ft[i][4 + c] += hsum4(St[c]);
+  }
+  if (EV) {
+    acc->lj += hsum4(elj);
+    acc->dip += hsum4(edip);
+    for (int c = 0; c < 9; c++) acc->vir[c] += hsum4(Sw[c]);
+  }
+  acc->bad |= bad != 0;
+#undef V1
+}
+#endif
+
 /* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
  * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf).  The
  * portable rows (AVX2, baseline, ROTLEAP_NO_AVX512); dipole_row512 is the same on AVX-512. */
@@ -1383,74 +1809,81 @@ ROW_FN(dip_f1, dipole_row(1, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, tq, acc))
 ROW_FN(dip_f2, dipole_row(1, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, tq, acc))
 ROW_FN(dip_f3, dipole_row(1, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, tq, acc))
 #if RL_X512
+/* The instances of one register-row kind (DIP512, TIP512, DIP256, TIP256) for every dipole
+ * method or separation mode and every truncation. */
+#define DIP_EV(INST, R, F, EV)                                                                 \
+  INST(R##0, 0, EV, RL_LJ_PLAIN)                                                               \
+  INST(R##1, 0, EV, RL_LJ_SHIFTED)                                                             \
+  INST(R##2, 0, EV, RL_LJ_SHIFTED_FORCE)                                                       \
+  INST(R##3, 0, EV, RL_LJ_SWITCHED)                                                            \
+  INST(F##0, 1, EV, RL_LJ_PLAIN)                                                               \
+  INST(F##1, 1, EV, RL_LJ_SHIFTED)                                                             \
+  INST(F##2, 1, EV, RL_LJ_SHIFTED_FORCE)                                                       \
+  INST(F##3, 1, EV, RL_LJ_SWITCHED)
+#define TIP_EV(INST, H, M, EV)                                                                 \
+  INST(H##0, EV, P_SHIFT, RL_LJ_PLAIN)                                                         \
+  INST(H##1, EV, P_SHIFT, RL_LJ_SHIFTED)                                                       \
+  INST(H##2, EV, P_SHIFT, RL_LJ_SHIFTED_FORCE)                                                 \
+  INST(H##3, EV, P_SHIFT, RL_LJ_SWITCHED)                                                      \
+  INST(M##0, EV, P_MOL, RL_LJ_PLAIN)                                                           \
+  INST(M##1, EV, P_MOL, RL_LJ_SHIFTED)                                                         \
+  INST(M##2, EV, P_MOL, RL_LJ_SHIFTED_FORCE)                                                   \
+  INST(M##3, EV, P_MOL, RL_LJ_SWITCHED)
 /* EV = 0: the forces-only rows (no energy and virial sums), dipo_* and tip4po_* */
 #define DIP512(NAME, DSF, EV, TRUNC)                                                           \
   ROW_FN_T(RL_T512, NAME, dipole_row512(DSF, EV, TRUNC, ff, V, K, i, nbr, len, fs, tq, ft, acc))
-#define DIP512_EV(R, F, EV)                                                                    \
-  DIP512(R##0, 0, EV, RL_LJ_PLAIN)                                                             \
-  DIP512(R##1, 0, EV, RL_LJ_SHIFTED)                                                           \
-  DIP512(R##2, 0, EV, RL_LJ_SHIFTED_FORCE)                                                     \
-  DIP512(R##3, 0, EV, RL_LJ_SWITCHED)                                                          \
-  DIP512(F##0, 1, EV, RL_LJ_PLAIN)                                                             \
-  DIP512(F##1, 1, EV, RL_LJ_SHIFTED)                                                           \
-  DIP512(F##2, 1, EV, RL_LJ_SHIFTED_FORCE)                                                     \
-  DIP512(F##3, 1, EV, RL_LJ_SWITCHED)
-DIP512_EV(dipx_r, dipx_f, 1)
-DIP512_EV(dipo_r, dipo_f, 0)
+DIP_EV(DIP512, dipx_r, dipx_f, 1)
+DIP_EV(DIP512, dipo_r, dipo_f, 0)
 /* flatten: the fill (with other_images' branch) is too large for GCC to inline on its own */
 #define TIP512(NAME, EV, MODE, TRUNC)                                                          \
   ROW_FN_T(RL_T512 __attribute__((flatten)), NAME,                                             \
            tip4p_row512(EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
-#define TIP512_EV(H, M, EV)                                                                    \
-  TIP512(H##0, EV, P_SHIFT, RL_LJ_PLAIN)                                                       \
-  TIP512(H##1, EV, P_SHIFT, RL_LJ_SHIFTED)                                                     \
-  TIP512(H##2, EV, P_SHIFT, RL_LJ_SHIFTED_FORCE)                                               \
-  TIP512(H##3, EV, P_SHIFT, RL_LJ_SWITCHED)                                                    \
-  TIP512(M##0, EV, P_MOL, RL_LJ_PLAIN)                                                         \
-  TIP512(M##1, EV, P_MOL, RL_LJ_SHIFTED)                                                       \
-  TIP512(M##2, EV, P_MOL, RL_LJ_SHIFTED_FORCE)                                                 \
-  TIP512(M##3, EV, P_MOL, RL_LJ_SWITCHED)
-TIP512_EV(tip4px_h, tip4px_m, 1)
-TIP512_EV(tip4po_h, tip4po_m, 0)
+TIP_EV(TIP512, tip4px_h, tip4px_m, 1)
+TIP_EV(TIP512, tip4po_h, tip4po_m, 0)
+/* the same rows on AVX2: dipy_* and tip4py_* (forces only: dipz_*, tip4pz_*) */
+#define DIP256(NAME, DSF, EV, TRUNC)                                                           \
+  ROW_FN_T(RL_T256, NAME, (void)fs; dipole_row256(DSF, EV, TRUNC, ff, V, K, i, nbr, len, ft, acc))
+DIP_EV(DIP256, dipy_r, dipy_f, 1)
+DIP_EV(DIP256, dipz_r, dipz_f, 0)
+#define TIP256(NAME, EV, MODE, TRUNC)                                                          \
+  ROW_FN_T(RL_T256 __attribute__((flatten)), NAME,                                             \
+           tip4p_row256(EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+TIP_EV(TIP256, tip4py_h, tip4py_m, 1)
+TIP_EV(TIP256, tip4pz_h, tip4pz_m, 0)
 #endif
 
 /* [mode][truncation] */
 static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
                                        {sites_h0, sites_h1, sites_h2, sites_h3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
-/* [variant][mode][truncation], variant 0 portable, 1 AVX-512 registers, 2 the same
- * without the energy and virial sums (forces only); site images (P_SITE) only portable */
-static const row_fn tip4p_fns[3][3][4] = {
-    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
-     {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
-     {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
+/* [variant][mode][truncation]: variant VEC_PORTABLE, then for AVX-512 and AVX2 the register
+ * rows and the same without the energy and virial sums (forces only); site images (P_SITE)
+ * only portable.  Without target attributes (not GCC on x86-64) every variant is portable. */
+enum { VEC_PORTABLE = 0, VEC_512 = 1, VEC_256 = 2 };
+#define VAR_EV(vec) ((vec) == VEC_512 ? 1 : (vec) == VEC_256 ? 3 : 0)
+#define VAR_FO(vec) ((vec) == VEC_512 ? 2 : (vec) == VEC_256 ? 4 : 0)
 #if RL_X512
-    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
-     {tip4px_h0, tip4px_h1, tip4px_h2, tip4px_h3},
-     {tip4px_m0, tip4px_m1, tip4px_m2, tip4px_m3}},
-    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
-     {tip4po_h0, tip4po_h1, tip4po_h2, tip4po_h3},
-     {tip4po_m0, tip4po_m1, tip4po_m2, tip4po_m3}},
+#define TIP_VAR(H, M)                                                                          \
+  {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},                                                   \
+   {H##0, H##1, H##2, H##3},                                                                   \
+   {M##0, M##1, M##2, M##3}}
+#define DIP_VAR(R, F) {{R##0, R##1, R##2, R##3}, {F##0, F##1, F##2, F##3}}
 #else
-    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
-     {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
-     {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
-    {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},
-     {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},
-     {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}},
+#define TIP_VAR(H, M) TIP_VAR0
+#define DIP_VAR(R, F) DIP_VAR0
 #endif
-};
+#define TIP_VAR0                                                                               \
+  {{tip4p_s0, tip4p_s1, tip4p_s2, tip4p_s3},                                                   \
+   {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},                                                   \
+   {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}}
+#define DIP_VAR0 {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}}
+static const row_fn tip4p_fns[5][3][4] = {TIP_VAR0, TIP_VAR(tip4px_h, tip4px_m),
+                                          TIP_VAR(tip4po_h, tip4po_m), TIP_VAR(tip4py_h, tip4py_m),
+                                          TIP_VAR(tip4pz_h, tip4pz_m)};
 /* [variant, as tip4p_fns][dipole method][truncation] */
-static const row_fn dipole_fns[3][2][4] = {
-    {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
-#if RL_X512
-    {{dipx_r0, dipx_r1, dipx_r2, dipx_r3}, {dipx_f0, dipx_f1, dipx_f2, dipx_f3}},
-    {{dipo_r0, dipo_r1, dipo_r2, dipo_r3}, {dipo_f0, dipo_f1, dipo_f2, dipo_f3}},
-#else
-    {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
-    {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}},
-#endif
-};
+static const row_fn dipole_fns[5][2][4] = {DIP_VAR0, DIP_VAR(dipx_r, dipx_f),
+                                           DIP_VAR(dipo_r, dipo_f), DIP_VAR(dipy_r, dipy_f),
+                                           DIP_VAR(dipz_r, dipz_f)};
 
 /* ------------------------------------------------------------------------ setup */
 
@@ -1465,7 +1898,7 @@ static void term_set(const rl_forcefield *ff, int ta, int tb, fast_term *T)
 }
 
 /* The kernel of species k from its sites and the current LJ table. */
-static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
+static void classify(const rl_forcefield *ff, int k, int vec, fast_species *K)
 {
   memset(K, 0, sizeof *K);
   int ns = ff->sp_nsites[k], o = ff->type_off[k];
@@ -1488,8 +1921,8 @@ static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
     term_set(ff, o, o, &K->t[0]);
     for (int m = 0; m < 3; m++) {
       const int dsf = ff->p.dipole_method == RL_DIPOLE_SF, tr = ff->p.lj_truncation;
-      K->row[m] = dipole_fns[x512][dsf][tr];
-      K->row_fo[m] = dipole_fns[2 * x512][dsf][tr];
+      K->row[m] = dipole_fns[VAR_EV(vec)][dsf][tr];
+      K->row_fo[m] = dipole_fns[VAR_FO(vec)][dsf][tr];
     }
     return;
   }
@@ -1530,8 +1963,8 @@ static void classify(const rl_forcefield *ff, int k, int x512, fast_species *K)
         T->what = T_COUL;
       }
     for (int m = 0; m < 3; m++) {
-      K->row[m] = tip4p_fns[x512][m][ff->p.lj_truncation];
-      K->row_fo[m] = tip4p_fns[2 * x512][m][ff->p.lj_truncation];
+      K->row[m] = tip4p_fns[VAR_EV(vec)][m][ff->p.lj_truncation];
+      K->row_fo[m] = tip4p_fns[VAR_FO(vec)][m][ff->p.lj_truncation];
     }
   }
 }
@@ -1637,10 +2070,12 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   int nonempty = 0;
   for (int k = 0; k < ff->nspecies; k++) nonempty += ff->sp_count[k] > 0 && ff->sp_nsites[k] > 0;
 #if RL_X512
-  f->x512 = __builtin_cpu_supports("avx512f") && !getenv("ROTLEAP_NO_AVX512");
+  if (__builtin_cpu_supports("avx512f") && !getenv("ROTLEAP_NO_AVX512")) f->vec = VEC_512;
+  else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !getenv("ROTLEAP_NO_AVX2"))
+    f->vec = VEC_256;
 #endif
   for (int k = 0; k < ff->nspecies; k++) {
-    classify(ff, k, f->x512, &f->sk[k]);
+    classify(ff, k, f->vec, &f->sk[k]);
     if (f->sk[k].kind == K_DIPOLE) f->ndip += ff->sp_count[k];
     if (f->sk[k].kind == K_TIP4P) f->ntip4p += ff->sp_count[k];
     if (ff->sp_count[k] == 0 || ff->sp_nsites[k] == 0) continue;
@@ -1653,7 +2088,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     }
   }
   if (nonempty > 1) general = 1; /* pairs of different species */
-  if (f->x512) { /* the AVX-512 rows' records: 64 bytes (dipole_row512), 128 (tip4p_fill512) */
+  if (f->vec) { /* the register rows' records: 64 bytes (dipoles), 128 (TIP4P) */
     const size_t T1 = (size_t)T;
     if (f->ndip) {
       f->V.pk = alloc_records(sizeof *f->V.pk * n1);
@@ -1675,6 +2110,10 @@ int rl_ff_fast_setup(rl_forcefield *ff)
 }
 
 const char *rl_ff_fast_name(const rl_ff_fast *f) { return f->name; }
+const char *rl_ff_fast_rows(const rl_ff_fast *f)
+{
+  return f->vec == VEC_512 ? "avx512" : f->vec == VEC_256 ? "avx2" : "portable";
+}
 int rl_ff_fast_threads(const rl_ff_fast *f) { return f->nthreads; }
 long rl_ff_fast_builds(const rl_ff_fast *f) { return f ? f->chk->builds : 0; }
 
@@ -1853,7 +2292,7 @@ static int build(rl_forcefield *ff)
                   nr += hi[nr] > lo[nr];
                 }
 #if RL_X512
-            if (f->x512)
+            if (f->vec == VEC_512)
               nin = scan512(bx, by, bz, ri, box, rl2, lo, hi, nr, cand);
             else
 #endif

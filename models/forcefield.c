@@ -396,6 +396,10 @@ const char *rl_forcefield_kernel(const rl_forcefield *ff)
 {
   return ff->fast ? rl_ff_fast_name(ff->fast) : "general";
 }
+const char *rl_forcefield_rows(const rl_forcefield *ff)
+{
+  return ff->fast ? rl_ff_fast_rows(ff->fast) : "portable";
+}
 int rl_forcefield_threads(const rl_forcefield *ff) { return ff->fast ? rl_ff_fast_threads(ff->fast) : 1; }
 double rl_forcefield_list_radius(const rl_forcefield *ff) { return ff->rlist; }
 

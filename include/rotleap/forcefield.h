@@ -166,6 +166,11 @@ long rl_forcefield_rebuilds(const rl_forcefield *ff);
 /* The kernels in use, e.g. "tip4p", "stockmayer+general", "general" (the reference path), and
  * the number of threads of the pair loop (1 for the reference path). */
 const char *rl_forcefield_kernel(const rl_forcefield *ff);
+/* Which instruction set the dipole and TIP4P kernels' rows use: "avx512" or "avx2" (their
+ * register rows, chosen at alloc from the CPU; ROTLEAP_NO_AVX512=1 and ROTLEAP_NO_AVX2=1 in the
+ * environment rule either out), or "portable" (compiler-vectorised loops, also for every other
+ * kernel and the reference path).  The three agree to round-off (about 1e-15 relative). */
+const char *rl_forcefield_rows(const rl_forcefield *ff);
 int rl_forcefield_threads(const rl_forcefield *ff);
 double rl_forcefield_list_radius(const rl_forcefield *ff);
 

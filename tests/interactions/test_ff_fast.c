@@ -113,6 +113,31 @@ static rl_forcefield *make(scene *s, const rl_ff_params *p0, rl_kernel_choice ke
 
 static const char *trunc_name[4] = {"plain", "shifted", "shifted-force", "switched"};
 
+/* The pair-row paths the dipole and TIP4P species can take: the best the CPU has, the AVX2
+ * register rows on an AVX-512 CPU, the portable rows.  On a CPU without AVX-512 the first two
+ * are the same, and without AVX2 all three. */
+#define NPATH 3
+static const char *path_label[NPATH] = {"", ", ROTLEAP_NO_AVX512", ", portable rows"};
+/* The rows path k must take on this CPU (rl_forcefield_rows). */
+static const char *expected_rows(int k)
+{
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROTLEAP_NO_CLONES)
+  if (k == 0 && __builtin_cpu_supports("avx512f")) return "avx512";
+  if (k <= 1 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return "avx2";
+#endif
+  (void)k;
+  return "portable";
+}
+static int cur_path;
+static void set_path(int k)
+{
+  cur_path = k;
+  if (k >= 1) setenv("ROTLEAP_NO_AVX512", "1", 1);
+  else unsetenv("ROTLEAP_NO_AVX512");
+  if (k >= 2) setenv("ROTLEAP_NO_AVX2", "1", 1);
+  else unsetenv("ROTLEAP_NO_AVX2");
+}
+
 /* Auto vs general for both schemes and every truncation; the auto kernel's name is checked. */
 static void sweep(scene *s, rl_ff_params *p, const char *label, const char *kernel_name)
 {
@@ -130,6 +155,11 @@ static void sweep(scene *s, rl_ff_params *p, const char *label, const char *kern
         snprintf(nm, sizeof nm, "%s: kernel '%s' chosen (expected '%s')", label,
                  rl_forcefield_kernel(fa), kernel_name);
         FF_CHECK_TRUE(nm, strcmp(rl_forcefield_kernel(fa), kernel_name) == 0);
+        if (!strcmp(kernel_name, "tip4p") || !strcmp(kernel_name, "stockmayer")) {
+          snprintf(nm, sizeof nm, "%s: rows '%s' (expected '%s')", label, rl_forcefield_rows(fa),
+                   expected_rows(cur_path));
+          FF_CHECK_TRUE(nm, strcmp(rl_forcefield_rows(fa), expected_rows(cur_path)) == 0);
+        }
         FF_CHECK_TRUE("reference path is named 'general'",
                       strcmp(rl_forcefield_kernel(fg), "general") == 0);
       }
@@ -161,10 +191,13 @@ static void test_tip4p(void **state)
   scene s;
   rl_ff_params p;
   neat_scene(&s, rng, 1, &p);
-  sweep(&s, &p, "tip4p liquid (400)", "tip4p");
-  setenv("ROTLEAP_NO_AVX512", "1", 1); /* the portable fill and scatter (see test_stockmayer) */
-  sweep(&s, &p, "tip4p liquid (400), ROTLEAP_NO_AVX512", "tip4p");
-  unsetenv("ROTLEAP_NO_AVX512");
+  for (int k = 0; k < NPATH; k++) {
+    char what[120];
+    snprintf(what, sizeof what, "tip4p liquid (400)%s", path_label[k]);
+    set_path(k);
+    sweep(&s, &p, what, "tip4p");
+  }
+  set_path(0);
   p.eps_rf = INFINITY;
   p.scheme = RL_CUTOFF_SITE;
   p.lj_truncation = RL_LJ_PLAIN;
@@ -191,10 +224,13 @@ static void test_periodic_edge(void **state)
   rl_ff_params_default(&p);
   p.box[0] = p.box[1] = p.box[2] = 1.8;
   p.cutoff = 0.9;
-  sweep(&s, &p, "tip4p, L = 2 rc", "tip4p");
-  setenv("ROTLEAP_NO_AVX512", "1", 1); /* the other images in the portable fill too */
-  sweep(&s, &p, "tip4p, L = 2 rc, ROTLEAP_NO_AVX512", "tip4p");
-  unsetenv("ROTLEAP_NO_AVX512");
+  for (int k = 0; k < NPATH; k++) { /* the other images in every path's fill */
+    char what[120];
+    snprintf(what, sizeof what, "tip4p, L = 2 rc%s", path_label[k]);
+    set_path(k);
+    sweep(&s, &p, what, "tip4p");
+  }
+  set_path(0);
   /* a non-cubic box, shortest edge 2 rc */
   rl_system_free(s.sys);
   s = (scene){.nsp = 1};
@@ -230,17 +266,17 @@ static void test_periodic_edge(void **state)
   p.scheme = RL_CUTOFF_SITE; /* the molecule cutoff has no other images */
   p.lj_truncation = RL_LJ_SHIFTED;
   p.r_switch = 0.0;
-  for (int x512 = 1; x512 >= 0; x512--) {
-    if (!x512) setenv("ROTLEAP_NO_AVX512", "1", 1);
+  for (int k = 0; k < NPATH; k++) {
+    char what[120];
+    snprintf(what, sizeof what, "tip4p, column 0.44 x 0.44 x 3.6 nm, rc 0.22%s", path_label[k]);
+    set_path(k);
     fa = make(&s, &p, RL_KERNEL_AUTO, 2);
     fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
-    compare(fa, fg, s.sys, x512 ? "tip4p, column 0.44 x 0.44 x 3.6 nm, rc 0.22"
-                                : "tip4p, column 0.44 x 0.44 x 3.6 nm, rc 0.22, ROTLEAP_NO_AVX512",
-            1e-12);
+    compare(fa, fg, s.sys, what, 1e-12);
     rl_forcefield_free(fa);
     rl_forcefield_free(fg);
   }
-  unsetenv("ROTLEAP_NO_AVX512");
+  set_path(0);
   rl_system_free(s.sys);
   gsl_rng_free(rng);
 }
@@ -312,16 +348,23 @@ static void test_stockmayer(void **state)
    * rows; a batch holds 64), so that a batch fills in the middle of a group of candidates */
   p.cutoff = 1.3;
   sweep(&s, &p, "stockmayer, shifted force, rc = 1.3", "stockmayer");
-  /* where the CPU has AVX-512 the sweeps above took the dipole rows' AVX-512 fill and scatter;
-   * the portable ones again (on other CPUs these repeat the sweeps above) */
-  setenv("ROTLEAP_NO_AVX512", "1", 1);
-  sweep(&s, &p, "stockmayer, shifted force, rc = 1.3, ROTLEAP_NO_AVX512", "stockmayer");
-  p.cutoff = 0.75;
-  p.dipole_method = RL_DIPOLE_RF;
-  sweep(&s, &p, "stockmayer, RF eps_rf = 78.3, ROTLEAP_NO_AVX512", "stockmayer");
-  p.dipole_method = RL_DIPOLE_SF;
-  sweep(&s, &p, "stockmayer, shifted force, ROTLEAP_NO_AVX512", "stockmayer");
-  unsetenv("ROTLEAP_NO_AVX512");
+  /* the sweeps above took the best rows the CPU has; the other paths (set_path) again */
+  for (int k = 1; k < NPATH; k++) {
+    char what[120];
+    set_path(k);
+    p.cutoff = 1.3;
+    p.dipole_method = RL_DIPOLE_SF;
+    snprintf(what, sizeof what, "stockmayer, shifted force, rc = 1.3%s", path_label[k]);
+    sweep(&s, &p, what, "stockmayer");
+    p.cutoff = 0.75;
+    p.dipole_method = RL_DIPOLE_RF;
+    snprintf(what, sizeof what, "stockmayer, RF eps_rf = 78.3%s", path_label[k]);
+    sweep(&s, &p, what, "stockmayer");
+    p.dipole_method = RL_DIPOLE_SF;
+    snprintf(what, sizeof what, "stockmayer, shifted force%s", path_label[k]);
+    sweep(&s, &p, what, "stockmayer");
+  }
+  set_path(0);
   rl_system_free(s.sys);
   gsl_rng_free(rng);
 }
