@@ -272,9 +272,9 @@ static int cmd_time(int argc, char **argv)
     free(F.f);
     free(F.k);
   }
-  printf("model=%s N=%d threads=%d kernel=%s thermostat=%s energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+  printf("model=%s N=%d threads=%d kernel=%s rows=%s thermostat=%s energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
          "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
-         model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff),
+         model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), rl_forcefield_rows(b.ff),
          nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", energy_every, 1e3 * t, share,
          1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
   if (dumpfile) {
@@ -316,15 +316,16 @@ static int cmd_scaling(int argc, char **argv)
   snprintf(csvname, sizeof csvname, "bench/scaling_%s.csv", model);
   const char *cn = getenv("ROTLEAP_BENCH_CSV") ? getenv("ROTLEAP_BENCH_CSV") : csvname;
   FILE *csv = fopen(cn, "w");
-  if (csv) fprintf(csv, "model,N,threads,auto_us_per_molecule_step,general_us_per_molecule_step,speedup,ff_share,mem_per_molecule\n");
+  if (csv) fprintf(csv, "model,N,threads,auto_us_per_molecule_step,general_us_per_molecule_step,speedup,ff_share,mem_per_molecule,rows\n");
   printf("%s, %d thread(s): cost per molecule-step against N (best of 3 alternating rounds)\n\n", model, threads);
-  printf("%8s %14s %14s %8s %9s %12s\n", "N", "auto us", "general us", "speedup", "ff share", "bytes/mol");
+  printf("%8s %14s %14s %8s %9s %12s %s\n", "N", "auto us", "general us", "speedup", "ff share", "bytes/mol", "rows");
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int m = 0;
   for (int n = 256; n <= nmax; n *= 2) {
     bench_sys a, g;
     setup(&a, model, n, threads, RL_KERNEL_AUTO);
     double mem = a.mem_per_molecule;
+    const char *rows = rl_forcefield_rows(a.ff);
     int relax = n >= 16384 ? 10 : 50;
     run(&a, relax, NULL);
     restart(&a, 0, 0);
@@ -342,8 +343,8 @@ static int cmd_scaling(int argc, char **argv)
       if (general) tg = fmin(tg, timed(&g, (steps + 3) / 4, NULL));
     }
     double ua = 1e6 * ta / n, ug = general ? 1e6 * tg / n : NAN;
-    printf("%8d %14.3f %14.3f %8.2f %9.3f %12.0f\n", n, ua, ug, ug / ua, share, mem);
-    if (csv) fprintf(csv, "%s,%d,%d,%.4f,%.4f,%.3f,%.4f,%.0f\n", model, n, threads, ua, ug, ug / ua, share, mem);
+    printf("%8d %14.3f %14.3f %8.2f %9.3f %12.0f %s\n", n, ua, ug, ug / ua, share, mem, rows);
+    if (csv) fprintf(csv, "%s,%d,%d,%.4f,%.4f,%.3f,%.4f,%.0f,%s\n", model, n, threads, ua, ug, ug / ua, share, mem, rows);
     double x = log((double)n), y = log(ta);
     sx += x; sy += y; sxx += x * x; sxy += x * y; m++;
     teardown(&a);
@@ -448,9 +449,10 @@ static int cmd_kernel(int argc, char **argv)
     for (int r = 0; r < rounds; r++) best = fmin(best, t[2 * r + v]);
     rl_ff_energies e;
     rl_forcefield_energies(b[v].ff, &e);
-    printf("model=%s N=%d threads=%d kernel=%s%s%s ms_per_compute_min=%.4f rounds=%d "
+    printf("model=%s N=%d threads=%d kernel=%s rows=%s%s%s ms_per_compute_min=%.4f rounds=%d "
            "calls_per_round=%d U_per_molecule=%.9f\n",
-           model, n, rl_forcefield_threads(b[v].ff), rl_forcefield_kernel(b[v].ff), v ? " env=" : "",
+           model, n, rl_forcefield_threads(b[v].ff), rl_forcefield_kernel(b[v].ff),
+           rl_forcefield_rows(b[v].ff), v ? " env=" : "",
            v ? ab : "", 1e3 * best, rounds, per, e.total / n);
   }
   if (nb == 2) { /* the median of the per-round ratios: robust to slow phases of the host */

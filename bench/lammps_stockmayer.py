@@ -28,7 +28,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from rlfiles import tokens as kv_of  # noqa: E402
+from rlfiles import cpu_model, tokens as kv_of  # noqa: E402
 
 MU = math.sqrt(3.0)
 DIAM = 0.5
@@ -133,6 +133,7 @@ def main():
                 dump, data = os.path.join(tmp, "state.txt"), os.path.join(tmp, "data.stockmayer")
                 kv = rotleap(a.ffbench, n, cores, steps, dump)
                 best_rl, u_rl = float(kv["ms_per_step"]), float(kv["U"])
+                rows_rl = kv.get("rows", "?")
                 write_data(dump, data)
                 _, rows0 = lammps(data, 0, cores, 1, tmp)
                 u_lmp = rows0[0][1]
@@ -147,7 +148,7 @@ def main():
             verdict = "met" if ratio <= 0.5 else "missed x%.2f" % (ratio / 0.5)
             print("%7d %5d %12.3f %12.3f %7.3f %9s %14.8f %14.8f %9.2e" % (
                 n, cores, best_rl, best_lmp, ratio, verdict, u_rl, u_lmp, rel), flush=True)
-            out.append((n, cores, best_rl, best_lmp, ratio, u_rl, u_lmp, rel))
+            out.append((n, cores, best_rl, best_lmp, ratio, u_rl, u_lmp, rel, rows_rl, cpu_model()))
     n = sizes[0]
     if a.nve > 0:
         with tempfile.TemporaryDirectory() as tmp:
@@ -165,10 +166,13 @@ def main():
                                             float(kv["sd_per_molecule"]), float(kv["range_per_molecule"])))
         print("%8s %16.3e %16.3e %16.3e" % ("LAMMPS", (e[-1] - e[0]) / n, sd / n, (max(e) - min(e)) / n))
     with open(a.csv, "w") as f:
-        f.write("N,cores,rotleap_ms_per_step,lammps_ms_per_step,ratio,U_rotleap,U_lammps,U_rel_diff\n")
+        f.write("N,cores,rotleap_ms_per_step,lammps_ms_per_step,ratio,U_rotleap,U_lammps,U_rel_diff,"
+                "rotleap_rows,cpu\n")
         for r in out:
-            f.write("%d,%d,%.4f,%.4f,%.4f,%.12g,%.12g,%.3e\n" % r)
+            f.write("%d,%d,%.4f,%.4f,%.4f,%.12g,%.12g,%.3e,%s,\"%s\"\n" % r)
     print("written:", a.csv)
+    if out:
+        print("rotleap's dipole rows: %s (rl_forcefield_rows); CPU: %s" % (out[0][8], out[0][9]))
 
 
 if __name__ == "__main__":

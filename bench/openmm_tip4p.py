@@ -35,7 +35,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "validate"))
 import watermodels  # noqa: E402
 
 sys.path.insert(0, HERE)
-from rlfiles import idlest_cpu, tokens  # noqa: E402
+from rlfiles import cpu_model, idlest_cpu, tokens  # noqa: E402
 
 mm = watermodels.mm
 try:
@@ -119,6 +119,7 @@ def main():
                 kv = rotleap_run(a.ffbench, n, threads, steps, dump)
                 best_rl = float(kv["ms_per_step"])
                 share = float(kv["ff_share"])
+                rows_rl = kv.get("rows", "?")
                 _, L, pos = read_dump(dump)
             ctx, integ = openmm_context(n, L, pos, threads)
             best_omm = float("inf")
@@ -136,14 +137,16 @@ def main():
                 n, threads, best_rl, best_omm, ratio, nsday(best_rl), nsday(best_omm), verdict,
                 100 * share, "" if pin is None else "(both on CPU %d)" % pin), flush=True)
             rows.append((n, threads, best_rl, best_omm, ratio, nsday(best_rl), nsday(best_omm), share,
-                         "" if pin is None else str(pin)))
+                         "" if pin is None else str(pin), rows_rl, cpu_model()))
     os.sched_setaffinity(0, allowed)
     with open(a.csv, "w") as f:
         f.write("N,threads,rotleap_ms_per_step,openmm_ms_per_step,ratio,rotleap_ns_per_day,"
-                "openmm_ns_per_day,rotleap_ff_share,pinned_cpu\n")
+                "openmm_ns_per_day,rotleap_ff_share,pinned_cpu,rotleap_rows,cpu\n")
         for r in rows:
-            f.write("%d,%d,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%s\n" % r)
+            f.write("%d,%d,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%s,%s,\"%s\"\n" % r)
     print("written:", a.csv)
+    if rows:
+        print("rotleap's TIP4P rows: %s (rl_forcefield_rows); CPU: %s" % (rows[0][9], rows[0][10]))
     print("target: rotleap <= 0.7 x OpenMM CPU time per step (rotleap in double precision, OpenMM "
           "CPU mixed/single)")
 

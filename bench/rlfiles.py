@@ -15,6 +15,19 @@ def keyvals(path):
     return out
 
 
+def cpu_model():
+    """The CPU's model name (Linux /proc/cpuinfo), for the benchmark tables: rotleap's pair rows
+    differ by instruction set (ffbench's rows=: avx512, avx2 or portable)."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return "unknown CPU"
+
+
 def tokens(text):
     """'model=tip4p N=216 ms_per_step=1.5 ...' lines (bench/ffbench's output) -> {key: value text}."""
     kv = {}
