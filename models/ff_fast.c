@@ -23,8 +23,9 @@
  * neighbours' indices and centre separations in their batches (tip4p_fill512) and form all
  * terms in registers from transposes of 128-byte records (tip4p_row512), and the dipole rows
  * keep no batch at all: they pack each eight neighbours within the cutoff into registers and
- * form their terms there (dipole_row512).  The portable TIP4P rows run their 10 terms in one
- * loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt
+ * form their terms there (dipole_row512).  Where the CPU has AVX2 but not AVX-512 (and
+ * ROTLEAP_NO_AVX2 is unset) both do the same four lanes wide (tip4p_row256, dipole_row256).
+ * The portable TIP4P rows run their 10 terms in one loop; "charge-lj" one loop per term.  Each term is the reference formula; 1/sqrt is rl_rsqrt
  * (a few ulp, no divider; vrsqrt14pd and two Newton steps in the AVX-512 rows), a * b + c may
  * be one FMA, and separations and sums are formed in another order, so results agree with the
  * reference to round-off.
