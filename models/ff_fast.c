@@ -1430,9 +1430,13 @@ RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *
   }
   *pos = p;
   const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
-  for (int k = n; k < np; k++) { /* padding: the first neighbour's record, 1 um away (every */
-    b->idx[k] = b->idx[0];         /* site pair beyond the cutoff, and no closest pair)     */
-    for (int d = 0; d < 3; d++) b->R[d][k] = 1e3;
+  /* padding: the first neighbour's record at twice the pruning radius, so that every site
+   * pair lies beyond the cutoff (|r| >= 2 rp - 2 extent > rc) and none is the closest pair */
+  const double pad = 2.0 * sqrt(rp2);
+  for (int k = n; k < np; k++) {
+    b->idx[k] = b->idx[0];
+    b->R[0][k] = pad;
+    b->R[1][k] = b->R[2][k] = 0.0;
   }
   b->n = n;
   b->np = np;
