@@ -39,7 +39,10 @@ import nve_conservation as nc  # noqa: E402
 # drift (run.tau = --langevin-tau, the friction time; OpenMM's LangevinMiddleIntegrator at 1/ps)
 VARIANTS = {"all": ("nvt-bussi", ["thermostat_groups = all"]),
             "trans-rot": ("nvt-bussi", ["thermostat_groups = trans-rot"]),
-            "langevin": ("nvt-langevin", [])}
+            "langevin": ("nvt-langevin", []),
+            # the symplectic NO_SQUISH rotation (Miller et al. 2002) under the same thermostat:
+            # is the bias at 8 fs the revised leapfrog's, or any leapfrog's at this step?
+            "no-squish": ("nvt-bussi", ["thermostat_groups = trans-rot", "integrator = no-squish"])}
 
 
 def mean_mid(run, t_from):

@@ -98,8 +98,11 @@ TEMPS = [("T", "T"), ("Tt", "T_trans"), ("Tr", "T_rot")]
 
 # ------------------------------------------------------------------------------------ runs
 def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=()):
-    """extra: further [run] lines, e.g. "thermostat_groups = all" or "seed = 3"."""
-    run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h_ps, "integrator = rl",
+    """extra: further [run] lines, e.g. "thermostat_groups = all", "seed = 3" or
+    "integrator = no-squish" (which replaces the default "integrator = rl")."""
+    integ = [x for x in extra if x.replace(" ", "").startswith("integrator=")]
+    extra = [x for x in extra if x not in integ]
+    run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h_ps, (integ or ["integrator = rl"])[-1],
            "ensemble = %s" % ensemble, "temperature = %g K" % T_K]
     if ensemble == "nvt-bussi":
         run.append("tau = %g ps" % TAU_BUSSI)
