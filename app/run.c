@@ -434,7 +434,8 @@ int rl_app_run(const rl_deck *d)
            "# rotleap %s summary of %s\n"
            "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
            "timestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\n"
-           "neighbour_list = skin %.4g %s, %ld builds in this invocation\nwall_seconds = %.3f\nfallbacks = %ld\n"
+           "neighbour_list = skin %.4g %s, %ld builds in this invocation\n"
+           "pair_kernels = %s (%s rows, %d thread(s))\nwall_seconds = %.3f\nfallbacks = %ld\n"
            "U_per_molecule = %.8g +- sd %.3g %s\n"
            "temperature = %.6g (translational %.6g, rotational %.6g) %s\n"
            "pressure = %.6g +- sd %.3g %s\n"
@@ -443,7 +444,9 @@ int rl_app_run(const rl_deck *d)
            "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
            ROTLEAP_VERSION, d->path, st ? "error" : "ok", first + done, d->steps, done, d->model->name, n,
            d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every,
-           scene_skin(d, &s.mol), rl_dim_unit(Q_LENGTH, d->units), s.ff ? rl_forcefield_rebuilds(s.ff) : 0L, wall, fallbacks,
+           scene_skin(d, &s.mol), rl_dim_unit(Q_LENGTH, d->units), s.ff ? rl_forcefield_rebuilds(s.ff) : 0L,
+           s.ff ? rl_forcefield_kernel(s.ff) : "none", s.ff ? rl_forcefield_rows(s.ff) : "no",
+           s.ff ? rl_forcefield_threads(s.ff) : 1, wall, fallbacks,
            U.mean / n, run_sd(&U) / n, energy_unit(d), T.mean, Tt.mean, Tr.mean,
            d->units == RL_UNITS_LJ ? "" : "K", P.mean, run_sd(&P), pressure_unit(d),
            E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0,
