@@ -540,14 +540,13 @@ static void test_forces_only(void **state)
     scene s;
     rl_ff_params p;
     neat_scene(&s, rng, water, &p);
-    for (int portable = 0; portable < 2; portable++) {
-      if (portable) setenv("ROTLEAP_NO_AVX512", "1", 1);
+    for (int k = 0; k < NPATH; k++) { /* each path's forces-only rows (set_path) */
       char label[100];
-      snprintf(label, sizeof label, "%s%s", water ? "tip4p (400)" : "stockmayer (500)",
-               portable ? ", ROTLEAP_NO_AVX512" : "");
+      snprintf(label, sizeof label, "%s%s", water ? "tip4p (400)" : "stockmayer (500)", path_label[k]);
+      set_path(k);
       for (int t = 1; t <= 2; t++) forces_only(&s, &p, t, label);
-      unsetenv("ROTLEAP_NO_AVX512");
     }
+    set_path(0);
     rl_system_free(s.sys);
   }
   gsl_rng_free(rng);
