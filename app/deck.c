@@ -376,7 +376,13 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   require(&r, K_DT);
   d->steps = integer(&r, K_STEPS, 0, 0);
   d->timestep = number(&r, K_DT, u, 0, 0.0);
-  if (r.val[K_DT] && !r.bad[K_DT] && !(d->timestep > 0)) problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
+  if (r.val[K_DT] && !r.bad[K_DT] && !(d->timestep > 0)) {
+    problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
+    r.bad[K_DT] = 1;
+  }
+  /* a missing timestep is reported once, by require: the defaults derived from it (tau,
+   * equilibrate_timestep) are not reported again */
+  if (!r.val[K_DT]) r.bad[K_DT] = 1;
   d->method = rl_deck_integrators[choice(&r, K_INTEGRATOR)].method;
   int ens = choice(&r, K_ENSEMBLE);
   static const rl_thermostat ensembles[] = {RL_THERMO_NONE, RL_THERMO_ISOKINETIC, RL_THERMO_BUSSI, RL_THERMO_LANGEVIN};

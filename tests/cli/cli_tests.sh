@@ -32,6 +32,12 @@ check "quiet when not a terminal" '[ ! -s err.txt ]'
 
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=-0.002 --set output.prefix="$work/neg" >out.txt 2>err.txt; code=$?
 check "negative time step rejected" '[ $code -eq 2 ] && grep -q "run.timestep -0.002 must be positive" err.txt'
+check "a bad time step is reported once, not again through its defaults" '! grep -q "equilibrate_timestep\|run.tau" err.txt && grep -q "1 problem in" err.txt'
+sed -e '/^timestep/d' -e 's/^\[run\]$/[run]\nensemble = nvt-bussi\ntemperature = 1.35/' \
+  "$src/tests/cli/stockmayer_short.ini" > nodt.ini
+"$rotleap" run nodt.ini --set output.prefix="$work/nodt" >out.txt 2>err.txt; code=$?
+check "a missing time step is reported once, not again through tau or the relaxation step" \
+  '[ $code -eq 2 ] && grep -q "run.timestep is required" err.txt && ! grep -q "equilibrate_timestep\|run.tau" err.txt'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=5 --set output.prefix="$work/abs" >out.txt 2>err.txt; code=$?
 check "absurd time step rejected" '[ $code -eq 2 ] && grep -q "no step can follow the rotation" err.txt'
 # the default skin: 0.1 cutoff at 2 fs for water, sqrt(v h / 0.0015 rc) times that at 8 fs (0.1756 nm
