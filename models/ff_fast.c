@@ -1366,10 +1366,11 @@ static const pack4 pack4_lut[16] = {
  * candidates at a time: the minimum image as take_candidate's RL_RND, the pruning test in one
  * vector, the kept ones appended in list order (packed by pack4_lut while the batch has room
  * for all four: ffbench kernel stockmayer 8000 1, A/B on an AMD EPYC guest, -6 %; TIP4P, where
- * the pairs dominate, unchanged).  The other images' tests are vectors too.  In a box that needs the other images (img),
- * four candidates of which one has a component beyond L - rp go one by one through
- * take_candidate, which puts a neighbour's images right after it.  A batch ends where
- * batch_fill's does: when full, or before a neighbour whose images would not all fit. */
+ * the pairs dominate, unchanged).  In a box that needs the other images (img), the images of
+ * the four candidates within rp are tested in vectors too, and only four of which one keeps
+ * another image are appended one by one, each neighbour's images right after it, as
+ * take_candidate does.  A batch ends where batch_fill's does: when full, or before a neighbour
+ * whose images would not all fit. */
 RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *B,
                                    const double *ci, const int *nbr, int len, int *pos,
                                    double rp2, int img, batch *b)
@@ -1407,17 +1408,19 @@ RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *
         const __m256d pos = _mm256_cmp_pd(R[d], _mm256_setzero_pd(), _CMP_GT_OQ);
         X1[d] = _mm256_blendv_pd(_mm256_add_pd(R[d], L[d]), _mm256_sub_pd(R[d], L[d]), pos);
       }
-      if (fc[0] | fc[1] | fc[2]) {
-        unsigned kept[4]; /* lane l: bit m if image m is kept (m = 0: minimum) */
-        for (int l = 0; l < 4; l++) kept[l] = (keep >> l) & 1u;
+      unsigned kept[4] = {0, 0, 0, 0}, extra = 0; /* lane l: bit m if image m is kept */
+      if (fc[0] | fc[1] | fc[2])
         for (int m = 1; m < 8; m++) { /* image m: component d shifted if bit d of m is set */
           const unsigned far = (m & 1 ? fc[0] : live) & (m & 2 ? fc[1] : live) & (m & 4 ? fc[2] : live);
           if (!far) continue;
           const __m256d u = m & 1 ? X1[0] : R[0], v = m & 2 ? X1[1] : R[1], w = m & 4 ? X1[2] : R[2];
           const __m256d q2 = _mm256_fmadd_pd(w, w, _mm256_fmadd_pd(v, v, _mm256_mul_pd(u, u)));
           unsigned km = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(q2, vrp2, _CMP_LT_OQ)) & far;
+          extra |= km;
           for (; km; km &= km - 1) kept[__builtin_ctz(km)] |= 1u << m;
         }
+      if (extra) { /* some lane keeps another image besides (or instead of) the minimum one */
+        for (int l = 0; l < 4; l++) kept[l] |= (keep >> l) & 1u;
         _Alignas(32) double x[2][3][4]; /* [shifted][component][lane] */
         for (int d = 0; d < 3; d++) {
           _mm256_store_pd(x[0][d], R[d]);
