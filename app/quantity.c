@@ -15,6 +15,8 @@ typedef struct {
   double factor;
 } unit_def;
 
+/* The first entry of each dimension is its default unit, rl_dim_unit's (tests/cli checks a
+ * bare density against "g/cm3"). */
 static const unit_def units[] = {
     {Q_LENGTH, "nm", 1.0},        {Q_LENGTH, "A", 0.1},          {Q_LENGTH, "Å", 0.1},
     {Q_LENGTH, "angstrom", 0.1},  {Q_LENGTH, "pm", 1e-3},        {Q_TIME, "ps", 1.0},
@@ -70,6 +72,9 @@ int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, d
   memcpy(suffix, end, n);
   suffix[n] = '\0';
   double factor = 1.0;
+  if (n == 0 && u != RL_UNITS_LJ) /* a bare number is in the default unit (g/cm3: 602 amu/nm3) */
+    for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
+      if (units[k].dim == dim) { factor = units[k].factor; break; }
   if (n > 0) {
     if (dim == Q_NONE) { snprintf(err, errlen, "'%s' takes no unit (got '%s')", text, suffix); return -1; }
     if (u == RL_UNITS_LJ) {

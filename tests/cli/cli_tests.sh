@@ -135,6 +135,16 @@ import json, sys
 e = [json.load(open(\"energy_%s.json\" % v))[\"energy\"][\"total\"] for v in (\"interactions.kernel=general\", \"interactions.kernel=auto\", \"run.threads=2\")]
 sys.exit(0 if max(abs(x - e[0]) for x in e) <= 1e-12 * abs(e[0]) else 1)"'
 
+k=0
+for v in "1 g/cm3" "1" "1000 kg/m3"; do
+  "$rotleap" energy "$src/tests/cli/water_scan.ini" --set "system.density=$v" --json > "energy_rho$k.json" 2>err.txt
+  k=$((k + 1))
+done
+check "a bare real density is in g/cm3, as documented (not amu/nm3)" '/usr/bin/python3 -c "
+import json, sys
+e = [json.load(open(\"energy_rho%d.json\" % k))[\"energy\"][\"total\"] for k in range(3)]
+sys.exit(0 if e[0] != 0 and max(abs(x - e[0]) for x in e) <= 1e-12 * abs(e[0]) else 1)"'
+
 "$rotleap" run "$src/tests/cli/water_scan.ini" --set run.steps=20 --set output.prefix="$work/dc1" >/dev/null 2>&1
 "$rotleap" run "$src/tests/cli/water_scan.ini" --set system.start="$work/dc1.chk" --set run.steps=40 \
   --set output.trajectory_every=10 --set output.prefix="$work/dc2" >out.txt 2>err.txt; code=$?
