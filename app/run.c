@@ -220,6 +220,48 @@ static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const
   return st;
 }
 
+#define THERMO_HEADER                                                                          \
+  "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"        \
+  "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n"
+
+/* A continuation's thermo file: the rows of the file at path (the run being continued, same
+ * prefix) before step first are copied to out, after its header, so that renaming out over path
+ * loses none of them (rows from first on are the continuation's to write again).  A file with
+ * other columns is moved aside to path.prev instead, with a note.  Returns 0, or 1 on a read
+ * or write error (reported). */
+static int thermo_keep_rows(const char *path, FILE *out, long first)
+{
+  FILE *in = fopen(path, "r");
+  if (!in) return 0; /* no earlier rows under this prefix */
+  char *line = NULL;
+  size_t cap = 0;
+  int err = 0;
+  if (getline(&line, &cap, in) < 0 || strcmp(line, THERMO_HEADER) != 0) {
+    char prev[700];
+    snprintf(prev, sizeof prev, "%s.prev", path);
+    fclose(in);
+    free(line);
+    if (rename(path, prev)) {
+      fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", path, prev, strerror(errno));
+      return 1;
+    }
+    fprintf(stderr, "rotleap run: %s has other columns than this run writes; it is kept as %s\n", path, prev);
+    return 0;
+  }
+  while (getline(&line, &cap, in) > 0) {
+    char *end;
+    long step = strtol(line, &end, 10);
+    if (end == line) continue;
+    if (step >= first) break;
+    if (fputs(line, out) < 0) { err = 1; break; }
+  }
+  if (ferror(in)) err = 1;
+  fclose(in);
+  free(line);
+  if (err) fprintf(stderr, "rotleap run: cannot copy the earlier rows of %s: %s\n", path, strerror(errno));
+  return err;
+}
+
 int rl_app_run(const rl_deck *d)
 {
   scene s;
@@ -273,8 +315,7 @@ int rl_app_run(const rl_deck *d)
     st = !in ? RL_EINVAL : s.restart ? RL_OK : rl_integrator_init(in);
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
-  fprintf(thermo, "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"
-                  "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n");
+  fputs(THERMO_HEADER, thermo);
   running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
   long first = 0;
   if (!st && s.restart) { /* continue: forces at t, no re-staggering, bookkeeping restored */
@@ -316,10 +357,15 @@ int rl_app_run(const rl_deck *d)
         rl_integrator_set_thermostat_work(in, rec.thermo_work);
         E = rec.E; U = rec.U; T = rec.T; Tt = rec.Tt; Tr = rec.Tr; P = rec.P;
         first = s.step0;
+        if (first > d->steps)
+          st = rl_error(RL_EINVAL, "%s is at step %ld, past run.steps = %ld (the total a continuation runs "
+                        "to, counted from the first run's step 0): ask for more steps", d->start, first, d->steps);
       }
     }
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
+  /* a continuation keeps the rows its thermo file already has before its first step */
+  if (!st && s.restart && thermo_keep_rows(thermo_path, thermo, first)) st = RL_EINVAL;
   double t0 = now(), last_progress = 0.0;
   long done = 0, fallbacks = 0;
   int nrot = rl_system_nrot(s.sys);
@@ -425,8 +471,11 @@ int rl_app_run(const rl_deck *d)
   }
   if (progress) fputc('\n', stderr);
   double wall = now() - t0;
-  /* the rows already written are kept whatever happened: close and rename */
-  int io_ok = fclose(thermo) == 0 && rename(part, thermo_path) == 0;
+  /* the rows already written are kept whatever happened: close and rename; a run that failed
+   * before its first step has none, and leaves the thermo file of an earlier run as it was */
+  int io_ok = fclose(thermo) == 0;
+  if (st && done == 0) remove(part);
+  else io_ok = io_ok && rename(part, thermo_path) == 0;
   if (!io_ok) fprintf(stderr, "rotleap run: cannot write %s: %s\n", thermo_path, strerror(errno));
   char text[4096];
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";

@@ -150,6 +150,19 @@ sys.exit(0 if e[0] != 0 and max(abs(x - e[0]) for x in e) <= 1e-12 * abs(e[0]) e
   --set output.trajectory_every=10 --set output.prefix="$work/dc2" >out.txt 2>err.txt; code=$?
 check "a continuation with no DCD yet starts one" '[ $code -eq 0 ] && [ -s "$work/dc2.dcd" ]'
 
+# a continuation under the same prefix keeps the first run's thermo rows; a start past
+# run.steps is refused and changes no thermo row
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100 --set output.prefix="$work/cont" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=200 --set system.start="$work/cont.chk" \
+  --set output.prefix="$work/cont" >/dev/null 2>&1; code=$?
+check "a continuation keeps the earlier thermo rows (steps 0, 10, ..., 190 once each)" \
+  '[ $code -eq 0 ] && [ "$(tail -n +2 "$work/cont.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 190) " ]'
+cp "$work/cont.thermo.csv" cont_before.csv
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=150 --set system.start="$work/cont.chk" \
+  --set output.prefix="$work/cont" >out.txt 2>err.txt; code=$?
+check "a checkpoint past run.steps is refused, naming both, and the thermo rows stay" \
+  '[ $code -ne 0 ] && grep -q "is at step 200, past run.steps = 150" err.txt && cmp -s cont_before.csv "$work/cont.thermo.csv"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
