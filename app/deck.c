@@ -7,6 +7,7 @@
 
 #include <errno.h>
 #include <ini.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -218,17 +219,22 @@ static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallb
   return x;
 }
 
-static long integer(raw_deck *r, int k, long lo, long fallback)
+static long integer_in(raw_deck *r, int k, long lo, long hi, long fallback)
 {
   const char *v = val(r, k);
   if (!v) return fallback;
   char *end;
+  errno = 0;
   long x = strtol(v, &end, 10);
+  const int range = errno == ERANGE;
   while (*end == ' ' || *end == '\t') end++;
   if (end == v || *end) { problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); r->bad[k] = 1; return fallback; }
+  if (range || x > hi) { problem(r, r->line[k], "%s.%s: %s is above the maximum %ld", keys[k].section, keys[k].name, v, hi); r->bad[k] = 1; return fallback; }
   if (x < lo) { problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); r->bad[k] = 1; return fallback; }
   return x;
 }
+
+static long integer(raw_deck *r, int k, long lo, long fallback) { return integer_in(r, k, lo, LONG_MAX, fallback); }
 
 static int boolean(raw_deck *r, int k)
 {
@@ -291,7 +297,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
   /* [system] */
   require(&r, K_COUNT);
-  d->count = (int)integer(&r, K_COUNT, 1, 1);
+  d->count = (int)integer_in(&r, K_COUNT, 1, INT_MAX, 1);
   d->lattice = choice(&r, K_LATTICE) == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
   d->random_orientations = choice(&r, K_ORIENT) == 0;
   d->seed = (unsigned long)integer(&r, K_SEED, 0, 1);
@@ -336,7 +342,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   } else if (r.val[K_DENSITY]) {
     double rho = number(&r, K_DENSITY, u, 0, 0.0);
     if (!(rho > 0)) problem(&r, r.line[K_DENSITY], "system.density must be positive");
-    else if (d->model) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
+    else if (d->model && !r.bad[K_COUNT]) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
       double V = u == RL_UNITS_LJ ? d->count / rho : d->count * mass / rho;
       d->box[0] = d->box[1] = d->box[2] = cbrt(V);
     }
@@ -418,7 +424,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
-  d->ff.threads = (int)integer(&r, K_THREADS, 0, 0);
+  d->ff.threads = (int)integer_in(&r, K_THREADS, 0, 4096, 0);
   /* [output] */
   if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
   else {

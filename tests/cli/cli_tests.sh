@@ -38,6 +38,11 @@ sed -e '/^timestep/d' -e 's/^\[run\]$/[run]\nensemble = nvt-bussi\ntemperature =
 "$rotleap" run nodt.ini --set output.prefix="$work/nodt" >out.txt 2>err.txt; code=$?
 check "a missing time step is reported once, not again through tau or the relaxation step" \
   '[ $code -eq 2 ] && grep -q "run.timestep is required" err.txt && ! grep -q "equilibrate_timestep\|run.tau" err.txt'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.count=4294967404 --set output.prefix="$work/big" >out.txt 2>err.txt; code=$?
+check "a count beyond int is refused, not wrapped (and reported once)" \
+  '[ $code -eq 2 ] && grep -q "system.count: 4294967404 is above the maximum" err.txt && grep -q "1 problem in" err.txt'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=99999999999999999999 --set output.prefix="$work/big" >out.txt 2>err.txt; code=$?
+check "a step count beyond long is refused, not clamped" '[ $code -eq 2 ] && grep -q "run.steps: 99999999999999999999 is above the maximum" err.txt'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=5 --set output.prefix="$work/abs" >out.txt 2>err.txt; code=$?
 check "absurd time step rejected" '[ $code -eq 2 ] && grep -q "no step can follow the rotation" err.txt'
 # the default skin: 0.1 cutoff at 2 fs for water, sqrt(v h / 0.0015 rc) times that at 8 fs (0.1756 nm
