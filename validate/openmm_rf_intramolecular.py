@@ -32,7 +32,7 @@ except ImportError:  # OpenMM < 7.6 layout
 
 # OpenMM 7.7's ONE_4PI_EPS0 (SimTKOpenMMRealType.h since 7.6): 1/(4 pi eps0) with CODATA 2018
 # eps0 = 8.8541878128e-12 F/m, e = 1.602176634e-19 C, N_A = 6.02214076e23 /mol, in kJ/mol nm e^-2.
-# The older 138.935456 (OpenMM <= 7.5, and rotleap's RL_COULOMB_KJMOL_NM at the time of writing)
+# The older 138.935456 (OpenMM <= 7.5, and rotleap's RL_COULOMB_KJMOL_NM before it was updated)
 # is 1.18e-8 smaller; the script shows that only the new value reproduces OpenMM 7.7 to 1e-14.
 KC_OLD = 138.935456
 E_CHARGE, N_A, EPS0 = 1.602176634e-19, 6.02214076e23, 8.8541878128e-12
