@@ -6,6 +6,7 @@
 #include "scene.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stddef.h>
 #include <math.h>
 #include <stdio.h>
@@ -220,6 +221,37 @@ static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const
   return st;
 }
 
+/* SIGINT and SIGTERM during the production loop: the step in progress ends, and the run stops
+ * as if run.steps had been reached there (checkpoint, thermo rows, summary with status =
+ * interrupted), exit status 128 + the signal.  A second signal acts at once (the handler
+ * restores the default action).  Before and after the loop the default actions apply; a run
+ * killed there leaves at most PREFIX.thermo.csv.part beside the earlier outputs. */
+static volatile sig_atomic_t got_signal;
+
+static void on_signal(int sig)
+{
+  got_signal = sig;
+  signal(sig, SIG_DFL);
+}
+
+static void catch_signals(int on)
+{
+  static const int sigs[2] = {SIGINT, SIGTERM};
+  static int ignored[2]; /* a signal ignored at the start (a background job's SIGINT) stays so */
+  for (int k = 0; k < 2; k++) {
+    struct sigaction sa, old;
+    if (on) {
+      sigaction(sigs[k], NULL, &old);
+      ignored[k] = old.sa_handler == SIG_IGN;
+    }
+    if (ignored[k]) continue;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on ? on_signal : SIG_DFL;
+    sigemptyset(&sa.sa_mask);
+    sigaction(sigs[k], &sa, NULL);
+  }
+}
+
 #define THERMO_HEADER                                                                          \
   "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"        \
   "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n"
@@ -385,7 +417,17 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
+  got_signal = 0;
+  catch_signals(1);
+  int stopped = 0; /* the signal that ended the loop */
   for (long k = first; !st && k < d->steps; k++) {
+    if (got_signal) {
+      stopped = got_signal;
+      fprintf(stderr, "%srotleap run: %s at step %ld of %ld: writing the checkpoint, thermo rows and summary "
+                      "(system.start = %s.chk continues)\n", progress ? "\n" : "",
+              got_signal == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)", k, d->steps, d->prefix);
+      break;
+    }
     /* the energies, virial and averages on the steps of output.energy_every (the integrator
      * computes forces only on the others; init and resume always compute all) */
     const int ev = k % d->energy_every == 0;
@@ -491,7 +533,7 @@ int rl_app_run(const rl_deck *d)
            "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n"
            "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n"
            "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
-           ROTLEAP_VERSION, d->path, st ? "error" : "ok", first + done, d->steps, done, d->model->name, n,
+           ROTLEAP_VERSION, d->path, stopped ? "interrupted" : st ? "error" : "ok", first + done, d->steps, done, d->model->name, n,
            d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every,
            scene_skin(d, &s.mol), rl_dim_unit(Q_LENGTH, d->units), s.ff ? rl_forcefield_rebuilds(s.ff) : 0L,
            s.ff ? rl_forcefield_kernel(s.ff) : "none", s.ff ? rl_forcefield_rows(s.ff) : "no",
@@ -517,5 +559,7 @@ int rl_app_run(const rl_deck *d)
   if (!st) fputs(text, stdout);
   rl_integrator_free(in);
   scene_free(&s);
+  catch_signals(0);
+  if (got_signal) return 128 + got_signal; /* the outputs are complete; the caller asked to stop */
   return st || !io_ok ? 1 : 0;
 }

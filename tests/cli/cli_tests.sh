@@ -168,6 +168,14 @@ cp "$work/cont.thermo.csv" cont_before.csv
 check "a checkpoint past run.steps is refused, naming both, and the thermo rows stay" \
   '[ $code -ne 0 ] && grep -q "is at step 200, past run.steps = 150" err.txt && cmp -s cont_before.csv "$work/cont.thermo.csv"'
 
+# SIGTERM during the run: the step ends, and checkpoint, thermo rows and summary are written
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100000000 --set output.prefix="$work/sig" >out.txt 2>err.txt &
+pid=$!
+for i in $(seq 200); do [ "$(wc -l < "$work/sig.thermo.csv.part" 2>/dev/null || echo 0)" -ge 3 ] && break; sleep 0.1; done
+kill -TERM $pid; wait $pid; code=$?
+check "SIGTERM stops the run cleanly: exit 143, checkpoint, thermo rows, status = interrupted" \
+  '[ $code -eq 143 ] && [ -s "$work/sig.chk" ] && [ ! -e "$work/sig.thermo.csv.part" ] && [ "$(wc -l < "$work/sig.thermo.csv")" -ge 3 ] && grep -q "status = interrupted" "$work/sig.summary.txt" && grep -q "terminated (SIGTERM) at step" err.txt'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
