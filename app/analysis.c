@@ -22,6 +22,7 @@ struct analysis {
   rl_dipole_acc *M;
   rl_species_ff sff;
   int dipolar;
+  int point_dipoles; /* sites with a point dipole: their boundary is dipole_method's */
 };
 
 static int site_index(const rl_molecule *m, const char *name)
@@ -69,7 +70,10 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->dip = calloc((size_t)a->n, sizeof *a->dip);
   a->M = rl_dipole_acc_alloc();
   a->sff = rl_molecule_ff(mol);
-  for (int s = 0; s < mol->nsites; s++) a->dipolar |= mol->charge[s] != 0.0 || mol->dipole[s] != 0.0;
+  for (int s = 0; s < mol->nsites; s++) {
+    a->dipolar |= mol->charge[s] != 0.0 || mol->dipole[s] != 0.0;
+    a->point_dipoles |= mol->dipole[s] != 0.0;
+  }
   return a;
 }
 
@@ -203,7 +207,10 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
   if (a->dipolar && rl_dipole_acc_count(a->M) >= 2) {
     double mean[3], dM2 = rl_dipole_acc_fluct(a->M, mean), eps;
     double V = d->box[0] * d->box[1] * d->box[2];
-    if (!rl_dielectric_constant(dM2, V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps))
+    if (a->point_dipoles && d->ff.dipole_method == RL_DIPOLE_SF)
+      fprintf(f, "dielectric_constant = n/a (dipole = sf has no reaction-field boundary for the "
+                 "fluctuation formula; dipole = rf with eps_rf gives one)\n");
+    else if (!rl_dielectric_constant(dM2, V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps))
       fprintf(f, "dielectric_constant = %.4g (dipole fluctuations, reaction-field boundary eps_rf = %g; "
                  "needs long runs to converge)\n", eps, d->ff.eps_rf);
   }

@@ -29,6 +29,8 @@ check "--set run.steps=100 honoured" 'grep -q "steps = 100 of 100" "$work/sm.sum
 check "thermo CSV has header + 10 rows" '[ "$(wc -l < "$work/sm.thermo.csv")" -eq 11 ]'
 check "no .part left behind" '[ ! -e "$work/sm.thermo.csv.part" ]'
 check "quiet when not a terminal" '[ ! -s err.txt ]'
+check "dipole = sf reports no dielectric constant from the reaction-field formula" \
+  'grep -q "dielectric_constant = n/a (dipole = sf" "$work/sm.results.txt"'
 
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.timestep=-0.002 --set output.prefix="$work/neg" >out.txt 2>err.txt; code=$?
 check "negative time step rejected" '[ $code -eq 2 ] && grep -q "run.timestep -0.002 must be positive" err.txt'
