@@ -41,7 +41,7 @@ static const key_def keys[NKEYS] = {
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
     [K_TEMP] = {"system", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "Maxwell-Boltzmann temperature of the start; default: the thermostat temperature, else required"},
-    [K_GENERAL] = {"system", "force_general", K_BOOL, Q_NONE, "no", NULL, "integrate by the general asymmetric path whatever the family"},
+    [K_GENERAL] = {"system", "force_general", K_BOOL, Q_NONE, "no", NULL, "integrate by the general asymmetric path whatever the family (a cross-check; linear molecules and point dipoles then get I_z = I_x and a third, free spin: 3 rotational dof each)"},
     [K_CUTOFF] = {"interactions", "cutoff", K_REAL, Q_LENGTH, NULL, NULL, "cutoff radius (<= half the shortest box edge); required"},
     [K_SCHEME] = {"interactions", "scheme", K_CHOICE, Q_NONE, "site", "site|molecule", "cut site pairs by their own distance (OpenMM) or by centre distance"},
     [K_LJ] = {"interactions", "lj", K_CHOICE, Q_NONE, "plain", "plain|shifted|shifted-force|switched", "Lennard-Jones truncation"},
