@@ -117,8 +117,19 @@ static int def_n2(const rl_model *s, const double *p, int fg, rl_molecule *m)
   t.quad[c] = 1.4397 * 0.0020819434;
   return finish(s, &t, fg, m);
 }
+/* The two-centre models need two distinct centres: at L* = 0 they would be one LJ site of depth
+ * 4 eps with no rotation at all. */
+static int elongation_ok(const rl_model *s, double L)
+{
+  if (L > 0.0 && isfinite(L)) return 1;
+  rl_error(RL_EINVAL, "elongation %g must be positive (L* = 0 would put both LJ centres of %s on one "
+           "site)", L, s->name);
+  return 0;
+}
+
 static int def_2clj(const rl_model *s, const double *p, int fg, rl_molecule *m)
 { /* two LJ centres sigma = eps = 1, total mass 1, elongation L* = L/sigma */
+  if (!elongation_ok(s, p[0])) return RL_EINVAL;
   site_table t = {0};
   site(&t, "A1", 0, 0, -0.5 * p[0], 0.5, 1.0, 1.0, 0);
   site(&t, "A2", 0, 0, 0.5 * p[0], 0.5, 1.0, 1.0, 0);
@@ -126,6 +137,7 @@ static int def_2clj(const rl_model *s, const double *p, int fg, rl_molecule *m)
 }
 static int def_2cljq(const rl_model *s, const double *p, int fg, rl_molecule *m)
 { /* 2CLJ plus a point quadrupole Q* = Q/sqrt(eps sigma^5) at the centre along the axis */
+  if (!elongation_ok(s, p[0])) return RL_EINVAL;
   site_table t = {0};
   site(&t, "A1", 0, 0, -0.5 * p[0], 0.5, 1.0, 1.0, 0);
   site(&t, "A2", 0, 0, 0.5 * p[0], 0.5, 1.0, 1.0, 0);

@@ -178,6 +178,10 @@ kill -TERM $pid; wait $pid; code=$?
 check "SIGTERM stops the run cleanly: exit 143, checkpoint, thermo rows, status = interrupted" \
   '[ $code -eq 143 ] && [ -s "$work/sig.chk" ] && [ ! -e "$work/sig.thermo.csv.part" ] && [ "$(wc -l < "$work/sig.thermo.csv")" -ge 3 ] && grep -q "status = interrupted" "$work/sig.summary.txt" && grep -q "terminated (SIGTERM) at step" err.txt'
 
+printf '[system]\nmodel = 2clj\ncount = 108\ndensity = 0.6\ntemperature = 2\n[model]\nelongation = 0\n[interactions]\ncutoff = 2.5\n[run]\nsteps = 10\ntimestep = 0.001\n' > e0.ini
+"$rotleap" run e0.ini --set output.prefix="$work/e0" >out.txt 2>err.txt; code=$?
+check "2clj with elongation 0 is refused (one site, no rotation)" '[ $code -eq 2 ] && grep -q "elongation 0 must be positive" err.txt'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
