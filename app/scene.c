@@ -120,18 +120,27 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
   const int ev = every <= 1 || k % every == 0;
   double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
   const char *tu = rl_dim_unit(Q_TIME, d->units);
+  if (ev && w->nev++ == 0) w->U0 = info->potential;
+  /* a blow-up within the first steps of a start whose energy was far above a liquid's points at
+   * overlapping molecules more than at the time step */
+  char hint[256] = "";
+  const double u0 = w->U0 / (d->count * kT);
+  if (w->nev <= 20 && !(u0 <= 5.0))
+    snprintf(hint, sizeof hint, "; the start's U/N was %.3g kT (a liquid's is negative): overlapping molecules "
+             "are the likelier cause: lower the density, or relax the start (run.equilibrate, with a small "
+             "run.equilibrate_timestep)", u0);
   if (ev) { /* on the steps with energies: compared with the previous such step */
     double prevE = w->prevE;
     w->prevE = info->total;
     if (!isfinite(info->total))
       return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
-                      "reduce %s (now %g)", k, info->t, tu, dt_name, h);
+                      "reduce %s (now %g)%s", k, info->t, tu, dt_name, h, hint);
     double jump = fabs(info->total - prevE);
     if (isfinite(prevE) && jump > 10.0 * d->count * kT)
       return rl_error(RL_EINVAL, "step %ld (t = %g %s): the total energy jumped by %.3g %s (more "
-                      "than 10 kT per molecule): the run is unstable; reduce %s (now %g)", k,
+                      "than 10 kT per molecule): the run is unstable; reduce %s (now %g)%s", k,
                       info->t, tu, jump, every > 1 ? "since its last evaluation" : "in one step",
-                      dt_name, h);
+                      dt_name, h, hint);
   }
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
   for (int i = 0; i < d->count; i++) {
@@ -140,8 +149,8 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
     double step = h * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (!(step <= Lmin))
       return rl_error(RL_EINVAL, "step %ld (t = %g %s): molecule %d moved %.3g in one step, more than the "
-                      "box edge %.3g: the run blew up; reduce %s (now %g)", k, info->t, tu, i,
-                      step, Lmin, dt_name, h);
+                      "box edge %.3g: the run blew up; reduce %s (now %g)%s", k, info->t, tu, i,
+                      step, Lmin, dt_name, h, hint);
   }
   if (!ev) return RL_OK;
   if (!w->open) {

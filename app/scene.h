@@ -46,6 +46,8 @@ typedef struct {
   long step0;
   double t0, c0;
   double max_rate;        /* the largest drift seen, kT per molecule per time unit (signed) */
+  long nev;               /* steps with energies seen                                     */
+  double U0;              /* the potential energy at the first of them                    */
 } scene_watch;
 void scene_watch_init(scene_watch *w);
 /* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce.  The

@@ -182,6 +182,13 @@ printf '[system]\nmodel = 2clj\ncount = 108\ndensity = 0.6\ntemperature = 2\n[mo
 "$rotleap" run e0.ini --set output.prefix="$work/e0" >out.txt 2>err.txt; code=$?
 check "2clj with elongation 0 is refused (one site, no rotation)" '[ $code -eq 2 ] && grep -q "elongation 0 must be positive" err.txt'
 
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set "system.density=6 g/cm3" --set interactions.cutoff=0.3 \
+  --set run.equilibrate=0 --set run.steps=20 --set output.prefix="$work/ovl" >out.txt 2>err.txt; code=$?
+check "a blow-up from an overlapping start names the overlap, not only the time step" \
+  '[ $code -ne 0 ] && grep -q "overlapping molecules are the likelier cause" err.txt'
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set run.timestep=40fs --set run.steps=20 --set output.prefix="$work/bigdt" >out.txt 2>err.txt; code=$?
+check "a blow-up from a relaxed start blames the time step alone" '[ $code -ne 0 ] && grep -q "reduce run.timestep" err.txt && ! grep -q overlapping err.txt'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
