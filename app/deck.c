@@ -12,6 +12,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef enum { K_STRING, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type;
 
@@ -259,6 +260,12 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   r.err = err;
   FILE *f = fopen(path, "r");
   if (!f) { problem(&r, 0, "cannot open the deck: %s", strerror(errno)); return r.problems; }
+  struct stat sb;
+  if (fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+    fclose(f);
+    problem(&r, 0, "is a directory, not a deck");
+    return r.problems;
+  }
   void *stream[2] = {f, &r};
   int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
   fclose(f);
@@ -308,9 +315,11 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     if (rl_model_build(d->model, d->params, 0, &m)) problem(&r, 0, "model %s: %s", d->model->name, rl_last_error());
     else mass = m.mass;
   }
-  if (r.val[K_BOX] && r.val[K_DENSITY])
-    problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box at line %d)", r.line[K_BOX]);
-  else if (r.val[K_BOX]) {
+  if (r.val[K_BOX] && r.val[K_DENSITY]) {
+    char at[32] = "from --set";
+    if (r.line[K_BOX] >= 0) snprintf(at, sizeof at, "at line %d", r.line[K_BOX]);
+    problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
+  } else if (r.val[K_BOX]) {
     char tmp[256], *save, *tok;
     int n = 0;
     snprintf(tmp, sizeof tmp, "%s", r.val[K_BOX]);
@@ -341,7 +350,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     } else if (n >= 0) problem(&r, r.line[K_BOX], "system.box: give one edge or three");
   } else if (r.val[K_DENSITY]) {
     double rho = number(&r, K_DENSITY, u, 0, 0.0);
-    if (!(rho > 0)) problem(&r, r.line[K_DENSITY], "system.density must be positive");
+    if (!(rho > 0)) {
+      if (!r.bad[K_DENSITY]) problem(&r, r.line[K_DENSITY], "system.density must be positive");
+    }
     else if (d->model && !r.bad[K_COUNT]) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
       double V = u == RL_UNITS_LJ ? d->count / rho : d->count * mass / rho;
       d->box[0] = d->box[1] = d->box[2] = cbrt(V);
@@ -419,7 +430,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     double hw = d->timestep * rl_deck_thermal_omega(d);
     if (hw > 1.0)
       problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s: h times the thermal "
-              "angular velocity is %.2f > 1, no step can follow the rotation", d->timestep,
+              "angular velocity is %.3g > 1, no step can follow the rotation", d->timestep,
               rl_dim_unit(Q_TIME, u), d->model->name, d->temperature, rl_dim_unit(Q_TEMPERATURE, u), hw);
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;

@@ -453,7 +453,7 @@ int rl_app_scan(int argc, char **argv)
   for (int j = 0; !bad && j < o.nh; j++)
     if (o.h[j] * w > 1.0) {
       snprintf(err, sizeof err, "--timesteps: %g %s is too large for %s at %g %s: h times the thermal angular "
-               "velocity is %.2f > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
+               "velocity is %.3g > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
                d.model->name, d.temperature, rl_dim_unit(Q_TEMPERATURE, d.units), o.h[j] * w);
       bad = 1;
     }

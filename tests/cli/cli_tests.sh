@@ -189,6 +189,13 @@ check "a blow-up from an overlapping start names the overlap, not only the time 
 "$rotleap" run "$src/tests/cli/water_scan.ini" --set run.timestep=40fs --set run.steps=20 --set output.prefix="$work/bigdt" >out.txt 2>err.txt; code=$?
 check "a blow-up from a relaxed start blames the time step alone" '[ $code -ne 0 ] && grep -q "reduce run.timestep" err.txt && ! grep -q overlapping err.txt'
 
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set system.box=2 --set output.prefix="$work/msg" >out.txt 2>err.txt
+check "box from --set next to a deck density: named as such" 'grep -q "not both (box from --set)" err.txt'
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set "system.density=1 g/l" --set output.prefix="$work/msg" >out.txt 2>err.txt
+check "a bad density unit is reported once" 'grep -q "unit .g/l. is not a density unit" err.txt && grep -q "1 problem in" err.txt'
+"$rotleap" run "$work" >out.txt 2>err.txt; code=$?
+check "a directory given as the deck is named as one" '[ $code -eq 2 ] && grep -q "is a directory, not a deck" err.txt'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
