@@ -93,6 +93,16 @@ static void run_add(running *r, double x)
 }
 static double run_sd(const running *r) { return r->n > 1 ? sqrt(r->m2 / (r->n - 1)) : 0.0; }
 
+/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k. */
+static void thermo_row(FILE *f, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
+                       const running *E)
+{
+  fprintf(f, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.6g,%.10g,%.4e,%.6g,%.6g\n",
+          k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
+          info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
+          E->n > 1 ? run_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid);
+}
+
 /* Write `text` to path atomically (rl_atomic_*: temporary file, fsync, rename). */
 static int write_atomic(const char *path, const char *text)
 {
@@ -484,17 +494,26 @@ int rl_app_run(const rl_deck *d)
         st = RL_EINVAL;
       }
     }
-    if (k % d->thermo_every == 0)
-      fprintf(thermo, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.6g,%.10g,%.4e,%.6g,%.6g\n",
-              k, info.t, info.total, info.potential, e.lj, e.coulomb, e.dipolar, e.quadrupolar, e.dispersion,
-              info.ke_trans, info.ke_rot, info.temperature, info.t_trans, info.t_rot, pr, info.conserved,
-              E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, info.t_trans_mid, info.t_rot_mid);
+    if (k % d->thermo_every == 0) thermo_row(thermo, k, &info, &e, pr, &E);
     if (progress && now() - last_progress > 0.5) {
       double el = now() - t0, frac = (double)(k + 1) / d->steps;
       double nsday = d->units == RL_UNITS_REAL ? (k + 1) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
       fprintf(stderr, "\r%5.1f%%  step %ld/%ld  ETA %.0f s%s%.2f%s   ", 100.0 * frac, k + 1, d->steps,
               el / frac - el, d->units == RL_UNITS_REAL ? "  " : "", nsday, d->units == RL_UNITS_REAL ? " ns/day" : "");
       last_progress = now();
+    }
+  }
+  if (!st && in && done > 0) { /* the row of the last state, as LAMMPS prints its last step */
+    rl_step_info info;
+    rl_ff_energies e;
+    st = rl_integrator_observe(in, &info);
+    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    else {
+      rl_forcefield_energies(s.ff, &e);
+      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
+      memcpy(Ft.virial, rl_integrator_forces(in)->virial, sizeof Ft.virial);
+      const double pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+      thermo_row(thermo, first + done, &info, &e, pr, &E);
     }
   }
   if (in) fallbacks = rl_integrator_fallbacks(in);

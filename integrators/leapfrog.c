@@ -460,16 +460,16 @@ static void drift(rl_integrator *in, double hd)
     for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
 }
 
-int rl_integrator_step(rl_integrator *in, rl_step_info *out)
+/* The on-step values at the current time t (eqs. 9, 12) from v(t-h/2), l(t-h/2) and the forces
+ * at t: what a step reports for its starting time, before it changes anything. */
+static void onstep_info(rl_integrator *in, rl_step_info *info)
 {
-  if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_step: call rl_integrator_init first");
   rl_system *s = in->sys;
   const double h = in->p.h, h2 = 0.5 * h;
-  rl_step_info info;
-  memset(&info, 0, sizeof info);
-  info.t = in->t;
-  info.has_energy = !in->F.forces_only;
-  info.potential = info.has_energy ? in->F.energy : NAN;
+  memset(info, 0, sizeof *info);
+  info->t = in->t;
+  info->has_energy = !in->F.forces_only;
+  info->potential = info->has_energy ? in->F.energy : NAN;
 
   /* 1. on-step kinetic energies (eqs. 9, 12) */
   double ket = 0.0, ker = 0.0;
@@ -509,12 +509,67 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     ket += 0.5 * sp->mass * kt;
   }
   int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s), g = gt + gr;
-  info.ke_trans = ket;
-  info.ke_rot = ker;
-  info.total = ket + ker + info.potential;
-  info.temperature = g > 0 ? 2.0 * (ket + ker) / (g * s->kB) : 0.0;
-  info.t_trans = gt > 0 ? 2.0 * ket / (gt * s->kB) : 0.0;
-  info.t_rot = gr > 0 ? 2.0 * ker / (gr * s->kB) : 0.0;
+  info->ke_trans = ket;
+  info->ke_rot = ker;
+  info->total = ket + ker + info->potential;
+  info->temperature = g > 0 ? 2.0 * (ket + ker) / (g * s->kB) : 0.0;
+  info->t_trans = gt > 0 ? 2.0 * ket / (gt * s->kB) : 0.0;
+  info->t_rot = gr > 0 ? 2.0 * ker / (gr * s->kB) : 0.0;
+}
+
+int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
+{
+  if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_observe: call rl_integrator_init first");
+  if (!out) return rl_error(RL_EINVAL, "rl_integrator_observe: no rl_step_info to fill");
+  /* the same forces again, with the energy and virial (the kernels' forces do not depend on it) */
+  if (in->F.forces_only) {
+    int st = compute_forces(in, 1);
+    if (st) return st;
+  }
+  rl_system *s = in->sys;
+  const double h = in->p.h, h2 = 0.5 * h;
+  rl_step_info info;
+  onstep_info(in, &info);
+  double beta = 1.0;
+  if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) beta = sqrt(in->p.T0 / info.temperature);
+  info.beta = info.beta_rot = beta;
+  info.conserved = info.total + in->thermo_work;
+  /* the mid-step temperatures the step's kick would give (eqs. 8, 10; 17-18 isokinetic), before
+   * any rescaling: the t_trans_mid, t_rot_mid a step reports */
+  const double c2 = 2.0 * beta - 1.0;
+  double Kmid[2] = {0.0, 0.0};
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
+    const double w = h2 / sp->mass;
+    for (int b = 0; b < sp->count; b++) {
+      const int i = sp->first + b;
+      double v[3];
+      for (int c = 0; c < 3; c++) v[c] = c2 * (s->v[i][c] + w * in->F.f[i][c]) + w * in->F.f[i][c];
+      Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (sp->rot_off < 0) continue;
+      const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
+      double lt[3];
+      for (int c = 0; c < 3; c++) lt[c] = c2 * (l[c] + h2 * kk[c]) + h2 * kk[c];
+      Kmid[1] += fam->ke_rot(sp, s, b, lt);
+    }
+  }
+  const int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
+  info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
+  info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
+  *out = info;
+  return RL_OK;
+}
+
+int rl_integrator_step(rl_integrator *in, rl_step_info *out)
+{
+  if (!in || !in->initialized) return rl_error(RL_ESTATE, "rl_integrator_step: call rl_integrator_init first");
+  rl_system *s = in->sys;
+  const double h = in->p.h, h2 = 0.5 * h;
+  rl_step_info info;
+  onstep_info(in, &info);
+  const double ket = info.ke_trans, ker = info.ke_rot;
+  int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
   double beta = 1.0, ke = ket + ker;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) {
     beta = sqrt(in->p.T0 / info.temperature);

@@ -50,7 +50,7 @@ def metrics(rl, rl_half, omm, n):
     d_h = max(abs(U_rl[s] - U_half[2 * s]) for s in range(1, WINDOW + 1)) / n
     first = {s: abs(U_rl[s] - U_omm[s]) / n for s in (1, 10, 50, 100, 200, 300, 400, 499)}
 
-    last = rl[-1][0]   # rotleap's thermo file ends at step STEPS - 1: compare steps 1..last
+    last = min(rl[-1][0], omm[-1][0])   # the steps both series have: compare steps 1..last
 
     def cal(series):
         e = [t for s, t, _ in series if 1 <= s <= last]

@@ -203,6 +203,12 @@ int rl_integrator_init(rl_integrator *in);
 int rl_integrator_resume(rl_integrator *in, long step, double t);
 /* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t. */
 int rl_integrator_step(rl_integrator *in, rl_step_info *info);
+/* The on-step values at the current time, as the next rl_integrator_step would report them
+ * (energies, on-step kinetic energies of eqs. 9/12, the conserved quantity, the mid-step
+ * temperatures its kick would give), without stepping: for the last state of a run.  If the
+ * current forces were computed without energies (energy_every), they are computed again with
+ * them; the forces are the same, so what follows is unchanged. */
+int rl_integrator_observe(rl_integrator *in, rl_step_info *info);
 /* Time reversal at the current time: on-step v and l are negated (mid-step values become
  * -(v + h f/m), -(l + h k)); stepping N more times then retraces the trajectory. */
 int rl_integrator_reverse(rl_integrator *in);

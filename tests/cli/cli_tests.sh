@@ -26,7 +26,8 @@ check "bad deck writes no output" '[ ! -e "$work/bad.thermo.csv" ] && [ ! -e "$w
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set output.prefix="$work/sm" --set run.steps=100 >out.txt 2>err.txt; code=$?
 check "short run exits 0" '[ $code -eq 0 ]'
 check "--set run.steps=100 honoured" 'grep -q "steps = 100 of 100" "$work/sm.summary.txt"'
-check "thermo CSV has header + 10 rows" '[ "$(wc -l < "$work/sm.thermo.csv")" -eq 11 ]'
+check "thermo CSV has header + 11 rows (steps 0, 10, ..., 100: the last state too)" \
+  '[ "$(tail -n +2 "$work/sm.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 100) " ]'
 check "no .part left behind" '[ ! -e "$work/sm.thermo.csv.part" ]'
 check "quiet when not a terminal" '[ ! -s err.txt ]'
 check "dipole = sf reports no dielectric constant from the reaction-field formula" \
@@ -162,8 +163,8 @@ check "a continuation with no DCD yet starts one" '[ $code -eq 0 ] && [ -s "$wor
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100 --set output.prefix="$work/cont" >/dev/null 2>&1
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=200 --set system.start="$work/cont.chk" \
   --set output.prefix="$work/cont" >/dev/null 2>&1; code=$?
-check "a continuation keeps the earlier thermo rows (steps 0, 10, ..., 190 once each)" \
-  '[ $code -eq 0 ] && [ "$(tail -n +2 "$work/cont.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 190) " ]'
+check "a continuation keeps the earlier thermo rows (steps 0, 10, ..., 200 once each)" \
+  '[ $code -eq 0 ] && [ "$(tail -n +2 "$work/cont.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 200) " ]'
 cp "$work/cont.thermo.csv" cont_before.csv
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=150 --set system.start="$work/cont.chk" \
   --set output.prefix="$work/cont" >out.txt 2>err.txt; code=$?
@@ -195,6 +196,11 @@ check "box from --set next to a deck density: named as such" 'grep -q "not both 
 check "a bad density unit is reported once" 'grep -q "unit .g/l. is not a density unit" err.txt && grep -q "1 problem in" err.txt'
 "$rotleap" run "$work" >out.txt 2>err.txt; code=$?
 check "a directory given as the deck is named as one" '[ $code -eq 2 ] && grep -q "is a directory, not a deck" err.txt'
+
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=103 --set output.energy_every=5 --set output.prefix="$work/ev5" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=103 --set output.energy_every=1 --set output.prefix="$work/ev1" >/dev/null 2>&1
+check "the last state's row has its energies even between energy steps (same row as energy_every = 1)" \
+  '[ "$(tail -n 1 "$work/ev5.thermo.csv" | cut -d, -f1-16)" = "$(tail -n 1 "$work/ev1.thermo.csv" | cut -d, -f1-16)" ] && tail -n 1 "$work/ev5.thermo.csv" | grep -q "^103,"'
 
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
