@@ -538,6 +538,14 @@ int rl_app_run(const rl_deck *d)
   if (st && done == 0) remove(part);
   else io_ok = io_ok && rename(part, thermo_path) == 0;
   if (!io_ok) fprintf(stderr, "rotleap run: cannot write %s: %s\n", thermo_path, strerror(errno));
+  /* the averages over this run's steps with energies (none: n/a, not zeros) */
+  char au[160] = "n/a (no step with energies)", at[200] = "n/a", ap[160] = "n/a";
+  if (U.n > 0) {
+    snprintf(au, sizeof au, "%.8g +- sd %.3g %s", U.mean / n, run_sd(&U) / n, energy_unit(d));
+    snprintf(at, sizeof at, "%.6g (translational %.6g, rotational %.6g)%s", T.mean, Tt.mean, Tr.mean,
+             d->units == RL_UNITS_LJ ? "" : " K");
+    snprintf(ap, sizeof ap, "%.6g +- sd %.3g %s", P.mean, run_sd(&P), pressure_unit(d));
+  }
   char text[4096];
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   snprintf(text, sizeof text,
@@ -546,9 +554,9 @@ int rl_app_run(const rl_deck *d)
            "timestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\n"
            "neighbour_list = skin %.4g %s, %ld builds in this invocation\n"
            "pair_kernels = %s (%s rows, %d thread(s))\nwall_seconds = %.3f\nfallbacks = %ld\n"
-           "U_per_molecule = %.8g +- sd %.3g %s\n"
-           "temperature = %.6g (translational %.6g, rotational %.6g) %s\n"
-           "pressure = %.6g +- sd %.3g %s\n"
+           "U_per_molecule = %s\n"
+           "temperature = %s\n"
+           "pressure = %s\n"
            "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n"
            "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n"
            "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
@@ -557,8 +565,7 @@ int rl_app_run(const rl_deck *d)
            scene_skin(d, &s.mol), rl_dim_unit(Q_LENGTH, d->units), s.ff ? rl_forcefield_rebuilds(s.ff) : 0L,
            s.ff ? rl_forcefield_kernel(s.ff) : "none", s.ff ? rl_forcefield_rows(s.ff) : "no",
            s.ff ? rl_forcefield_threads(s.ff) : 1, wall, fallbacks,
-           U.mean / n, run_sd(&U) / n, energy_unit(d), T.mean, Tt.mean, Tr.mean,
-           d->units == RL_UNITS_LJ ? "" : "K", P.mean, run_sd(&P), pressure_unit(d),
+           au, at, ap,
            E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0,
            U.n > 1 && run_sd(&U) > 0 ? (run_sd(&E) / fabs(E.mean)) / (run_sd(&U) / fabs(U.mean)) : 0.0,
            scene_rigidity_error(s.sys), watch.max_rate, tunit, SCENE_WINDOW, tunit,

@@ -202,6 +202,9 @@ check "a directory given as the deck is named as one" '[ $code -eq 2 ] && grep -
 check "the last state's row has its energies even between energy steps (same row as energy_every = 1)" \
   '[ "$(tail -n 1 "$work/ev5.thermo.csv" | cut -d, -f1-16)" = "$(tail -n 1 "$work/ev1.thermo.csv" | cut -d, -f1-16)" ] && tail -n 1 "$work/ev5.thermo.csv" | grep -q "^103,"'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=0 --set output.prefix="$work/zero" >/dev/null 2>&1
+check "a run of 0 steps reports its averages as n/a, not zeros" 'grep -q "^U_per_molecule = n/a" "$work/zero.summary.txt"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
