@@ -230,6 +230,7 @@ static long integer_in(raw_deck *r, int k, long lo, long hi, long fallback)
   const int range = errno == ERANGE;
   while (*end == ' ' || *end == '\t') end++;
   if (end == v || *end) { problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); r->bad[k] = 1; return fallback; }
+  if (range && x == LONG_MIN) { problem(r, r->line[k], "%s.%s: %s is below the minimum %ld", keys[k].section, keys[k].name, v, lo); r->bad[k] = 1; return fallback; }
   if (range || x > hi) { problem(r, r->line[k], "%s.%s: %s is above the maximum %ld", keys[k].section, keys[k].name, v, hi); r->bad[k] = 1; return fallback; }
   if (x < lo) { problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); r->bad[k] = 1; return fallback; }
   return x;

@@ -7,6 +7,7 @@
 
 #include <errno.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <stddef.h>
 #include <math.h>
 #include <stdio.h>
@@ -234,8 +235,10 @@ static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const
 /* SIGINT and SIGTERM during the production loop: the step in progress ends, and the run stops
  * as if run.steps had been reached there (checkpoint, thermo rows, summary with status =
  * interrupted), exit status 128 + the signal.  A second signal acts at once (the handler
- * restores the default action).  Before and after the loop the default actions apply; a run
- * killed there leaves at most PREFIX.thermo.csv.part beside the earlier outputs. */
+ * restores the default action).  The handlers stay until the outputs are written; a signal
+ * after the last step changes nothing.  Before the loop the default actions apply; a run killed
+ * there, or by SIGKILL, leaves its rows in PREFIX.thermo.csv.part, which a continuation of the
+ * same prefix reads. */
 static volatile sig_atomic_t got_signal;
 
 static void on_signal(int sig)
@@ -266,12 +269,22 @@ static void catch_signals(int on)
   "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"        \
   "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n"
 
-/* A continuation's thermo file: the rows of the file at path (the run being continued, same
- * prefix) before step first are copied to out, after its header, so that renaming out over path
- * loses none of them (rows from first on are the continuation's to write again).  A file with
- * other columns is moved aside to path.prev instead, with a note.  Returns 0, or 1 on a read
- * or write error (reported). */
-static int thermo_keep_rows(const char *path, FILE *out, long first)
+/* A complete thermo row: THERMO_HEADER's 19 columns and its newline (a run killed mid-write
+ * leaves a torn last line in its .part file). */
+static int thermo_row_complete(const char *line)
+{
+  int commas = 0;
+  const char *c = line;
+  for (; *c; c++) commas += *c == ',';
+  return commas == 18 && c > line && c[-1] == '\n';
+}
+
+/* A continuation's thermo file: the complete rows before step first of the file at path (the
+ * run being continued, same prefix) are copied to out, after its header, so that renaming out
+ * over the thermo file loses none of them (rows from first on are the continuation's to write
+ * again).  A file with other columns is moved aside to path.prev instead (aside = 1; else left
+ * alone), with a note.  Returns 0, or 1 on a read or write error (reported). */
+static int thermo_keep_rows(const char *path, FILE *out, long first, int aside)
 {
   FILE *in = fopen(path, "r");
   if (!in) return 0; /* no earlier rows under this prefix */
@@ -279,10 +292,11 @@ static int thermo_keep_rows(const char *path, FILE *out, long first)
   size_t cap = 0;
   int err = 0;
   if (getline(&line, &cap, in) < 0 || strcmp(line, THERMO_HEADER) != 0) {
-    char prev[700];
+    char prev[760];
     snprintf(prev, sizeof prev, "%s.prev", path);
     fclose(in);
     free(line);
+    if (!aside) return 0;
     if (rename(path, prev)) {
       fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", path, prev, strerror(errno));
       return 1;
@@ -293,7 +307,7 @@ static int thermo_keep_rows(const char *path, FILE *out, long first)
   while (getline(&line, &cap, in) > 0) {
     char *end;
     long step = strtol(line, &end, 10);
-    if (end == line) continue;
+    if (end == line || !thermo_row_complete(line)) continue;
     if (step >= first) break;
     if (fputs(line, out) < 0) { err = 1; break; }
   }
@@ -304,6 +318,23 @@ static int thermo_keep_rows(const char *path, FILE *out, long first)
   return err;
 }
 
+/* 1 if paths a and b name one existing file. */
+static int same_file(const char *a, const char *b)
+{
+  struct stat sa, sb;
+  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* The newer of two files' modification times: 1 if a is at least as new as b (or b is missing). */
+static int newer_or_only(const char *a, const char *b)
+{
+  struct stat sa, sb;
+  if (stat(a, &sa)) return 0;
+  if (stat(b, &sb)) return 1;
+  return sa.st_mtim.tv_sec > sb.st_mtim.tv_sec ||
+         (sa.st_mtim.tv_sec == sb.st_mtim.tv_sec && sa.st_mtim.tv_nsec >= sb.st_mtim.tv_nsec);
+}
+
 int rl_app_run(const rl_deck *d)
 {
   scene s;
@@ -311,6 +342,16 @@ int rl_app_run(const rl_deck *d)
   snprintf(thermo_path, sizeof thermo_path, "%s.thermo.csv", d->prefix);
   snprintf(part, sizeof part, "%s.part", thermo_path);
   snprintf(summary_path, sizeof summary_path, "%s.summary.txt", d->prefix);
+  char chk_path[600], oldpart[720];
+  snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
+  snprintf(oldpart, sizeof oldpart, "%s.old", part);
+  /* a continuation of this prefix's run: its rows are kept.  If that run was killed (no
+   * signal it could catch), they are only in its .part: moved aside, not truncated */
+  const int same_prefix = d->start[0] && same_file(d->start, chk_path);
+  if (same_prefix && access(part, F_OK) == 0 && rename(part, oldpart)) {
+    fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", part, oldpart, strerror(errno));
+    return 1;
+  }
   FILE *thermo = fopen(part, "w");
   if (!thermo) {
     fprintf(stderr, "rotleap run: cannot write %s: %s (output.prefix = %s)\n", part, strerror(errno), d->prefix);
@@ -406,15 +447,17 @@ int rl_app_run(const rl_deck *d)
     }
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
-  /* a continuation keeps the rows its thermo file already has before its first step */
-  if (!st && s.restart && thermo_keep_rows(thermo_path, thermo, first)) st = RL_EINVAL;
+  /* a continuation of this prefix keeps the rows before its first step: from the thermo file,
+   * or from a killed run's .part if that is newer */
+  const int from_old = same_prefix && newer_or_only(oldpart, thermo_path);
+  if (!st && s.restart && same_prefix &&
+      thermo_keep_rows(from_old ? oldpart : thermo_path, thermo, first, !from_old))
+    st = RL_EINVAL;
   double t0 = now(), last_progress = 0.0;
   long done = 0, fallbacks = 0;
   int nrot = rl_system_nrot(s.sys);
   rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}, 0};
   rl_forces *fsnap = &fsnap_store;
-  char chk_path[600];
-  snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
   traj tr = {0};
   if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first)) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
@@ -488,6 +531,7 @@ int rl_app_run(const rl_deck *d)
       st = RL_EINVAL;
     }
     if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps) {
+      fflush(thermo); /* the rows up to the checkpoint reach the .part file before it does */
       run_blob b = {"", 0, E, U, T, Tt, Tr, P, k + 1, 0, 0, 0};
       if (write_checkpoint(d, &s, in, &b, chk_path)) {
         fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
@@ -503,7 +547,7 @@ int rl_app_run(const rl_deck *d)
       last_progress = now();
     }
   }
-  if (!st && in && done > 0) { /* the row of the last state, as LAMMPS prints its last step */
+  if (!st && in) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
     rl_step_info info;
     rl_ff_energies e;
     st = rl_integrator_observe(in, &info);
@@ -536,7 +580,10 @@ int rl_app_run(const rl_deck *d)
    * before its first step has none, and leaves the thermo file of an earlier run as it was */
   int io_ok = fclose(thermo) == 0;
   if (st && done == 0) remove(part);
-  else io_ok = io_ok && rename(part, thermo_path) == 0;
+  else {
+    io_ok = io_ok && rename(part, thermo_path) == 0;
+    if (io_ok && same_prefix) remove(oldpart); /* its rows are in the new file (or superseded) */
+  }
   if (!io_ok) fprintf(stderr, "rotleap run: cannot write %s: %s\n", thermo_path, strerror(errno));
   /* the averages over this run's steps with energies (none: n/a, not zeros) */
   char au[160] = "n/a (no step with energies)", at[200] = "n/a", ap[160] = "n/a";
@@ -586,6 +633,6 @@ int rl_app_run(const rl_deck *d)
   rl_integrator_free(in);
   scene_free(&s);
   catch_signals(0);
-  if (got_signal) return 128 + got_signal; /* the outputs are complete; the caller asked to stop */
+  if (stopped) return 128 + stopped; /* the outputs are complete; the caller asked to stop */
   return st || !io_ok ? 1 : 0;
 }

@@ -205,6 +205,31 @@ check "the last state's row has its energies even between energy steps (same row
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=0 --set output.prefix="$work/zero" >/dev/null 2>&1
 check "a run of 0 steps reports its averages as n/a, not zeros" 'grep -q "^U_per_molecule = n/a" "$work/zero.summary.txt"'
 
+# continuations: with no step left the last row stays; a start from another prefix's checkpoint
+# takes none of this prefix's old rows; after SIGKILL the rows in the .part file are kept
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=200 --set system.start="$work/cont.chk" \
+  --set output.prefix="$work/cont" >/dev/null 2>&1
+check "a continuation with no step left keeps every row, the last too" \
+  '[ "$(tail -n +2 "$work/cont.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 200) " ]'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100 --set output.prefix="$work/other" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=300 --set system.start="$work/cont.chk" \
+  --set output.prefix="$work/other" >/dev/null 2>&1
+check "a start from another prefix's checkpoint writes only its own rows" \
+  '[ "$(tail -n +2 "$work/other.thermo.csv" | cut -d, -f1 | head -1)" = 200 ]'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100000000 --set output.checkpoint_every=50 \
+  --set output.prefix="$work/kill" >/dev/null 2>&1 &
+pid=$!
+for i in $(seq 200); do [ -e "$work/kill.chk" ] && [ "$(wc -l < "$work/kill.thermo.csv.part")" -ge 30 ] && break; sleep 0.1; done
+kill -KILL $pid; wait $pid 2>/dev/null
+last=$(grep -c . "$work/kill.thermo.csv.part")
+to=$(( (last + 20) * 10 ))
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=$to --set output.checkpoint_every=50 \
+  --set system.start="$work/kill.chk" --set output.prefix="$work/kill" >/dev/null 2>&1; code=$?
+check "after SIGKILL a continuation keeps the rows of the killed run's .part (0 .. $to, no gap)" \
+  '[ $code -eq 0 ] && [ ! -e "$work/kill.thermo.csv.part.old" ] && [ "$(tail -n +2 "$work/kill.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 $to) " ]'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=-99999999999999999999 --set output.prefix="$work/neg" >out.txt 2>err.txt
+check "a step count below long is called below the minimum" 'grep -q "is below the minimum" err.txt'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
