@@ -23,7 +23,18 @@ struct analysis {
   rl_species_ff sff;
   int dipolar;
   int point_dipoles; /* sites with a point dipole: their boundary is dipole_method's */
+  long tcf_cap;      /* samples kept for the correlation functions and the MSD (memory bound) */
+  long samples;      /* samples taken                                                        */
 };
+
+/* The correlation functions and the MSD keep whole configurations (four vectors per body and
+ * sample), and are computed directly over every time origin: memory grows with the run and
+ * time with samples x lags.  A long run (10^7 steps of 216 TIP4P sampled every 10 would need
+ * 20 GB) keeps the first RL_TCF_MEMORY bytes' worth of samples, and the lags go to
+ * RL_TCF_MAX_LAG samples at most; results.txt says so when that happens.  The RDFs, the
+ * dipole fluctuation and the block averages use every sample. */
+#define RL_TCF_MEMORY (256.0 * 1024 * 1024)
+#define RL_TCF_MAX_LAG 1000
 
 static int site_index(const rl_molecule *m, const char *name)
 {
@@ -60,6 +71,8 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
     snprintf(a->rdf_name[a->nrdf], sizeof a->rdf_name[0], "%s-%s", tok, dash + 1);
     a->rdf[a->nrdf++] = rl_rdf_alloc(rmax, 200);
   }
+  a->tcf_cap = (long)(RL_TCF_MEMORY / (4.0 * sizeof(double[3]) * (a->n > 0 ? a->n : 1)));
+  if (a->tcf_cap < 8) a->tcf_cap = 8;
   a->axis = rl_vec_series_alloc(a->n);
   a->vel = rl_vec_series_alloc(a->n);
   a->omega = rl_vec_series_alloc(a->n);
@@ -119,6 +132,7 @@ int analysis_sample(analysis *a, const rl_system *sys)
   double M[3];
   if (rl_system_dipoles(sys, &a->sff, 1, a->dip, M)) return 1;
   if (a->dipolar) rl_dipole_acc_add(a->M, M);
+  if (a->samples++ >= a->tcf_cap) return 0; /* the correlation functions have their samples */
   /* the dipole-axis ACF uses molecular dipoles where there are any (water's lies along its C2
    * axis, not body Z), the body Z axis otherwise */
   if (a->dipolar) { if (rl_vec_series_add(a->axis, (const double (*)[3])a->dip)) return 1; }
@@ -181,7 +195,11 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
   else fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
   long nf = rl_vec_series_frames(a->pos);
   if (nf >= 4) {
-    long lag = nf / 2;
+    long lag = nf / 2 < RL_TCF_MAX_LAG ? nf / 2 : RL_TCF_MAX_LAG;
+    if (a->samples > nf || nf / 2 > lag)
+      fprintf(f, "correlation_functions = from the first %ld of %ld samples, lags up to %ld samples "
+                 "(memory bound %.0f MB, lag bound %d: analysis.c)\n", nf, a->samples, lag,
+              RL_TCF_MEMORY / (1024.0 * 1024.0), RL_TCF_MAX_LAG);
     double *c[5];
     rl_tcf_kind kinds[5] = {RL_TCF_P1, RL_TCF_P2, RL_TCF_DOT, RL_TCF_DOT, RL_TCF_MSD};
     rl_vec_series *src[5] = {a->axis, a->axis, a->vel, a->omega, a->pos};

@@ -230,6 +230,11 @@ check "after SIGKILL a continuation keeps the rows of the killed run's .part (0 
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=-99999999999999999999 --set output.prefix="$work/neg" >out.txt 2>err.txt
 check "a step count below long is called below the minimum" 'grep -q "is below the minimum" err.txt'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=2200 --set output.sample_every=1 \
+  --set output.prefix="$work/lags" >/dev/null 2>&1
+check "correlation functions stop at 1000 lags and say so" \
+  'grep -q "^correlation_functions = from the first 2200 of 2200 samples, lags up to 1000" "$work/lags.results.txt" && [ "$(wc -l < "$work/lags.tcf.csv")" -eq 1002 ]'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
