@@ -1402,14 +1402,15 @@ RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *
     const unsigned keep = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(r2, vrp2, _CMP_LT_OQ)) & live;
     if (img) { /* the other images within rp (other_images), as in tip4p_fill512 */
       unsigned fc[3];
-      __m256d X1[3]; /* R shifted by one box edge towards zero */
-      for (int d = 0; d < 3; d++) {
+      for (int d = 0; d < 3; d++)
         fc[d] = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, R[d]), near[d], _CMP_GT_OQ)) & live;
-        const __m256d pos = _mm256_cmp_pd(R[d], _mm256_setzero_pd(), _CMP_GT_OQ);
-        X1[d] = _mm256_blendv_pd(_mm256_add_pd(R[d], L[d]), _mm256_sub_pd(R[d], L[d]), pos);
-      }
+      __m256d X1[3]; /* R shifted by one box edge towards zero (only where some lane is far) */
       unsigned kept[4] = {0, 0, 0, 0}, extra = 0; /* lane l: bit m if image m is kept */
-      if (fc[0] | fc[1] | fc[2])
+      if (fc[0] | fc[1] | fc[2]) {
+        for (int d = 0; d < 3; d++) {
+          const __m256d pos = _mm256_cmp_pd(R[d], _mm256_setzero_pd(), _CMP_GT_OQ);
+          X1[d] = _mm256_blendv_pd(_mm256_add_pd(R[d], L[d]), _mm256_sub_pd(R[d], L[d]), pos);
+        }
         for (int m = 1; m < 8; m++) { /* image m: component d shifted if bit d of m is set */
           const unsigned far = (m & 1 ? fc[0] : live) & (m & 2 ? fc[1] : live) & (m & 4 ? fc[2] : live);
           if (!far) continue;
@@ -1419,6 +1420,7 @@ RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *
           extra |= km;
           for (; km; km &= km - 1) kept[__builtin_ctz(km)] |= 1u << m;
         }
+      }
       if (extra) { /* some lane keeps another image besides (or instead of) the minimum one */
         for (int l = 0; l < 4; l++) kept[l] |= (keep >> l) & 1u;
         _Alignas(32) double x[2][3][4]; /* [shifted][component][lane] */
