@@ -113,35 +113,94 @@ static int write_atomic(const char *path, const char *text)
   return rl_atomic_commit(&af) ? -1 : 0;
 }
 
-/* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest. */
+/* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest.  A new
+ * trajectory is written under a temporary name (path.part) and renamed over any earlier one
+ * when the run ends with frames (or without error), so that a run which fails before its first
+ * step leaves an earlier run's trajectory as it was.  A continuation of this prefix's run
+ * (system.start = prefix.chk) appends in place, after the frames up to its checkpoint. */
 typedef struct {
   long every;
   rl_dcd *dcd;
   FILE *xyz;
-  char path[600];
+  int fresh; /* written under .part names, renamed by traj_close */
+  char path[600], part[640], pdb[600], pdb_part[640];
 } traj;
 
 static int site_model(const scene *s) { return s->mol.kind != RL_KIND_POINT && s->mol.kind != RL_KIND_DIPOLE && s->mol.nsites > 1; }
 
-static int traj_open(traj *t, const rl_deck *d, scene *s, long first)
+/* Keep the frames of an extended XYZ file up to step `last` (by their Step= key) and truncate
+ * after them: a killed run's frames past its checkpoint go. */
+static int xyz_keep_frames(const char *path, long last)
+{
+  FILE *fp = fopen(path, "r+");
+  if (!fp) return rl_error(RL_EINVAL, "%s: cannot open for appending: %s", path, strerror(errno));
+  char *line = NULL;
+  size_t cap = 0;
+  long at = 0, frame = 0;
+  int st = RL_OK;
+  for (;;) {
+    const long start = ftell(fp);
+    if (getline(&line, &cap, fp) <= 0) { at = start; break; } /* the end: every frame kept */
+    char *end;
+    const long natoms = strtol(line, &end, 10);
+    const char *key = getline(&line, &cap, fp) > 0 ? strstr(line, " Step=") : NULL;
+    if (end == line || natoms < 0 || !key) {
+      st = rl_error(RL_EINVAL, "%s: frame %ld is not an extended XYZ frame written by rotleap (atom count, "
+                    "then a comment line with Step=)", path, frame + 1);
+      break;
+    }
+    if (strtol(key + 6, NULL, 10) > last) { at = start; break; }
+    long k = 0;
+    while (k < natoms && getline(&line, &cap, fp) > 0) k++;
+    if (k < natoms) { at = start; break; } /* a frame cut short by a kill */
+    frame++;
+  }
+  free(line);
+  fclose(fp);
+  if (!st && truncate(path, at))
+    st = rl_error(RL_EINVAL, "%s: cannot truncate after frame %ld: %s", path, frame, strerror(errno));
+  return st;
+}
+
+/* The frames of a DCD to keep for a continuation from step `first`: those up to that step.  The
+ * interval between frames must be that of this run (DCD frames are evenly spaced). */
+static int dcd_keep(const char *path, long every, long first, long *keep)
+{
+  long istart, nsavc;
+  if (rl_dcd_info(path, &istart, &nsavc, NULL)) return 1;
+  if (nsavc != every)
+    return rl_error(RL_EINVAL, "%s has a frame every %ld steps, this run writes one every %ld "
+                    "(output.trajectory_every): a continuation keeps the interval, or writes under another "
+                    "output.prefix", path, nsavc, every);
+  *keep = first < istart ? 0 : (first - istart) / every + 1;
+  return 0;
+}
+
+static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int same_prefix)
 {
   t->every = d->trajectory_every;
-  if (site_model(s)) {
-    char top[600];
-    snprintf(top, sizeof top, "%s.pdb", d->prefix);
-    snprintf(t->path, sizeof t->path, "%s.dcd", d->prefix);
+  const int site = site_model(s);
+  snprintf(t->path, sizeof t->path, "%s.%s", d->prefix, site ? "dcd" : "xyz");
+  snprintf(t->part, sizeof t->part, "%s.part", t->path);
+  /* a continuation of this prefix appends; where there is no trajectory yet (the first run
+   * wrote none), or the start is another prefix's checkpoint, a new one starts at this run's
+   * first frame */
+  t->fresh = !(s->restart && same_prefix && access(t->path, F_OK) == 0);
+  const char *out = t->fresh ? t->part : t->path;
+  if (site) {
+    snprintf(t->pdb, sizeof t->pdb, "%s.pdb", d->prefix);
+    snprintf(t->pdb_part, sizeof t->pdb_part, "%s.part", t->pdb);
+    long keep = 0;
+    if (!t->fresh && dcd_keep(out, t->every, first, &keep)) return 1;
     const rl_molecule *mols[1] = {&s->mol};
-    if (rl_pdb_write(top, s->sys, mols, d->box)) return 1;
-    /* a continuation appends to its DCD; where there is none yet (the first run wrote no
-     * trajectory, or another prefix), a new one starts at this run's first frame */
-    int append = s->restart && access(t->path, F_OK) == 0;
-    t->dcd = append ? rl_dcd_append(t->path, s->sys, first / t->every)
-                    : rl_dcd_create(t->path, s->sys, first + t->every, t->every, d->timestep, "rotleap");
+    if (rl_pdb_write(t->fresh ? t->pdb_part : t->pdb, s->sys, mols, d->box)) return 1;
+    t->dcd = t->fresh ? rl_dcd_create(out, s->sys, first + t->every, t->every, d->timestep, "rotleap")
+                      : rl_dcd_append(out, s->sys, keep);
     return t->dcd ? 0 : 1;
   }
-  snprintf(t->path, sizeof t->path, "%s.xyz", d->prefix);
-  t->xyz = fopen(t->path, s->restart ? "a" : "w");
-  if (!t->xyz) return rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
+  if (!t->fresh && xyz_keep_frames(out, first)) return 1;
+  t->xyz = fopen(out, t->fresh ? "w" : "a");
+  if (!t->xyz) return rl_error(RL_EINVAL, "cannot write %s: %s", out, strerror(errno));
   return 0;
 }
 
@@ -153,10 +212,24 @@ static int traj_frame(traj *t, scene *s, const rl_deck *d, double time, long ste
   return st;
 }
 
-static void traj_close(traj *t)
+/* Close; a new trajectory replaces the earlier one if `keep`, else it is removed.  Nonzero (with
+ * the message set) if a file could not be completed or renamed. */
+static int traj_close(traj *t, int keep)
 {
-  if (t->dcd) rl_dcd_close(t->dcd);
-  if (t->xyz) fclose(t->xyz);
+  int st = 0;
+  if (t->dcd && rl_dcd_close(t->dcd)) st = 1;
+  if (t->xyz && fclose(t->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
+  const int opened = t->dcd || t->xyz || (t->pdb[0] && access(t->pdb_part, F_OK) == 0);
+  t->dcd = NULL;
+  t->xyz = NULL;
+  if (!t->fresh || !opened) return st;
+  const char *parts[2] = {t->part, t->pdb_part}, *paths[2] = {t->path, t->pdb};
+  for (int k = 0; k < 2; k++) {
+    if (!parts[k][0] || access(parts[k], F_OK)) continue;
+    if (!keep || st) { remove(parts[k]); continue; }
+    if (rename(parts[k], paths[k])) st = rl_error(RL_EINVAL, "cannot rename %s to %s: %s", parts[k], paths[k], strerror(errno));
+  }
+  return st;
 }
 
 /* What a checkpoint carries besides the state: the run's own bookkeeping, so that a restart
@@ -459,7 +532,7 @@ int rl_app_run(const rl_deck *d)
   rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}, 0};
   rl_forces *fsnap = &fsnap_store;
   traj tr = {0};
-  if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first)) {
+  if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first, same_prefix)) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
@@ -561,7 +634,9 @@ int rl_app_run(const rl_deck *d)
     }
   }
   if (in) fallbacks = rl_integrator_fallbacks(in);
-  traj_close(&tr);
+  /* a new trajectory replaces an earlier one only if this run has frames for it or ended well */
+  const int traj_bad = traj_close(&tr, done > 0 || !st);
+  if (traj_bad) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   if (an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep))
     fprintf(stderr, "rotleap run: writing results: %s\n", rl_last_error());
   analysis_free(an);
@@ -625,10 +700,13 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
                     "step %g is too large for accurate dynamics\n", watch.max_rate, tunit,
             d->timestep);
-  if (write_atomic(summary_path, text)) {
+  /* a run that failed before its first step leaves the summary of an earlier run as it was,
+   * like its thermo file and trajectory: it has nothing to report but the error, on stderr */
+  if (!(st && done == 0) && write_atomic(summary_path, text)) {
     fprintf(stderr, "rotleap run: cannot write %s: %s\n", summary_path, strerror(errno));
     io_ok = 0;
   }
+  if (traj_bad) io_ok = 0;
   if (!st) fputs(text, stdout);
   rl_integrator_free(in);
   scene_free(&s);

@@ -130,6 +130,24 @@ rl_dcd *rl_dcd_create(const char *path, const rl_system *sys, long first_step, l
   return d;
 }
 
+int rl_dcd_info(const char *path, long *first_step, long *interval, long *frames)
+{
+  if (!path) return rl_error(RL_EINVAL, "rl_dcd_info: NULL path");
+  FILE *fp = fopen(path, "rb");
+  if (!fp) return rl_error(RL_EINVAL, "%s: cannot open DCD: %s", path, strerror(errno));
+  unsigned char h[DCD_HEADER_BYTES];
+  struct stat st;
+  const int ok = fread(h, 1, sizeof h, fp) == sizeof h && fstat(fileno(fp), &st) == 0;
+  fclose(fp);
+  if (!ok) return rl_error(RL_EINVAL, "%s: DCD header truncated (< %ld bytes)", path, DCD_HEADER_BYTES);
+  if (rl_get32(h) != 84 || memcmp(h + 4, "CORD", 4) != 0 || rl_get32(h + 264) != 4)
+    return rl_error(RL_EINVAL, "%s: not a little-endian CORD DCD", path);
+  if (first_step) *first_step = (long)rl_get32(h + 12);
+  if (interval) *interval = (long)rl_get32(h + 16);
+  if (frames) *frames = ((long)st.st_size - DCD_HEADER_BYTES) / frame_bytes((int)rl_get32(h + 268));
+  return RL_OK;
+}
+
 rl_dcd *rl_dcd_append(const char *path, const rl_system *sys, long keep_frames)
 {
   if (!path || !sys) { rl_error(RL_EINVAL, "rl_dcd_append: NULL argument"); return NULL; }

@@ -67,6 +67,9 @@ rl_dcd *rl_dcd_create(const char *path, const rl_system *sys, long first_step, l
 /* Reopen an existing DCD for appending after a restart: checks NATOM against sys, keeps the first
  * `keep_frames` frames (fewer present is an error) and discards the rest. */
 rl_dcd *rl_dcd_append(const char *path, const rl_system *sys, long keep_frames);
+/* Of an existing DCD: the step of its first frame (ISTART), the steps between frames (NSAVC) and
+ * the number of complete frames in the file.  Any pointer may be NULL. */
+int rl_dcd_info(const char *path, long *first_step, long *interval, long *frames);
 /* Append one frame.  box: orthorhombic edge lengths in system units (NULL: no box, zeros). */
 int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys, const double box[3]);
 long rl_dcd_frames(const rl_dcd *d);

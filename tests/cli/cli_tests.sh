@@ -84,6 +84,36 @@ L=4.3088694997
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/overlap.xyz" --set output.prefix="$work/ov" >out.txt 2>err.txt; code=$?
 check "overlapping molecules in the start are an error naming them" '[ $code -ne 0 ] && grep -q "overlapping sites: site 0 of body 4 and site 0 of body 5" err.txt'
 
+# a run that blows up at its first step leaves an earlier run's outputs under its prefix as
+# they were: trajectory, thermo rows, summary, checkpoint (a pair at 0.4 sigma: not an overlap
+# of sites, but forces that throw a molecule across the box)
+{ echo 64; echo "Lattice=\"$L 0 0 0 $L 0 0 0 $L\" Properties=species:S:1:pos:R:3:orientation:R:3"
+  for i in $(seq 0 63); do j=$i; dx=0; [ $i -eq 5 ] && { j=4; dx=0.4; }
+    awk -v i=$j -v L=$L -v dx=$dx 'BEGIN{a=L/4; printf "stockmayer %.6f %.6f %.6f 0 0 1\n", (i%4+0.5)*a+dx, (int(i/4)%4+0.5)*a, (int(i/16)+0.5)*a}'; done; } > close.xyz
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=50 --set output.trajectory_every=10 \
+  --set output.prefix="$work/keep" >/dev/null 2>&1
+(cd "$work" && md5sum keep.xyz keep.thermo.csv keep.summary.txt keep.chk) > keep.md5
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/close.xyz" --set output.trajectory_every=10 \
+  --set output.prefix="$work/keep" >out.txt 2>err.txt; code=$?
+check "a blow-up at the first step keeps the earlier trajectory, thermo, summary and checkpoint" \
+  '[ $code -eq 1 ] && grep -q "step 0 (t = 0 reduced): molecule 4 moved" err.txt && (cd "$work" && md5sum -c --quiet "$OLDPWD/keep.md5") && ! ls "$work"/keep.*part* >/dev/null 2>&1'
+
+# trajectories and continuations: a start from another prefix's checkpoint starts a new
+# trajectory (no frames spliced onto an unrelated one); a continuation of this prefix drops
+# the frames a killed run wrote past its checkpoint
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=50 --set output.prefix="$work/tra" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100 --set output.trajectory_every=10 \
+  --set output.prefix="$work/trb" >/dev/null 2>&1
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100 --set output.trajectory_every=10 \
+  --set system.start="$work/tra.chk" --set output.prefix="$work/trb" >/dev/null 2>&1; code=$?
+check "a start from another prefix's checkpoint writes a new trajectory (steps 60-100)" \
+  '[ $code -eq 0 ] && [ "$(grep -o "Step=[0-9]*" "$work/trb.xyz" | tr "\n" " ")" = "Step=60 Step=70 Step=80 Step=90 Step=100 " ]'
+tail -n 66 "$work/trb.xyz" | sed "s/Step=100/Step=110/" >> "$work/trb.xyz" # as if killed at step 115
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=130 --set output.trajectory_every=10 \
+  --set system.start="$work/trb.chk" --set output.prefix="$work/trb" >/dev/null 2>&1; code=$?
+check "a continuation drops the frames past its checkpoint and appends (steps 60-130 once each)" \
+  '[ $code -eq 0 ] && [ "$(grep -o "Step=[0-9]*" "$work/trb.xyz" | tr "\n" " ")" = "$(seq -f "Step=%g" -s " " 60 10 130) " ]'
+
 "$rotleap" energy "$src/tests/cli/stockmayer_short.ini" --json >energy.json 2>err.txt; code=$?
 check "energy --json exits 0" '[ $code -eq 0 ]'
 if command -v python3 >/dev/null; then
@@ -157,6 +187,15 @@ sys.exit(0 if e[0] != 0 and max(abs(x - e[0]) for x in e) <= 1e-12 * abs(e[0]) e
 "$rotleap" run "$src/tests/cli/water_scan.ini" --set system.start="$work/dc1.chk" --set run.steps=40 \
   --set output.trajectory_every=10 --set output.prefix="$work/dc2" >out.txt 2>err.txt; code=$?
 check "a continuation with no DCD yet starts one" '[ $code -eq 0 ] && [ -s "$work/dc2.dcd" ]'
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set system.start="$work/dc2.chk" --set run.steps=60 \
+  --set output.trajectory_every=10 --set output.prefix="$work/dc2" >out.txt 2>err.txt; code=$?
+check "a continuation of a DCD that starts at step 30 keeps its 2 frames and appends 2 (NSET 4, ISTART 30)" \
+  '[ $code -eq 0 ] && [ "$(/usr/bin/python3 -c "import struct; h = open(\"$work/dc2.dcd\", \"rb\").read(20); print(*struct.unpack(\"<3i\", h[8:20]))")" = "4 30 10" ]'
+cp "$work/dc2.dcd" dc2_before.dcd
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set system.start="$work/dc2.chk" --set run.steps=80 \
+  --set output.trajectory_every=5 --set output.prefix="$work/dc2" >out.txt 2>err.txt; code=$?
+check "a continuation with another trajectory interval is refused, naming both, and the DCD stays" \
+  '[ $code -eq 1 ] && grep -q "dc2.dcd has a frame every 10 steps, this run writes one every 5" err.txt && cmp -s dc2_before.dcd "$work/dc2.dcd"'
 
 # a continuation under the same prefix keeps the first run's thermo rows; a start past
 # run.steps is refused and changes no thermo row

@@ -44,7 +44,7 @@ static void write_files(void **state)
   io_scene_build(&s, RL_UNITS_REAL, NAMES, COUNTS, 2, 1.5, 1);
   const char *dcd = "io_traj.dcd", *pdb = "io_traj.pdb";
   assert_int_equal(rl_pdb_write(pdb, s.sys, s.mols, s.box), RL_OK);
-  rl_dcd *d = rl_dcd_create(dcd, s.sys, 0, 10, 0.002, "rotleap test_io_dcd");
+  rl_dcd *d = rl_dcd_create(dcd, s.sys, 30, 10, 0.002, "rotleap test_io_dcd");
   assert_non_null(d);
   int na = rl_io_natoms(s.sys);
   long fb = 56L + 3L * (8L + 4L * na);
@@ -58,6 +58,10 @@ static void write_files(void **state)
   CHECK_TRUE("DCD header NSET counts frames as they are written", header_nset(dcd) == 4);
   assert_int_equal(rl_dcd_close(d), RL_OK);
   CHECK_TRUE("DCD size = 276-byte header + 4 frames x (56 + 3 (8 + 4 natom))", file_size(dcd) == 276 + 4 * fb);
+  long istart = -1, nsavc = -1, nframes = -1;
+  assert_int_equal(rl_dcd_info(dcd, &istart, &nsavc, &nframes), RL_OK);
+  CHECK_TRUE("rl_dcd_info: first step 30, a frame every 10 steps, 4 frames", istart == 30 && nsavc == 10 && nframes == 4);
+  CHECK_MSG("rl_dcd_info: a PDB is not a DCD", rl_dcd_info(pdb, NULL, NULL, NULL) != RL_OK, 1, "not a little-endian CORD DCD");
 
   /* restart: keep 2 frames, append 2 new ones */
   d = rl_dcd_append(dcd, s.sys, 2);
