@@ -422,7 +422,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
     problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
-  if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run (the starting velocities)");
+  if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
+                 "sets the default neighbour-list skin and the kT of the blow-up checks (from a checkpoint, give "
+                 "the first run's value: the same skin continues bit for bit)");
   else if (!(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
     problem(&r, r.line[K_TEMP], "system.temperature must be positive");
   if (d->equilibrate_steps > 0 && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");

@@ -48,6 +48,8 @@ typedef struct {
   double max_rate;        /* the largest drift seen, kT per molecule per time unit (signed) */
   long nev;               /* steps with energies seen                                     */
   double U0;              /* the potential energy at the first of them                    */
+  int relax;              /* the relaxation of a start: its energy may fall by any amount,
+                             so only a non-finite energy or a jump across the box stops it */
 } scene_watch;
 void scene_watch_init(scene_watch *w);
 /* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce.  The

@@ -98,6 +98,15 @@ check "overlapping molecules in the start are an error naming them" '[ $code -ne
 check "a blow-up at the first step keeps the earlier trajectory, thermo, summary and checkpoint" \
   '[ $code -eq 1 ] && grep -q "step 0 (t = 0 reduced): molecule 4 moved" err.txt && (cd "$work" && md5sum -c --quiet "$OLDPWD/keep.md5") && ! ls "$work"/keep.*part* >/dev/null 2>&1'
 
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/close.xyz" --set run.equilibrate=50 \
+  --set run.equilibrate_timestep=0.01 --set output.prefix="$work/eqfail" >out.txt 2>err.txt; code=$?
+check "a relaxation that blows up stops there, named, with its time step and the unit of t (not at the run's step 0)" \
+  '[ $code -eq 1 ] && grep -q "during equilibration (run.equilibrate_timestep = 0.01 reduced; t in reduced units): step [0-9]* (t = .*): molecule [0-9]* moved .* reduce run.equilibrate_timestep (now 0.01)" err.txt'
+sed '/^temperature/d' "$src/tests/cli/stockmayer_short.ini" > notemp.ini
+"$rotleap" run notemp.ini --set system.start="$work/keep.chk" --set output.prefix="$work/notemp" >out.txt 2>err.txt; code=$?
+check "NVE from a checkpoint without system.temperature says what the temperature is for" \
+  '[ $code -eq 2 ] && grep -q "system.temperature is required for an NVE run: it draws the starting velocities, and sets the default neighbour-list skin" err.txt'
+
 # trajectories and continuations: a start from another prefix's checkpoint starts a new
 # trajectory (no frames spliced onto an unrelated one); a continuation of this prefix drops
 # the frames a killed run wrote past its checkpoint
