@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_RDF 8
+#define MAX_RDF RL_DECK_MAX_RDF
 
 struct analysis {
   const rl_deck *d;
@@ -36,13 +36,6 @@ struct analysis {
 #define RL_TCF_MEMORY (256.0 * 1024 * 1024)
 #define RL_TCF_MAX_LAG 1000
 
-static int site_index(const rl_molecule *m, const char *name)
-{
-  for (int a = 0; a < m->nsites; a++)
-    if (!strcmp(m->site_names[a], name)) return a;
-  return -1;
-}
-
 analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
   analysis *a = calloc(1, sizeof *a);
@@ -53,24 +46,10 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   rl_series **ser[] = {&a->U, &a->T, &a->Tt, &a->Tr, &a->P, &a->E, &a->K, &a->F2, &a->K2};
   for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) *ser[k] = rl_series_alloc();
   /* output.rdf: "O-O, H-H" */
-  char spec[512];
-  snprintf(spec, sizeof spec, "%s", d->rdf);
   double rmax = 0.5 * fmin(d->box[0], fmin(d->box[1], d->box[2]));
-  for (char *save, *tok = strtok_r(spec, ", ", &save); tok && a->nrdf < MAX_RDF; tok = strtok_r(NULL, ", ", &save)) {
-    char *dash = strchr(tok, '-');
-    if (!dash) { rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok); analysis_free(a); return NULL; }
-    *dash = '\0';
-    int sa = site_index(mol, tok), sb = site_index(mol, dash + 1);
-    if (sa < 0 || sb < 0) {
-      rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s'", mol->name, sa < 0 ? tok : dash + 1);
-      analysis_free(a);
-      return NULL;
-    }
-    a->rdf_site[a->nrdf][0] = sa;
-    a->rdf_site[a->nrdf][1] = sb;
-    snprintf(a->rdf_name[a->nrdf], sizeof a->rdf_name[0], "%s-%s", tok, dash + 1);
-    a->rdf[a->nrdf++] = rl_rdf_alloc(rmax, 200);
-  }
+  const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
+  if (nrdf < 0) { analysis_free(a); return NULL; }
+  for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, 200);
   a->tcf_cap = (long)(RL_TCF_MEMORY / (4.0 * sizeof(double[3]) * (a->n > 0 ? a->n : 1)));
   if (a->tcf_cap < 8) a->tcf_cap = 8;
   a->axis = rl_vec_series_alloc(a->n);
@@ -158,6 +137,13 @@ static void line_block(FILE *f, const char *name, rl_series *s, const char *unit
   fprintf(f, "%s = %.8g +- %.2g %s%s\n", name, b.mean, b.sem, unit, b.converged ? "" : " (error bar a lower bound: run longer)");
 }
 
+const char *rel_fluct_text(char *buf, size_t n, double x)
+{
+  if (isfinite(x)) snprintf(buf, n, "%.6e", x);
+  else snprintf(buf, n, "n/a (the mean is 0)");
+  return buf;
+}
+
 int analysis_write(analysis *a, const char *prefix, double dt_sample)
 {
   const rl_deck *d = a->d;
@@ -181,7 +167,9 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
   line_block(f, "pressure", a->P, real ? "bar" : "");
   line_block(f, "mean_square_force", a->F2, real ? "(kJ/mol/nm)^2" : "");
   line_block(f, "mean_square_torque", a->K2, real ? "(kJ/mol)^2" : "");
-  fprintf(f, "calE = %.6e\ncalU = %.6e\n", rl_series_rel_fluct(a->E), rl_series_rel_fluct(a->U));
+  char ce[64], cu[64];
+  fprintf(f, "calE = %s\ncalU = %s\n", rel_fluct_text(ce, sizeof ce, rl_series_rel_fluct(a->E)),
+          rel_fluct_text(cu, sizeof cu, rl_series_rel_fluct(a->U)));
   double kB = rl_units_kB(d->units), T = rl_series_mean(a->T), cv = NAN, sdK = rl_series_sd(a->K),
          sdE = rl_series_sd(a->E), sdU = rl_series_sd(a->U) * a->n;
   int dof = (int)llround(2.0 * rl_series_mean(a->K) / (kB * T)); /* T = 2K/(g kB) defines g */

@@ -17,4 +17,7 @@ int analysis_step(analysis *a, const rl_step_info *info, double pressure, const 
 /* Every output.sample_every steps: the configuration (positions, orientations, velocities). */
 int analysis_sample(analysis *a, const rl_system *sys);
 int analysis_write(analysis *a, const char *prefix, double dt_sample);
+/* A relative fluctuation (calE, calU) as text: "%.6e", or "n/a (...)" where it is undefined
+ * (NaN or infinite: a quantity whose mean is 0, such as U of a gas with no pair in range). */
+const char *rel_fluct_text(char *buf, size_t n, double x);
 #endif

@@ -84,6 +84,34 @@ const rl_deck_integrator rl_deck_integrators[] = {
 };
 const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_deck_integrators[0]);
 
+int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24])
+{
+  char buf[512], *save;
+  snprintf(buf, sizeof buf, "%s", spec);
+  int n = 0;
+  for (char *tok = strtok_r(buf, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
+    char *dash = strchr(tok, '-');
+    if (!dash) return rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok), -1;
+    if (n == RL_DECK_MAX_RDF) return rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF), -1;
+    *dash = '\0';
+    const char *want[2] = {tok, dash + 1};
+    for (int k = 0; k < 2; k++) {
+      site[n][k] = -1;
+      for (int a = 0; a < m->nsites; a++)
+        if (!strcmp(m->site_names[a], want[k])) site[n][k] = a;
+      if (site[n][k] < 0) {
+        char have[256] = "";
+        for (int a = 0, at = 0; a < m->nsites && at < (int)sizeof have; a++)
+          at += snprintf(have + at, sizeof have - (size_t)at, "%s%s", a ? " " : "", m->site_names[a]);
+        return rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s' (its sites: %s)", m->name, want[k], have), -1;
+      }
+    }
+    snprintf(name[n], 24, "%.11s-%.11s", want[0], want[1]);
+    n++;
+  }
+  return n;
+}
+
 double rl_deck_thermal_omega(const rl_deck *d)
 {
   rl_molecule m;
@@ -456,6 +484,13 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->trajectory_every = integer(&r, K_TRAJ, 0, 0);
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
   snprintf(d->rdf, sizeof d->rdf, "%s", val(&r, K_RDF));
+  if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
+    rl_molecule m;
+    int site[RL_DECK_MAX_RDF][2];
+    char name[RL_DECK_MAX_RDF][24];
+    if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
+      problem(&r, r.line[K_RDF], "%s", rl_last_error());
+  }
   snprintf(d->start, sizeof d->start, "%s", strcmp(val(&r, K_START), "lattice") ? val(&r, K_START) : "");
   if (d->start[0]) {
     size_t n = strlen(d->start);

@@ -59,6 +59,12 @@ int rl_deck_integrator_lookup(const char *name);
  * (0 for point particles): a step with h omega > 1 cannot follow the rotation. */
 double rl_deck_thermal_omega(const rl_deck *d);
 
+/* output.rdf ("O-O, H1-H1") against the model m: up to RL_DECK_MAX_RDF pairs of site indices
+ * and their names; the number of pairs, or -1 with the message set (rl_last_error) for a pair
+ * that is not SITE-SITE, a site the model does not have (naming those it has), or too many. */
+#define RL_DECK_MAX_RDF 8
+int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24]);
+
 /* Parse `path` with the overrides `sets` ("section.key=value", nsets of them).  Every problem is
  * reported, one line each ("FILE:LINE: message", "--set section.key: message"), to `err`;
  * returns the number of problems (0 = the deck is usable). */

@@ -668,7 +668,9 @@ int rl_app_run(const rl_deck *d)
              d->units == RL_UNITS_LJ ? "" : " K");
     snprintf(ap, sizeof ap, "%.6g +- sd %.3g %s", P.mean, run_sd(&P), pressure_unit(d));
   }
-  char text[4096];
+  char text[4096], cE[64], cU[64], cEU[64];
+  /* relative fluctuations (0 with fewer than two steps; n/a where a mean is 0) */
+  const double calE = E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, calU = U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0;
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   snprintf(text, sizeof text,
            "# rotleap %s summary of %s\n"
@@ -679,7 +681,7 @@ int rl_app_run(const rl_deck *d)
            "U_per_molecule = %s\n"
            "temperature = %s\n"
            "pressure = %s\n"
-           "calE = %.6e\ncalU = %.6e\ncalE_over_calU = %.6e\n"
+           "calE = %s\ncalU = %s\ncalE_over_calU = %s\n"
            "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n"
            "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
            ROTLEAP_VERSION, d->path, stopped ? "interrupted" : st ? "error" : "ok", first + done, d->steps, done, d->model->name, n,
@@ -688,8 +690,8 @@ int rl_app_run(const rl_deck *d)
            s.ff ? rl_forcefield_kernel(s.ff) : "none", s.ff ? rl_forcefield_rows(s.ff) : "no",
            s.ff ? rl_forcefield_threads(s.ff) : 1, wall, fallbacks,
            au, at, ap,
-           E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0,
-           U.n > 1 && run_sd(&U) > 0 ? (run_sd(&E) / fabs(E.mean)) / (run_sd(&U) / fabs(U.mean)) : 0.0,
+           rel_fluct_text(cE, sizeof cE, calE), rel_fluct_text(cU, sizeof cU, calU),
+           rel_fluct_text(cEU, sizeof cEU, calU > 0 ? calE / calU : U.n > 1 ? NAN : 0.0),
            scene_rigidity_error(s.sys), watch.max_rate, tunit, SCENE_WINDOW, tunit,
            watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window",
            fabs(watch.max_rate) > SCENE_DRIFT_WARN

@@ -117,22 +117,14 @@ static int parse_integrators(const char *list, scan_opts *o, char *err, size_t e
 /* The first pair of output.rdf ("O-O, H-H" -> O, O), or site 0 - site 0. */
 static int rdf_pair(const rl_deck *d, const rl_molecule *m, int site[2], char *name, size_t len)
 {
-  site[0] = site[1] = 0;
-  snprintf(name, len, "%s-%s", m->site_names[0], m->site_names[0]);
-  if (!d->rdf[0]) return 0;
-  char buf[256];
-  snprintf(buf, sizeof buf, "%s", d->rdf);
-  char *save, *tok = strtok_r(buf, ", ", &save), *dash = tok ? strchr(tok, '-') : NULL;
-  if (!dash) return rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok ? tok : "");
-  *dash = '\0';
-  for (int k = 0; k < 2; k++) {
-    const char *want = k ? dash + 1 : tok;
-    site[k] = -1;
-    for (int a = 0; a < m->nsites; a++)
-      if (!strcmp(m->site_names[a], want)) site[k] = a;
-    if (site[k] < 0) return rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s'", m->name, want);
-  }
-  snprintf(name, len, "%s-%s", tok, dash + 1);
+  int pairs[RL_DECK_MAX_RDF][2];
+  char names[RL_DECK_MAX_RDF][24];
+  const int n = rl_deck_rdf_pairs(d->rdf, m, pairs, names);
+  if (n < 0) return RL_EINVAL;
+  site[0] = n ? pairs[0][0] : 0;
+  site[1] = n ? pairs[0][1] : 0;
+  if (n) snprintf(name, len, "%s", names[0]);
+  else snprintf(name, len, "%s-%s", m->site_names[0], m->site_names[0]);
   return 0;
 }
 

@@ -107,6 +107,16 @@ sed '/^temperature/d' "$src/tests/cli/stockmayer_short.ini" > notemp.ini
 check "NVE from a checkpoint without system.temperature says what the temperature is for" \
   '[ $code -eq 2 ] && grep -q "system.temperature is required for an NVE run: it draws the starting velocities, and sets the default neighbour-list skin" err.txt'
 
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set system.model=co2 --set output.prefix="$work/co2rdf" >out.txt 2>err.txt; code=$?
+check "an RDF pair the model lacks is a deck problem at its line, naming the model's sites" \
+  '[ $code -eq 2 ] && grep -q "water_scan.ini:19: output.rdf: model co2 has no site .O. (its sites: O1 C O2)" err.txt'
+
+# a gas with no pair in range: U is 0 throughout, and its relative fluctuation is n/a, not NaN
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.density=0.0001 --set run.steps=20 \
+  --set output.prefix="$work/gas" >out.txt 2>err.txt; code=$?
+check "a gas's calU is n/a, and no output has a NaN" \
+  '[ $code -eq 0 ] && grep -q "^calU = n/a" "$work/gas.summary.txt" && grep -q "^calU = n/a" "$work/gas.results.txt" && ! grep -qi "nan" "$work"/gas.*'
+
 # trajectories and continuations: a start from another prefix's checkpoint starts a new
 # trajectory (no frames spliced onto an unrelated one); a continuation of this prefix drops
 # the frames a killed run wrote past its checkpoint
