@@ -113,6 +113,23 @@ static int write_atomic(const char *path, const char *text)
   return rl_atomic_commit(&af) ? -1 : 0;
 }
 
+/* 1 if paths a and b name one existing file. */
+static int same_file(const char *a, const char *b)
+{
+  struct stat sa, sb;
+  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* The newer of two files' modification times: 1 if a is at least as new as b (or b is missing). */
+static int newer_or_only(const char *a, const char *b)
+{
+  struct stat sa, sb;
+  if (stat(a, &sa)) return 0;
+  if (stat(b, &sb)) return 1;
+  return sa.st_mtim.tv_sec > sb.st_mtim.tv_sec ||
+         (sa.st_mtim.tv_sec == sb.st_mtim.tv_sec && sa.st_mtim.tv_nsec >= sb.st_mtim.tv_nsec);
+}
+
 /* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest.  A new
  * trajectory is written under a temporary name (path.part) and renamed over any earlier one
  * when the run ends with frames (or without error), so that a run which fails before its first
@@ -185,11 +202,21 @@ static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int same_p
   /* a continuation of this prefix appends; where there is no trajectory yet (the first run
    * wrote none), or the start is another prefix's checkpoint, a new one starts at this run's
    * first frame */
-  t->fresh = !(s->restart && same_prefix && access(t->path, F_OK) == 0);
-  const char *out = t->fresh ? t->part : t->path;
   if (site) {
     snprintf(t->pdb, sizeof t->pdb, "%s.pdb", d->prefix);
     snprintf(t->pdb_part, sizeof t->pdb_part, "%s.part", t->pdb);
+  }
+  /* a run of this prefix killed without a signal it could catch left its trajectory under the
+   * .part name: a continuation takes that one, if newer than the last complete one */
+  if (s->restart && same_prefix && access(t->part, F_OK) == 0 && newer_or_only(t->part, t->path)) {
+    if (rename(t->part, t->path))
+      return rl_error(RL_EINVAL, "cannot move %s to %s: %s", t->part, t->path, strerror(errno));
+    if (site && access(t->pdb_part, F_OK) == 0 && rename(t->pdb_part, t->pdb))
+      return rl_error(RL_EINVAL, "cannot move %s to %s: %s", t->pdb_part, t->pdb, strerror(errno));
+  }
+  t->fresh = !(s->restart && same_prefix && access(t->path, F_OK) == 0);
+  const char *out = t->fresh ? t->part : t->path;
+  if (site) {
     long keep = 0;
     if (!t->fresh && dcd_keep(out, t->every, first, &keep)) return 1;
     const rl_molecule *mols[1] = {&s->mol};
@@ -389,23 +416,6 @@ static int thermo_keep_rows(const char *path, FILE *out, long first, int aside)
   free(line);
   if (err) fprintf(stderr, "rotleap run: cannot copy the earlier rows of %s: %s\n", path, strerror(errno));
   return err;
-}
-
-/* 1 if paths a and b name one existing file. */
-static int same_file(const char *a, const char *b)
-{
-  struct stat sa, sb;
-  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-}
-
-/* The newer of two files' modification times: 1 if a is at least as new as b (or b is missing). */
-static int newer_or_only(const char *a, const char *b)
-{
-  struct stat sa, sb;
-  if (stat(a, &sa)) return 0;
-  if (stat(b, &sb)) return 1;
-  return sa.st_mtim.tv_sec > sb.st_mtim.tv_sec ||
-         (sa.st_mtim.tv_sec == sb.st_mtim.tv_sec && sa.st_mtim.tv_nsec >= sb.st_mtim.tv_nsec);
 }
 
 int rl_app_run(const rl_deck *d)

@@ -275,16 +275,18 @@ check "a continuation with no step left keeps every row, the last too" \
 check "a start from another prefix's checkpoint writes only its own rows" \
   '[ "$(tail -n +2 "$work/other.thermo.csv" | cut -d, -f1 | head -1)" = 200 ]'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=100000000 --set output.checkpoint_every=50 \
-  --set output.prefix="$work/kill" >/dev/null 2>&1 &
+  --set output.trajectory_every=10 --set output.prefix="$work/kill" >/dev/null 2>&1 &
 pid=$!
 for i in $(seq 200); do [ -e "$work/kill.chk" ] && [ "$(wc -l < "$work/kill.thermo.csv.part")" -ge 30 ] && break; sleep 0.1; done
 kill -KILL $pid; wait $pid 2>/dev/null
 last=$(grep -c . "$work/kill.thermo.csv.part")
 to=$(( (last + 20) * 10 ))
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=$to --set output.checkpoint_every=50 \
-  --set system.start="$work/kill.chk" --set output.prefix="$work/kill" >/dev/null 2>&1; code=$?
+  --set output.trajectory_every=10 --set system.start="$work/kill.chk" --set output.prefix="$work/kill" >/dev/null 2>&1; code=$?
 check "after SIGKILL a continuation keeps the rows of the killed run's .part (0 .. $to, no gap)" \
   '[ $code -eq 0 ] && [ ! -e "$work/kill.thermo.csv.part.old" ] && [ "$(tail -n +2 "$work/kill.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 $to) " ]'
+check "after SIGKILL a continuation keeps the killed run's trajectory from its .part (steps 10 .. $to, no gap)" \
+  '[ ! -e "$work/kill.xyz.part" ] && [ "$(grep -o "Step=[0-9]*" "$work/kill.xyz" | tr "\n" " ")" = "$(seq -f "Step=%g" -s " " 10 10 $to) " ]'
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.steps=-99999999999999999999 --set output.prefix="$work/neg" >out.txt 2>err.txt
 check "a step count below long is called below the minimum" 'grep -q "is below the minimum" err.txt'
 
