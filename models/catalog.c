@@ -1,5 +1,5 @@
 /* The catalogue of named rigid models.  Every number carries its source; conversions use
- * 1 kcal = 4.184 kJ, k_B = 0.0083144626 kJ/(mol K), 1 A = 0.1 nm, 1 D A = 0.0020819434 e nm^2.
+ * 1 kcal = 4.184 kJ, k_B = 0.00831446261815324 kJ/(mol K) (exact, SI 2019), 1 A = 0.1 nm, 1 D A = 0.0020819434 e nm^2.
  * The literature check behind these values is docs/catalog-sources.md. */
 #include "rotleap/catalog.h"
 #include "rotleap/error.h"
@@ -9,7 +9,7 @@
 #include <string.h>
 
 #define KCAL 4.184
-#define KB_KJ 0.0083144626181532
+#define KB_KJ RL_KB_KJMOL /* eps/k_B in K to kJ/mol */
 #define DEG (M_PI / 180.0)
 
 /* Masses (amu), IUPAC standard atomic weights as used by OpenMM's force fields. */

@@ -8,7 +8,7 @@
 #define ROTLEAP_UNITS_H
 
 /* Boltzmann constant in kJ/(mol K) = k_B * N_A / 1000 = 1.380649e-23 * 6.02214076e23 / 1000. */
-#define RL_KB_KJMOL 0.0083144626181532
+#define RL_KB_KJMOL 0.00831446261815324
 /* Coulomb constant 1/(4 pi eps0) in kJ mol^-1 nm e^-2 from CODATA 2018 (e, N_A exact; eps0 =
  * 8.8541878128e-12 F/m): the value OpenMM 7.7 uses (ONE_4PI_EPS0, 138.93545764438198); the
  * older 138.935456 differs by 1.2e-8 relative (validate/openmm_rf_intramolecular.py). */
