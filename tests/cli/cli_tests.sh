@@ -111,6 +111,15 @@ check "NVE from a checkpoint without system.temperature says what the temperatur
 check "an RDF pair the model lacks is a deck problem at its line, naming the model's sites" \
   '[ $code -eq 2 ] && grep -q "water_scan.ini:19: output.rdf: model co2 has no site .O. (its sites: O1 C O2)" err.txt'
 
+# energy from a checkpoint: the kinetic part of the pressure from on-step velocities, as the
+# run's own last thermo row (which the checkpoint's state is)
+"$rotleap" energy "$src/tests/cli/stockmayer_short.ini" --set system.start="$work/keep.chk" --json > keep_energy.json 2>err.txt
+check "energy from a checkpoint gives the pressure of the run's last thermo row (1e-9)" '/usr/bin/python3 -c "
+import json, sys
+p = json.load(open(\"keep_energy.json\"))[\"pressure\"]
+q = float(open(\"$work/keep.thermo.csv\").read().split()[-1].split(\",\")[14])
+sys.exit(0 if abs(p - q) <= 1e-9 * abs(q) else 1)"'
+
 # a gas with no pair in range: U is 0 throughout, and its relative fluctuation is n/a, not NaN
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set system.density=0.0001 --set run.steps=20 \
   --set output.prefix="$work/gas" >out.txt 2>err.txt; code=$?
