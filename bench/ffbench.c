@@ -238,10 +238,12 @@ static void dump(bench_sys *b, const char *path)
 
 static int cmd_time(int argc, char **argv)
 {
-  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E]\n"); return 2; }
+  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E] [--h STEP] [--relax K]\n"); return 2; }
   const char *model = argv[2];
   int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0, langevin = 0;
   long energy_every = 1;
+  double h = 0.002; /* ps for tip4p, reduced for stockmayer */
+  int relax = n >= 16384 ? 20 : 200; /* relaxation steps from the lattice (20: enough for timing 2 fs) */
   rl_kernel_choice kernel = RL_KERNEL_AUTO;
   const char *dumpfile = NULL;
   for (int k = 6; k < argc; k++) {
@@ -251,7 +253,13 @@ static int cmd_time(int argc, char **argv)
     else if (!strcmp(argv[k], "--nve") && k + 1 < argc) nve = atoi(argv[++k]);
     else if (!strcmp(argv[k], "--langevin")) langevin = 1; /* the timed steps under Langevin, not Bussi */
     else if (!strcmp(argv[k], "--energy-every") && k + 1 < argc) energy_every = atol(argv[++k]);
+    else if (!strcmp(argv[k], "--h") && k + 1 < argc) h = atof(argv[++k]); /* the production step */
+    else if (!strcmp(argv[k], "--relax") && k + 1 < argc) relax = atoi(argv[++k]); /* steps of 0.5 fs */
     else { fprintf(stderr, "ffbench time: unknown argument %s\n", argv[k]); return 2; }
+  }
+  if (!(h > 0.0 && h < 1.0)) {
+    fprintf(stderr, "ffbench time: --h must be a time step in the model's unit (ps for tip4p), 0 < h < 1\n");
+    return 2;
   }
   if (energy_every < 1 || (nve > 0 && energy_every != 1)) {
     fprintf(stderr, "ffbench time: --energy-every must be >= 1, and 1 with --nve (its energies)\n");
@@ -259,8 +267,9 @@ static int cmd_time(int argc, char **argv)
   }
   bench_sys b;
   setup(&b, model, n, threads, kernel);
-  int relax = n >= 16384 ? 20 : 200;
+  if (relax < 0) { fprintf(stderr, "ffbench time: --relax must be >= 0\n"); return 2; }
   run(&b, relax, NULL);
+  b.h = h;
   restart_every(&b, nve > 0, langevin, energy_every);
   run(&b, 5, NULL); /* warm-up at the production step */
   double share, t = timed(&b, steps, &share);
@@ -272,10 +281,10 @@ static int cmd_time(int argc, char **argv)
     free(F.f);
     free(F.k);
   }
-  printf("model=%s N=%d threads=%d kernel=%s rows=%s thermostat=%s energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+  printf("model=%s N=%d threads=%d kernel=%s rows=%s thermostat=%s h=%g energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
          "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
          model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), rl_forcefield_rows(b.ff),
-         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", energy_every, 1e3 * t, share,
+         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", b.h, energy_every, 1e3 * t, share,
          1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
   if (dumpfile) {
     /* the energy of exactly the dumped configuration */
