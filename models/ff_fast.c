@@ -2369,7 +2369,8 @@ static int build(rl_forcefield *ff)
                 tr->f = p;
                 tr->fcap = nc2;
               }
-              memcpy(tr->f + tr->fn, cand, sizeof(int) * (size_t)nin);
+              if (nin) /* tr->f is still NULL while no row has had a pair (a dilute gas) */
+                memcpy(tr->f + tr->fn, cand, sizeof(int) * (size_t)nin);
               tr->fn += nin;
               nin = 0;
             }
