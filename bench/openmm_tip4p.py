@@ -35,7 +35,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "validate"))
 import watermodels  # noqa: E402
 
 sys.path.insert(0, HERE)
-from rlfiles import cpu_model, idlest_cpu, tokens  # noqa: E402
+from rlfiles import cpu_model, pin_row, tokens  # noqa: E402
 
 mm = watermodels.mm
 try:
@@ -108,12 +108,7 @@ def main():
             steps = steps_for(n)
             # pinned before the context exists: OpenMM's worker threads inherit the affinity,
             # and so do the ffbench processes
-            pin = None
-            if threads == 1 and a.pin != "none":
-                pin = idlest_cpu() if a.pin == "auto" else int(a.pin)
-                os.sched_setaffinity(0, {pin})
-            else:
-                os.sched_setaffinity(0, allowed)
+            pin = pin_row(threads, a.pin, allowed)
             with tempfile.TemporaryDirectory() as tmp:
                 dump = os.path.join(tmp, "state.txt")
                 kv = rotleap_run(a.ffbench, n, threads, steps, dump)

@@ -54,3 +54,15 @@ def idlest_cpu(seconds=1.0):
     time.sleep(seconds)
     b = idle()
     return max(allowed, key=lambda c: b.get(c, 0) - a.get(c, 0))
+
+
+def pin_row(threads, pin, allowed):
+    """Pin this process (and so its children and OpenMM's worker threads) for a one-thread row:
+    pin = "auto" (the idlest CPU now), a CPU number, or "none"; other rows get `allowed` back.
+    Returns the CPU pinned to, or None."""
+    if threads == 1 and pin != "none":
+        cpu = idlest_cpu() if pin == "auto" else int(pin)
+        os.sched_setaffinity(0, {cpu})
+        return cpu
+    os.sched_setaffinity(0, allowed)
+    return None

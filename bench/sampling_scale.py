@@ -40,7 +40,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "validate"))
 import watermodels  # noqa: E402
 
 sys.path.insert(0, HERE)
-from rlfiles import cpu_model, idlest_cpu, tokens  # noqa: E402
+from rlfiles import cpu_model, pin_row, tokens  # noqa: E402
 from openmm_tip4p import read_dump  # noqa: E402
 
 mm = watermodels.mm
@@ -124,12 +124,7 @@ def main():
     for n in [int(x) for x in a.sizes.split(",")]:
         for threads in [int(x) for x in a.threads.split(",")]:
             steps = steps_for(n)
-            pin = None
-            if threads == 1 and a.pin != "none":
-                pin = idlest_cpu() if a.pin == "auto" else int(a.pin)
-                os.sched_setaffinity(0, {pin})
-            else:
-                os.sched_setaffinity(0, allowed)
+            pin = pin_row(threads, a.pin, allowed)
             with tempfile.TemporaryDirectory() as tmp:
                 dump = os.path.join(tmp, "state.txt")
                 kv = rotleap_time(a.ffbench, n, threads, steps, h_rl, dump)

@@ -129,6 +129,18 @@ def state(ck, E, h):
     return st
 
 
+def rotleap_state(rl, out, name, deck_text, h):
+    """Run the deck under out/name, then read its checkpoint and evaluate it: (deck path, checkpoint
+    path, the last thermo row, the checkpoint, `rotleap energy` of it, state())."""
+    deck = os.path.join(out, name + ".ini")
+    write(deck, deck_text)
+    last = rl_run(rl, deck, os.path.join(out, name))[-1]
+    chk = os.path.join(out, name + ".chk")
+    ck = rlcheckpoint.read(chk)
+    E = rl_energy(rl, deck, os.path.join(out, name + "_e"), chk)
+    return deck, chk, last, ck, E, state(ck, E, h)
+
+
 def site_positions(st):
     """Lab sites of axis bodies (linear molecules): r + z_a rho (body-frame sites on Z)."""
     d = st["sites"]
@@ -262,14 +274,7 @@ sample_every = 0
 
 def stockmayer(rl, out):
     h, rc, mu, diam = 0.002, 2.5, math.sqrt(3.0), 0.5
-    deck = os.path.join(out, "sm.ini")
-    write(deck, SM_DECK)
-    rows = rl_run(rl, deck, os.path.join(out, "sm"))
-    last = rows[-1]
-    chk = os.path.join(out, "sm.chk")
-    ck = rlcheckpoint.read(chk)
-    E = rl_energy(rl, deck, os.path.join(out, "sm_e"), chk)
-    st = state(ck, E, h)
+    deck, chk, last, ck, E, st = rotleap_state(rl, out, "sm", SM_DECK, h)
     assert int(last["step"]) == st["step"]
     n, L = len(st["r"]), st["box"]
     V = float(np.prod(L))
@@ -410,18 +415,10 @@ run %d
 
 def twoclj(rl, out, nve_steps):
     h, rc = 0.002, 3.0
-    deck = os.path.join(out, "c2.ini")
-    write(deck, C2_DECK)
-    rows = rl_run(rl, deck, os.path.join(out, "c2"))
-    last = rows[-1]
-    chk = os.path.join(out, "c2.chk")
-    ck = rlcheckpoint.read(chk)
-    E = rl_energy(rl, deck, os.path.join(out, "c2_e"), chk)
-    st = state(ck, E, h)
+    deck, chk, last, ck, E, st = rotleap_state(rl, out, "c2", C2_DECK, h)
     n, L = len(st["r"]), st["box"]
     V = float(np.prod(L))
     trW = float(np.trace(st["W"]))
-    Kon = 0.5 * st["m"] * float((st["von"] ** 2).sum())
     case = "B 2CLJ"
     scale = n / V * 2.0
     # independent numpy pair sum
