@@ -2239,15 +2239,18 @@ RL_T512 static int scan512(const double *X, const double *Y, const double *Z, co
 #endif
 
 /* The cost of row m (species k) in units of about one pair term: kernel terms per listed
- * pair, 16 per reference pair, and for a dipole row 60 for the row itself (its setup, the
- * last partial vector, the lane sums): the later ranks list fewer neighbours of higher rank,
- * and without that term the thread with the later rows took 8 % longer (8,000 dipoles). */
+ * pair, 16 per reference pair, and for the row itself (its setup, the last partial vector, the
+ * lane sums) 60 for a dipole row and 110 for a site row: the later ranks list fewer neighbours
+ * of higher rank, and without that term the thread with the later rows took 8 % longer (8,000
+ * dipoles).  For the TIP4P rows on AVX2 a fit of cycles per row against its length gave about
+ * 500 + 55 fl cycles, so a row costs as much as 9 of its pairs (12 units each); the all-pairs
+ * list of a small box (256 TIP4P) has rows of 0 to 200 pairs, and thread 1 took twice as many. */
 static double row_cost(const rl_ff_fast *f, int k, int m)
 {
   const fast_species *K = &f->sk[k];
   const int fl = f->fstart[m + 1] - f->fstart[m], gl = f->gstart[m + 1] - f->gstart[m];
   return K->kind == K_DIPOLE ? 4.0 * fl + (fl > 0 ? 60.0 : 0.0) + 16.0 * gl
-                             : (double)fl * (K->nterms + 2) + 16.0 * gl;
+                             : (double)fl * (K->nterms + 2) + (fl > 0 ? 110.0 : 0.0) + 16.0 * gl;
 }
 
 static int build(rl_forcefield *ff)
@@ -2258,7 +2261,8 @@ static int build(rl_forcefield *ff)
   const double rl = ff->rlist, rl2 = rl * rl;
   /* Cells of edge >= rlist / 2, searched +-2 cells (the 5^3 stencil spans 15.6 rlist^3 of
    * candidates, against 27 rlist^3 for cells >= rlist searched +-1), when every edge holds at
-   * least 5; else all pairs.  With cells >= rlist a box of a few list radii had 3 per edge and
+   * least 5; else all pairs, through the same branch-free scan (a branch per pair made the
+   * builds 5 % of a 256-TIP4P step at 6 fs, rebuilt every 6 steps).  With cells >= rlist a box of a few list radii had 3 per edge and
    * every body was a candidate of every other: builds took ~3 steps' time for 2,048 TIP4P. */
   enum { reach = 2 }; /* a constant: sizes the runs arrays below */
   int nc[3];
@@ -2322,7 +2326,14 @@ static int build(rl_forcefield *ff)
         long f0 = tr->fn, g0 = tr->gn;
         const double ri[3] = {bx[mi], by[mi], bz[mi]};
         if (ff->sp_nsites[ki] > 0) {
-          if (cells) {
+          /* the runs of ranks to scan: the cell stencil's, or (all pairs) the ranks above mi */
+          int lo[(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1)], hi[sizeof lo / sizeof *lo];
+          int nr = 0, nin = 0;
+          if (!cells) {
+            lo[0] = mi + 1;
+            hi[0] = n;
+            nr = hi[0] > lo[0];
+          } else {
             int id = f->cell_of[i];
             int cx = id % nc[0], cy = (id / nc[0]) % nc[1], cz = id / (nc[0] * nc[1]);
             int wx[2 * reach + 1], wy[2 * reach + 1], wz[2 * reach + 1]; /* wrapped, no `%` */
@@ -2336,8 +2347,6 @@ static int build(rl_forcefield *ff)
              * stencil's bodies are inside, a branch was mispredicted often); runs of cells
              * along x are contiguous in rank unless the stencil wraps */
             const int runs = cx - reach >= 0 && cx + reach < nc[0] ? 1 : 2 * reach + 1;
-            int lo[(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1)], hi[sizeof lo / sizeof *lo];
-            int nr = 0, nin = 0;
             for (int dz = 0; dz <= 2 * reach; dz++)
               for (int dy = 0; dy <= 2 * reach; dy++)
                 for (int r = 0; r < runs; r++) {
@@ -2348,50 +2357,40 @@ static int build(rl_forcefield *ff)
                   hi[nr] = f->cell_start[c1 + 1];
                   nr += hi[nr] > lo[nr];
                 }
+          }
 #if RL_X512
-            if (f->vec == VEC_512)
-              nin = scan512(bx, by, bz, ri, box, rl2, lo, hi, nr, cand);
-            else
+          if (f->vec == VEC_512)
+            nin = scan512(bx, by, bz, ri, box, rl2, lo, hi, nr, cand);
+          else
 #endif
-              for (int r = 0; r < nr; r++)
-                for (int m = lo[r]; m < hi[r]; m++) {
-                  double d[3] = {ri[0] - bx[m], ri[1] - by[m], ri[2] - bz[m]};
-                  for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
-                  cand[nin] = m;
-                  nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
-                }
-            if (neat) { /* all kernel pairs: one copy */
-              if (tr->fn + nin > tr->fcap) {
-                long nc2 = tr->fcap ? 2 * tr->fcap : 4096;
-                while (nc2 < tr->fn + nin) nc2 *= 2;
-                int *p = realloc(tr->f, sizeof *p * (size_t)nc2);
-                if (!p) { fail = 1; break; }
-                tr->f = p;
-                tr->fcap = nc2;
+            for (int r = 0; r < nr; r++)
+              for (int m = lo[r]; m < hi[r]; m++) {
+                double d[3] = {ri[0] - bx[m], ri[1] - by[m], ri[2] - bz[m]};
+                for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
+                cand[nin] = m;
+                nin += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rl2;
               }
-              if (nin) /* tr->f is still NULL while no row has had a pair (a dilute gas) */
-                memcpy(tr->f + tr->fn, cand, sizeof(int) * (size_t)nin);
-              tr->fn += nin;
-              nin = 0;
+          if (neat) { /* all kernel pairs: one copy */
+            if (tr->fn + nin > tr->fcap) {
+              long nc2 = tr->fcap ? 2 * tr->fcap : 4096;
+              while (nc2 < tr->fn + nin) nc2 *= 2;
+              int *p = realloc(tr->f, sizeof *p * (size_t)nc2);
+              if (!p) { fail = 1; break; }
+              tr->f = p;
+              tr->fcap = nc2;
             }
-            for (int q = 0; q < nin && !fail; q++) {
-              const int m = cand[q], kj = f->V.sp[m];
-              if (ff->sp_nsites[kj] == 0) continue;
-              if (fast_i && kj == ki)
-                fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
-              else
-                fail |= push(&tr->g, &tr->gcap, &tr->gn, f->ord[m]);
-            }
-          } else {
-            for (int j = i + 1; j < n && !fail; j++) { /* ord = identity */
-              if (ff->sp_nsites[ff->body_species[j]] == 0) continue;
-              double d[3] = {ri[0] - ff->centre[j][0], ri[1] - ff->centre[j][1],
-                             ri[2] - ff->centre[j][2]};
-              for (int c = 0; c < 3; c++) d[c] -= box->L[c] * RL_RND(d[c] * box->invL[c]);
-              if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rl2) continue;
-              if (fast_i && ff->body_species[j] == ki) fail |= push(&tr->f, &tr->fcap, &tr->fn, j);
-              else fail |= push(&tr->g, &tr->gcap, &tr->gn, j);
-            }
+            if (nin) /* tr->f is still NULL while no row has had a pair (a dilute gas) */
+              memcpy(tr->f + tr->fn, cand, sizeof(int) * (size_t)nin);
+            tr->fn += nin;
+            nin = 0;
+          }
+          for (int q = 0; q < nin && !fail; q++) {
+            const int m = cand[q], kj = f->V.sp[m];
+            if (ff->sp_nsites[kj] == 0) continue;
+            if (fast_i && kj == ki)
+              fail |= push(&tr->f, &tr->fcap, &tr->fn, m);
+            else
+              fail |= push(&tr->g, &tr->gcap, &tr->gn, f->ord[m]);
           }
         }
         f->fstart[mi + 1] = (int)(tr->fn - f0);
