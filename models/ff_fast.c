@@ -2262,8 +2262,9 @@ static int build(rl_forcefield *ff)
   /* Cells of edge >= rlist / 2, searched +-2 cells (the 5^3 stencil spans 15.6 rlist^3 of
    * candidates, against 27 rlist^3 for cells >= rlist searched +-1), when every edge holds at
    * least 5; else all pairs, through the same branch-free scan (a branch per pair made the
-   * builds 5 % of a 256-TIP4P step at 6 fs, rebuilt every 6 steps).  With cells >= rlist a box of a few list radii had 3 per edge and
-   * every body was a candidate of every other: builds took ~3 steps' time for 2,048 TIP4P. */
+   * builds 5 % of a 256-TIP4P step at 6 fs, rebuilt every 6 steps).  With cells >= rlist a
+   * box of a few list radii had 3 per edge and every body was a candidate of every other:
+   * builds took ~3 steps' time for 2,048 TIP4P. */
   enum { reach = 2 }; /* a constant: sizes the runs arrays below */
   int nc[3];
   for (int c = 0; c < 3; c++) nc[c] = (int)fmin(256.0, floor(box->L[c] / (0.5 * rl)));
