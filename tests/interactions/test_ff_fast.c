@@ -656,6 +656,102 @@ static void test_overlap(void **state)
   gsl_rng_free(rng);
 }
 
+/* A mixture in a box too small for the kernels' cell grid (L = 1.5 nm, r_list / 2 >= 0.33 nm:
+ * 4 cells per edge, so build() scans all ranks above each row): kernel species (water,
+ * dipoles, ions, CO2), species without a kernel (a symmetric top with a dipole off the centre,
+ * and a species of one body), and a species without sites.  Kernel and reference pairs
+ * from the one all-pairs scan, on 1, 2 and 3 threads against the reference path, and again
+ * after moves that rebuild the list. */
+static void test_small_box_mixture(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 18);
+  struct { ff_test_species sp[7]; rl_species_ff sff[7]; } x; /* scene holds only four */
+  ff_water(&x.sp[0]);
+  ff_stockmayer(&x.sp[1], 0.04);
+  ff_ion(&x.sp[2], 0.7);
+  ff_co2(&x.sp[3]);
+  ff_symtop(&x.sp[4]);
+  ff_ion(&x.sp[5], -0.7);
+  ff_species_init(&x.sp[6], "ghost", RL_KIND_POINT, 10.0, 0, 0, 0, 0);
+  const int cnt[7] = {40, 15, 8, 10, 5, 1, 7};
+  const double L = 1.5;
+  rl_system *sys = rl_system_alloc(RL_UNITS_REAL);
+  int n = 0;
+  for (int k = 0; k < 7; k++) {
+    x.sp[k].desc.sites = &x.sp[k].sites[0][0];
+    assert_int_equal(rl_system_add_species(sys, &x.sp[k].desc, cnt[k], NULL), RL_OK);
+    x.sff[k] = ff_test_species_ff(&x.sp[k]);
+    n += cnt[k];
+  }
+  double(*r)[3] = malloc(sizeof *r * (size_t)n);
+  for (int i = 0; i < n; i++) {
+    for (int tries = 0;; tries++) {
+      assert_true(tries < 1000000);
+      double y[3];
+      int ok = 1;
+      for (int c = 0; c < 3; c++) y[c] = gsl_ran_flat(rng, -0.5 * L, 1.5 * L);
+      for (int j = 0; j < i && ok; j++) {
+        double d2 = 0.0;
+        for (int c = 0; c < 3; c++) {
+          double d = y[c] - r[j][c];
+          d -= L * nearbyint(d / L);
+          d2 += d * d;
+        }
+        ok = d2 >= 0.26 * 0.26;
+      }
+      if (ok) { memcpy(r[i], y, sizeof y); break; }
+    }
+    assert_int_equal(rl_system_set_position(sys, i, r[i]), RL_OK);
+    ff_random_orientation(sys, i, rng);
+  }
+  free(r);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = L;
+  p.cutoff = 0.6;
+  for (int scheme = 0; scheme < 2; scheme++) {
+    p.scheme = (rl_cutoff_scheme)scheme;
+    p.kernel = RL_KERNEL_GENERAL;
+    p.threads = 0;
+    rl_forcefield *fg = rl_forcefield_alloc(sys, &p, x.sff, 7), *fa[3];
+    assert_non_null(fg);
+    p.kernel = RL_KERNEL_AUTO;
+    for (int t = 0; t < 3; t++) {
+      p.threads = t + 1;
+      fa[t] = rl_forcefield_alloc(sys, &p, x.sff, 7);
+      assert_non_null(fa[t]);
+    }
+    FF_CHECK_TRUE("small-box mixture: kernels and the reference path",
+                  strcmp(rl_forcefield_kernel(fa[0]), "tip4p+stockmayer+charge-lj+general") == 0);
+    for (int step = 0; step < 4; step++) {
+      char what[200];
+      for (int t = 0; t < 3; t++) {
+        snprintf(what, sizeof what, "small-box mixture, %s cutoff, %d thread(s), step %d",
+                 scheme ? "molecule" : "site", t + 1, step);
+        compare(fa[t], fg, sys, what, 1e-12);
+        if (t) {
+          snprintf(what, sizeof what, "small-box mixture, %s cutoff, 1 vs %d threads, step %d",
+                   scheme ? "molecule" : "site", t + 1, step);
+          compare(fa[0], fa[t], sys, what, 1e-13);
+        }
+      }
+      for (int i = 0; i < n; i++) { /* beyond half the skin: the next compute rebuilds */
+        double q[3];
+        rl_system_get_position(sys, i, q);
+        for (int c = 0; c < 3; c++) q[c] += gsl_ran_flat(rng, -0.03, 0.03);
+        rl_system_set_position(sys, i, q);
+      }
+    }
+    FF_CHECK_TRUE("small-box mixture: the kernels' list was rebuilt", rl_forcefield_rebuilds(fa[1]) > 1);
+    for (int t = 0; t < 3; t++) rl_forcefield_free(fa[t]);
+    rl_forcefield_free(fg);
+  }
+  rl_system_free(sys);
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -664,6 +760,7 @@ int main(void)
       cmocka_unit_test(test_mixture), cmocka_unit_test(test_threads_neat),
       cmocka_unit_test(test_forces_only), cmocka_unit_test(test_choice),
       cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
+      cmocka_unit_test(test_small_box_mixture),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
