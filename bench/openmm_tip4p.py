@@ -70,6 +70,16 @@ def read_dump(path):
     return n, L, pos
 
 
+def timed_start(run):
+    """run(dump) times rotleap and writes its final state to the file dump; returns ffbench's
+    key=value tokens and that state's box edge and site positions, OpenMM's start."""
+    with tempfile.TemporaryDirectory() as tmp:
+        dump = os.path.join(tmp, "state.txt")
+        kv = run(dump)
+        _, L, pos = read_dump(dump)
+    return kv, L, pos
+
+
 def openmm_context(n, L, pos, threads):
     system = watermodels.build_system("tip4p", n, (L, L, L), 0.9, 78.3, rigid=True)
     integ = mm.VerletIntegrator(0.002)
@@ -109,13 +119,8 @@ def main():
             # pinned before the context exists: OpenMM's worker threads inherit the affinity,
             # and so do the ffbench processes
             pin = pin_row(threads, a.pin, allowed)
-            with tempfile.TemporaryDirectory() as tmp:
-                dump = os.path.join(tmp, "state.txt")
-                kv = rotleap_run(a.ffbench, n, threads, steps, dump)
-                best_rl = float(kv["ms_per_step"])
-                share = float(kv["ff_share"])
-                rows_rl = kv.get("rows", "?")
-                _, L, pos = read_dump(dump)
+            kv, L, pos = timed_start(lambda dump: rotleap_run(a.ffbench, n, threads, steps, dump))
+            best_rl, share, rows_rl = float(kv["ms_per_step"]), float(kv["ff_share"]), kv.get("rows", "?")
             ctx, integ = openmm_context(n, L, pos, threads)
             best_omm = float("inf")
             for r in range(a.rounds):

@@ -32,7 +32,6 @@ import csv
 import os
 import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -41,7 +40,7 @@ import watermodels  # noqa: E402
 
 sys.path.insert(0, HERE)
 from rlfiles import cpu_model, pin_row, tokens  # noqa: E402
-from openmm_tip4p import read_dump  # noqa: E402
+from openmm_tip4p import timed_start  # noqa: E402
 
 mm = watermodels.mm
 T_K = 298.0
@@ -125,11 +124,8 @@ def main():
         for threads in [int(x) for x in a.threads.split(",")]:
             steps = steps_for(n)
             pin = pin_row(threads, a.pin, allowed)
-            with tempfile.TemporaryDirectory() as tmp:
-                dump = os.path.join(tmp, "state.txt")
-                kv = rotleap_time(a.ffbench, n, threads, steps, h_rl, dump)
-                best_rl, rows_rl = float(kv["ms_per_step"]), kv.get("rows", "?")
-                _, L, pos = read_dump(dump)
+            kv, L, pos = timed_start(lambda dump: rotleap_time(a.ffbench, n, threads, steps, h_rl, dump))
+            best_rl, rows_rl = float(kv["ms_per_step"]), kv.get("rows", "?")
             # OpenMM at 8 fs is close to its limit (10 fs blows up at once): a run that blows up
             # (in the warm-up or a timed round) starts again from the same positions with new
             # random numbers, and the blow-ups are counted; three end the row
