@@ -10,8 +10,8 @@
 #include "ff_testutil.h"
 
 typedef struct {
-  ff_test_species sp[4];
-  rl_species_ff sff[4];
+  ff_test_species sp[7];
+  rl_species_ff sff[7];
   int nsp;
   rl_system *sys;
   double L;
@@ -667,46 +667,20 @@ static void test_small_box_mixture(void **state)
   (void)state;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 18);
-  struct { ff_test_species sp[7]; rl_species_ff sff[7]; } x; /* scene holds only four */
-  ff_water(&x.sp[0]);
-  ff_stockmayer(&x.sp[1], 0.04);
-  ff_ion(&x.sp[2], 0.7);
-  ff_co2(&x.sp[3]);
-  ff_symtop(&x.sp[4]);
-  ff_ion(&x.sp[5], -0.7);
-  ff_species_init(&x.sp[6], "ghost", RL_KIND_POINT, 10.0, 0, 0, 0, 0);
+  scene s = {.nsp = 7};
+  ff_water(&s.sp[0]);
+  ff_stockmayer(&s.sp[1], 0.04);
+  ff_ion(&s.sp[2], 0.7);
+  ff_co2(&s.sp[3]);
+  ff_symtop(&s.sp[4]);
+  ff_ion(&s.sp[5], -0.7);
+  ff_species_init(&s.sp[6], "ghost", RL_KIND_POINT, 10.0, 0, 0, 0, 0);
   const int cnt[7] = {40, 15, 8, 10, 5, 1, 7};
   const double L = 1.5;
-  rl_system *sys = rl_system_alloc(RL_UNITS_REAL);
+  scene_build(&s, rng, RL_UNITS_REAL, cnt, 0.0, 0.26, L);
+  rl_system *sys = s.sys;
   int n = 0;
-  for (int k = 0; k < 7; k++) {
-    x.sp[k].desc.sites = &x.sp[k].sites[0][0];
-    assert_int_equal(rl_system_add_species(sys, &x.sp[k].desc, cnt[k], NULL), RL_OK);
-    x.sff[k] = ff_test_species_ff(&x.sp[k]);
-    n += cnt[k];
-  }
-  double(*r)[3] = malloc(sizeof *r * (size_t)n);
-  for (int i = 0; i < n; i++) {
-    for (int tries = 0;; tries++) {
-      assert_true(tries < 1000000);
-      double y[3];
-      int ok = 1;
-      for (int c = 0; c < 3; c++) y[c] = gsl_ran_flat(rng, -0.5 * L, 1.5 * L);
-      for (int j = 0; j < i && ok; j++) {
-        double d2 = 0.0;
-        for (int c = 0; c < 3; c++) {
-          double d = y[c] - r[j][c];
-          d -= L * nearbyint(d / L);
-          d2 += d * d;
-        }
-        ok = d2 >= 0.26 * 0.26;
-      }
-      if (ok) { memcpy(r[i], y, sizeof y); break; }
-    }
-    assert_int_equal(rl_system_set_position(sys, i, r[i]), RL_OK);
-    ff_random_orientation(sys, i, rng);
-  }
-  free(r);
+  for (int k = 0; k < 7; k++) n += cnt[k];
   rl_ff_params p;
   rl_ff_params_default(&p);
   p.box[0] = p.box[1] = p.box[2] = L;
@@ -715,12 +689,12 @@ static void test_small_box_mixture(void **state)
     p.scheme = (rl_cutoff_scheme)scheme;
     p.kernel = RL_KERNEL_GENERAL;
     p.threads = 0;
-    rl_forcefield *fg = rl_forcefield_alloc(sys, &p, x.sff, 7), *fa[3];
+    rl_forcefield *fg = rl_forcefield_alloc(sys, &p, s.sff, 7), *fa[3];
     assert_non_null(fg);
     p.kernel = RL_KERNEL_AUTO;
     for (int t = 0; t < 3; t++) {
       p.threads = t + 1;
-      fa[t] = rl_forcefield_alloc(sys, &p, x.sff, 7);
+      fa[t] = rl_forcefield_alloc(sys, &p, s.sff, 7);
       assert_non_null(fa[t]);
     }
     FF_CHECK_TRUE("small-box mixture: kernels and the reference path",
