@@ -98,6 +98,11 @@ typedef struct {
   double (*pk)[8];               /* [n] dipole ranks, AVX-512 path: centre, 0, mu axis, 0 */
   double (*pk4)[16];             /* [n] TIP4P ranks, AVX-512 path: centre, then site       */
                                  /* perm[s] - centre at 3 + 3 s, 0                      */
+  /* The image list of a small box (AVX2 TIP4P rows, see build_images): row m's images are
+   * xnbr[xstart[m] .. xstart[m + 1]), the neighbour's rank, and its separation from m is
+   * centre_m - centre_j + (xs[0][q], xs[1][q], xs[2][q]).  NULL where not in use. */
+  const int *xstart, *xnbr;
+  const double *xs[3];
 } kview;
 
 typedef struct fast_species fast_species;
@@ -163,6 +168,9 @@ struct rl_ff_fast {
   int ntip4p;                    /* bodies of K_TIP4P species                            */
   double (*pft4)[16];            /* vec:  [nthreads n] forces on TIP4P ranks' sites from */
                                  /* the batches, as in pk4                              */
+  int *xstart, *xnbr;            /* the image list (kview), [n + 1] and [xcap + 4]       */
+  double *xsh;                   /* [3 (xcap + 4)] its shifts, x then y then z           */
+  long xcap;
 };
 
 #ifndef _OPENMP
@@ -1361,6 +1369,50 @@ static const pack4 pack4_lut[16] = {
 #undef RL_P1
 };
 
+/* Append the candidates nbr[p .. p + cnt) whose lanes are set in `keep`, with separations R
+ * (lane l: candidate p + l), to the batch from slot *n, in lane order: packed by pack4_lut while
+ * the batch has room for all four, else one by one while it has room.  Returns how many
+ * candidates it took (all cnt, or fewer when the batch filled). */
+RL_T256 RL_INLINE int append4(batch *b, int *n, const int *nbr, int p, int cnt, unsigned keep,
+                              const __m256d R[3])
+{
+  if (cnt == 4 && *n + 4 <= RL_FAST_B) {
+    const __m256i pd = _mm256_load_si256((const __m256i *)pack4_lut[keep].d);
+    const __m128i pi = _mm_load_si128((const __m128i *)pack4_lut[keep].i);
+    for (int d = 0; d < 3; d++)
+      _mm256_storeu_pd(b->R[d] + *n, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(R[d]), pd)));
+    const __m128 id = _mm_castsi128_ps(_mm_loadu_si128((const __m128i *)(nbr + p)));
+    _mm_storeu_si128((__m128i *)(b->idx + *n), _mm_castps_si128(_mm_permutevar_ps(id, pi)));
+    *n += __builtin_popcount(keep);
+    return 4;
+  }
+  _Alignas(32) double x[3][4]; /* [component][lane] */
+  for (int d = 0; d < 3; d++) _mm256_store_pd(x[d], R[d]);
+  int l;
+  for (l = 0; l < cnt && *n < RL_FAST_B; l++) { /* slot n is kept only if lane l is */
+    b->idx[*n] = nbr[p + l];
+    b->R[0][*n] = x[0][l]; b->R[1][*n] = x[1][l]; b->R[2][*n] = x[2][l];
+    *n += (keep >> l) & 1u;
+  }
+  return l;
+}
+
+/* Close a batch of n neighbours: pad it to a multiple of RL_FAST_W with the first neighbour's
+ * record at twice the pruning radius, so that every site pair lies beyond the cutoff
+ * (|r| >= 2 rp - 2 extent > rc) and none is the closest pair. */
+RL_INLINE void pad_batch(batch *b, int n, double rp2)
+{
+  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
+  const double pad = 2.0 * sqrt(rp2);
+  for (int k = n; k < np; k++) {
+    b->idx[k] = b->idx[0];
+    b->R[0][k] = pad;
+    b->R[1][k] = b->R[2][k] = 0.0;
+  }
+  b->n = n;
+  b->np = np;
+}
+
 /* batch_fill's neighbours (indices and centre separations only) for rows whose records
  * rec + stride j (stride 8 or 16 doubles, 32-byte aligned) start with the centre, four
  * candidates at a time: the minimum image as take_candidate's RL_RND, the pruning test in one
@@ -1448,39 +1500,35 @@ RL_T256 RL_INLINE void fill256(const double *rec, int stride, const box_consts *
         continue;
       }
     }
-    if (cnt == 4 && n + 4 <= RL_FAST_B) { /* the kept lanes packed to the front, as below */
-      const __m256i pd = _mm256_load_si256((const __m256i *)pack4_lut[keep].d);
-      const __m128i pi = _mm_load_si128((const __m128i *)pack4_lut[keep].i);
-      for (int d = 0; d < 3; d++)
-        _mm256_storeu_pd(b->R[d] + n, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(R[d]), pd)));
-      const __m128 id = _mm_castsi128_ps(_mm_loadu_si128((const __m128i *)(nbr + p)));
-      _mm_storeu_si128((__m128i *)(b->idx + n), _mm_castps_si128(_mm_permutevar_ps(id, pi)));
-      n += __builtin_popcount(keep);
-      p += 4;
-      continue;
-    }
-    _Alignas(32) double x[3][4]; /* [component][lane] */
-    for (int d = 0; d < 3; d++) _mm256_store_pd(x[d], R[d]);
-    int l;
-    for (l = 0; l < cnt && n < RL_FAST_B; l++) { /* slot n is kept only if lane l is */
-      b->idx[n] = nbr[p + l];
-      b->R[0][n] = x[0][l]; b->R[1][n] = x[1][l]; b->R[2][n] = x[2][l];
-      n += (keep >> l) & 1u;
-    }
-    p += l;
+    p += append4(b, &n, nbr, p, cnt, keep, R);
   }
   *pos = p;
-  const int np = (n + RL_FAST_W - 1) / RL_FAST_W * RL_FAST_W;
-  /* padding: the first neighbour's record at twice the pruning radius, so that every site
-   * pair lies beyond the cutoff (|r| >= 2 rp - 2 extent > rc) and none is the closest pair */
-  const double pad = 2.0 * sqrt(rp2);
-  for (int k = n; k < np; k++) {
-    b->idx[k] = b->idx[0];
-    b->R[0][k] = pad;
-    b->R[1][k] = b->R[2][k] = 0.0;
+  pad_batch(b, n, rp2);
+}
+
+/* fill256 for a row of the image list (kview.xstart, build_images): entry q is neighbour
+ * nbr[q] at c_i - c_j + s_q, so there is no minimum image to take and no other image to look
+ * for; the kept entries are appended in list order (append4, as fill256). */
+RL_T256 RL_INLINE void fill256x(const double *rec, int stride, const double *ci, const int *nbr,
+                                const double *const sh[3], int len, int *pos, double rp2, batch *b)
+{
+  const __m256d c[3] = {_mm256_set1_pd(ci[0]), _mm256_set1_pd(ci[1]), _mm256_set1_pd(ci[2])};
+  const __m256d vrp2 = _mm256_set1_pd(rp2);
+  int n = 0, p = *pos;
+  while (p < len && n < RL_FAST_B) {
+    const int cnt = len - p < 4 ? len - p : 4;
+    const unsigned live = (1u << cnt) - 1u;
+    __m256d q[4], t[4], R[3];
+    for (int l = 0; l < 4; l++) q[l] = _mm256_load_pd(rec + (size_t)stride * nbr[p + (l < cnt ? l : 0)]);
+    tr4x4(q, t);
+    for (int d = 0; d < 3; d++) /* the shifts have 4 slots of slack past the last row */
+      R[d] = _mm256_add_pd(_mm256_sub_pd(c[d], t[d]), _mm256_loadu_pd(sh[d] + p));
+    const __m256d r2 = _mm256_fmadd_pd(R[2], R[2], _mm256_fmadd_pd(R[1], R[1], _mm256_mul_pd(R[0], R[0])));
+    const unsigned keep = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(r2, vrp2, _CMP_LT_OQ)) & live;
+    p += append4(b, &n, nbr, p, cnt, keep, R);
   }
-  b->n = n;
-  b->np = np;
+  *pos = p;
+  pad_batch(b, n, rp2);
 }
 
 /* The sums of a TIP4P row on AVX2, lane by lane, as tip_sums. */
@@ -1597,7 +1645,9 @@ RL_T256 RL_INLINE void tip4p_pairs256(const int MODE, const int EV, const int TR
 #undef V1
 }
 
-/* tip4p_row512 on AVX2. */
+
+/* tip4p_row512 on AVX2.  In a box that needs the other images, the row's neighbours come from the image list (build_images), so the
+ * fill needs no minimum image and no search for images (fill256x). */
 RL_T256 RL_INLINE void tip4p_row256(const int EV, const int MODE, const int TRUNC,
                                     const rl_forcefield *ff, const kview *V, const fast_species *K,
                                     int i, const int *nbr, int len, double (*fs)[3],
@@ -1613,8 +1663,17 @@ RL_T256 RL_INLINE void tip4p_row256(const int EV, const int MODE, const int TRUN
   S.elj = S.ecoul = z;
   S.r2min = _mm256_set1_pd(HUGE_VAL);
   batch b;
+  const double *sh[3] = {NULL, NULL, NULL};
+  const int xl = MODE == P_SHIFT && T.img && V->xstart; /* the image list (build_images) */
+  if (xl) {
+    const int q0 = V->xstart[i];
+    nbr = V->xnbr + q0;
+    len = V->xstart[i + 1] - q0;
+    for (int c = 0; c < 3; c++) sh[c] = V->xs[c] + q0;
+  }
   for (int pos = 0; pos < len;) {
-    fill256(V->pk4[0], 16, &T.B, V->pk4[i], nbr, len, &pos, T.rp2, T.img, &b);
+    if (xl) fill256x(V->pk4[0], 16, V->pk4[i], nbr, sh, len, &pos, T.rp2, &b);
+    else fill256(V->pk4[0], 16, &T.B, V->pk4[i], nbr, len, &pos, T.rp2, T.img, &b);
     if (b.n) tip4p_pairs256(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
   }
   const int oi = V->soff[i];
@@ -1915,7 +1974,8 @@ static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
 /* [variant][mode][truncation]: variant VEC_PORTABLE, then for AVX-512 and AVX2 the register
  * rows and the same without the energy and virial sums (forces only); site images (P_SITE)
- * only portable.  Without target attributes (not GCC on x86-64) every variant is portable. */
+ * only portable.
+ * Without target attributes (not GCC on x86-64) every variant is portable. */
 enum { VEC_PORTABLE = 0, VEC_512 = 1, VEC_256 = 2 };
 #define VAR_EV(vec) ((vec) == VEC_512 ? 1 : (vec) == VEC_256 ? 3 : 0)
 #define VAR_FO(vec) ((vec) == VEC_512 ? 2 : (vec) == VEC_256 ? 4 : 0)
@@ -2054,6 +2114,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
   free(f->pfs); free(f->ptq);
   free(f->V.pk); free(f->pft); free(f->V.pk4); free(f->pft4);
+  free(f->xstart); free(f->xnbr); free(f->xsh);
   free(f);
 }
 
@@ -2171,6 +2232,10 @@ const char *rl_ff_fast_rows(const rl_ff_fast *f)
 {
   return f->vec == VEC_512 ? "avx512" : f->vec == VEC_256 ? "avx2" : "portable";
 }
+void rl_ff_fast_invalidate(rl_ff_fast *f)
+{
+  if (f) rl_nlist_invalidate(f->chk);
+}
 int rl_ff_fast_threads(const rl_ff_fast *f) { return f->nthreads; }
 long rl_ff_fast_builds(const rl_ff_fast *f) { return f ? f->chk->builds : 0; }
 
@@ -2252,6 +2317,126 @@ static double row_cost(const rl_ff_fast *f, int k, int m)
   const int fl = f->fstart[m + 1] - f->fstart[m], gl = f->gstart[m + 1] - f->gstart[m];
   return K->kind == K_DIPOLE ? 4.0 * fl + (fl > 0 ? 60.0 : 0.0) + 16.0 * gl
                              : (double)fl * (K->nterms + 2) + (fl > 0 ? 110.0 : 0.0) + 16.0 * gl;
+}
+
+/* Whether the AVX2 TIP4P rows take the image list: some TIP4P species separates its sites by
+ * shifting the centres' separation (P_SHIFT) in a box that needs other images (needs_images),
+ * the modes rl_ff_fast_compute gives it. */
+static int images_wanted(const rl_forcefield *ff)
+{
+  const rl_ff_fast *f = ff->fast;
+  if (f->vec != VEC_256 || ff->p.scheme == RL_CUTOFF_MOLECULE) return 0;
+  const box_consts B = consts_of(ff);
+  for (int k = 0; k < ff->nspecies; k++) {
+    const fast_species *K = &f->sk[k];
+    if (K->kind != K_TIP4P || ff->sp_count[k] == 0) continue;
+    const double rp = ff->p.cutoff + 2.0 * K->extent;
+    int shift = 1;
+    for (int c = 0; c < 3; c++) shift &= ff->box.L[c] > rp && ff->box.L[c] >= 2.0 * ff->p.cutoff;
+    if (shift && needs_images(P_SHIFT, &B, prune2(P_SHIFT, &B, K))) return 1;
+  }
+  return 0;
+}
+
+/* The image list of a small box, for the TIP4P rows on AVX2 (issue 8).  In a box with an edge
+ * shorter than twice the pruning radius a neighbour can be in range through more than one
+ * image of its centre, and fill256 looks for those images every step (for 256 TIP4P at
+ * rc = 0.9 nm a third of the candidates have a far component), with branches and scalar
+ * appends that took a good part of the row (`ffbench time tip4p 256 1 1000 --h 0.006`: the
+ * step 0.83-0.87 of the time before, medians of alternating runs, builds included; at 6 fs the
+ * list is built every 6 or 7 steps and this pass costs about 7 % of the step).  Here, once per build,
+ * each image of a listed neighbour within rlist (at the build's centres) becomes an entry of
+ * its own with its shift s, a multiple of the edges, so that the fill forms c_i - c_j + s,
+ * tests it and packs it (fill256x).  That is exact between builds: the centres are continuous
+ * (never wrapped), and as each moves less than half the skin, every image within the pruning
+ * radius at a step was within rlist at the build.  Each site pair inside the cutoff is still
+ * met once (L >= 2 rc).  A row lists a neighbour's minimum image, then its other images in
+ * other_images' order.  Kernel rows of other kinds get empty rows.  Returns 0, or 1 when out
+ * of memory. */
+static int build_images(rl_forcefield *ff)
+{
+  rl_ff_fast *f = ff->fast;
+  const int n = ff->n;
+  const rl_box *box = &ff->box;
+  const double rl = ff->rlist, rl2 = rl * rl;
+  const double *bx = f->bx, *by = bx + n, *bz = by + n;
+  if (!f->xstart && !(f->xstart = malloc(sizeof(int) * ((size_t)n + 1)))) return 1;
+  /* room for every listed neighbour's minimum image and 7 more images of the last one */
+  const long need = f->fstart[n] + 8;
+  if (need > f->xcap) {
+    const long cap = need + need / 2;
+    int *xn = realloc(f->xnbr, sizeof(int) * (size_t)(cap + 4));
+    double *xs = xn ? malloc(sizeof(double) * 3 * (size_t)(cap + 4)) : NULL;
+    if (!xs) { /* f->xnbr stays valid (xn or the old block) */
+      if (xn) f->xnbr = xn;
+      return 1;
+    }
+    f->xnbr = xn;
+    free(f->xsh);
+    f->xsh = xs;
+    f->xcap = cap;
+  }
+  long stride = f->xcap + 4, q = 0;
+  for (int m = 0; m < n; m++) {
+    f->xstart[m] = (int)q;
+    if (f->sk[f->V.sp[m]].kind != K_TIP4P) continue;
+    const double cm[3] = {bx[m], by[m], bz[m]};
+    for (int p = f->fstart[m]; p < f->fstart[m + 1]; p++) {
+      if (q + 8 > f->xcap) { /* more images than room: grow */
+        const long cap = 2 * f->xcap;
+        int *xn = realloc(f->xnbr, sizeof(int) * (size_t)(cap + 4));
+        if (!xn) return 1;
+        f->xnbr = xn;
+        double *xs = malloc(sizeof(double) * 3 * (size_t)(cap + 4));
+        if (!xs) return 1;
+        for (int c = 0; c < 3; c++) memcpy(xs + c * (cap + 4), f->xsh + c * stride, sizeof(double) * (size_t)q);
+        free(f->xsh);
+        f->xsh = xs;
+        f->xcap = cap;
+        stride = cap + 4;
+      }
+      const int j = f->fnbr[p];
+      const double d[3] = {cm[0] - bx[j], cm[1] - by[j], cm[2] - bz[j]};
+      double s[2][3], x2[2][3]; /* [other image][component]: shift, squared separation */
+      for (int c = 0; c < 3; c++) {
+        const double k = RL_RND(d[c] * box->invL[c]);
+        s[0][c] = -box->L[c] * k;
+        const double x0 = d[c] + s[0][c], t = x0 > 0.0 ? -box->L[c] : box->L[c];
+        s[1][c] = s[0][c] + t;
+        x2[0][c] = x0 * x0;
+        x2[1][c] = (x0 + t) * (x0 + t);
+      }
+      f->xnbr[q] = j; /* the minimum image, listed */
+      f->xsh[q] = s[0][0];
+      f->xsh[stride + q] = s[0][1];
+      f->xsh[2 * stride + q] = s[0][2];
+      q++;
+      /* image im takes the other image of component c where bit c is set.  The other image is
+       * the farther one, so an image is inside rlist only if each of its components alone,
+       * switched, is: those are the bits of `one` (for 256 TIP4P at 0.9 nm about one
+       * neighbour in ten has one; the branch is predicted) */
+      const double q0 = x2[0][0] + x2[0][1] + x2[0][2];
+      const int one = (q0 - x2[0][0] + x2[1][0] < rl2) | (q0 - x2[0][1] + x2[1][1] < rl2) << 1 |
+                      (q0 - x2[0][2] + x2[1][2] < rl2) << 2;
+      if (one)
+        for (int im = 1; im < 8; im++) {
+          const int a = im & 1, e = (im >> 1) & 1, g = im >> 2;
+          if ((im & one) != im || !(x2[a][0] + x2[e][1] + x2[g][2] < rl2)) continue;
+          f->xnbr[q] = j;
+          f->xsh[q] = s[a][0];
+          f->xsh[stride + q] = s[e][1];
+          f->xsh[2 * stride + q] = s[g][2];
+          q++;
+        }
+    }
+  }
+  f->xstart[n] = (int)q;
+  for (int c = 0; c < 3; c++) /* fill256x's last vector reads up to 3 slots past a row */
+    for (long r = q; r < stride; r++) f->xsh[c * stride + r] = 0.0;
+  f->V.xstart = f->xstart;
+  f->V.xnbr = f->xnbr;
+  for (int c = 0; c < 3; c++) f->V.xs[c] = f->xsh + c * stride;
+  return 0;
 }
 
 static int build(rl_forcefield *ff)
@@ -2454,6 +2639,9 @@ static int build(rl_forcefield *ff)
     chk->r0 = r0;
   }
   if (n > 0) memcpy(chk->r0, ff->centre, sizeof *chk->r0 * (size_t)n);
+  f->V.xstart = NULL; /* until build_images succeeds */
+  if (images_wanted(ff) && build_images(ff))
+    return rl_error(RL_ENOMEM, "neighbour list: out of memory for the images of a small box");
   chk->n = n;
   chk->rlist = rl;
   chk->npairs = nf + ng;

@@ -380,6 +380,7 @@ int rl_forcefield_set_box(rl_forcefield *ff, const double L[3])
   ff->box = box;
   memcpy(ff->p.box, L, sizeof ff->p.box);
   if (ff->nl) rl_nlist_invalidate(ff->nl);
+  rl_ff_fast_invalidate(ff->fast); /* the kernels' list too (its images are the box's) */
   return RL_OK;
 }
 

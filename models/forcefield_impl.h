@@ -75,6 +75,8 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *acc);
 /* Kernel names for the benchmarks and tests (forcefield.h: rl_forcefield_kernel_name). */
 const char *rl_ff_fast_name(const rl_ff_fast *fast);
 const char *rl_ff_fast_rows(const rl_ff_fast *fast); /* "avx512", "avx2" or "portable" */
+void rl_ff_fast_invalidate(rl_ff_fast *fast);         /* rebuild the list at the next compute;
+                                                         accepts NULL */
 int rl_ff_fast_threads(const rl_ff_fast *fast);
 long rl_ff_fast_builds(const rl_ff_fast *fast); /* 0 for NULL */
 /* The centres at the kernels' last list build (NULL before the first). */

@@ -726,6 +726,75 @@ static void test_small_box_mixture(void **state)
   gsl_rng_free(rng);
 }
 
+/* 256 TIP4P-like waters in a box of 1.97 nm at rc = 0.9 nm, where a neighbour can be within
+ * the pruning radius through two images of its centre (the AVX2 rows' image list, build_images
+ * in ff_fast.c, and the other fills' images).  The bodies move by less than half the skin between
+ * computes, so the list is not rebuilt, while pairs near half the box edge change which image
+ * is the nearest: each compute against the reference path. */
+static void small_water_box(scene *s, gsl_rng *rng, rl_ff_params *p)
+{
+  *s = (scene){.nsp = 1};
+  ff_water(&s->sp[0]);
+  int cnt[1] = {256};
+  scene_build(s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
+  rl_ff_params_default(p);
+  p->box[0] = p->box[1] = p->box[2] = s->L;
+  p->cutoff = 0.9;
+}
+
+static void nudge(rl_system *sys, gsl_rng *rng, double a)
+{
+  for (int i = 0; i < rl_system_count(sys); i++) {
+    double q[3];
+    rl_system_get_position(sys, i, q);
+    for (int c = 0; c < 3; c++) q[c] += gsl_ran_flat(rng, -a, a);
+    rl_system_set_position(sys, i, q);
+    ff_random_orientation(sys, i, rng);
+  }
+}
+
+static void test_image_list(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 19);
+  scene s;
+  rl_ff_params p;
+  small_water_box(&s, rng, &p);
+  p.skin = 0.2;
+  for (int k = 0; k < NPATH; k++) {
+    set_path(k);
+    for (int t = 1; t <= 2; t++) {
+      rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, t), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+      for (int step = 0; step < 4; step++) {
+        char what[200];
+        snprintf(what, sizeof what, "256 waters, L = %.3f nm, rc 0.9, %d thread(s)%s, move %d",
+                 s.L, t, path_label[k], step);
+        compare(fa, fg, s.sys, what, 1e-12);
+        nudge(s.sys, rng, 0.012); /* three moves: < 0.063 from the list's origin < skin / 2 */
+      }
+      char what[200];
+      snprintf(what, sizeof what, "256 waters%s, %d thread(s): one list build for the moves", path_label[k], t);
+      FF_CHECK_TRUE(what, rl_forcefield_rebuilds(fa) == 1);
+      rl_forcefield_free(fa);
+      rl_forcefield_free(fg);
+    }
+  }
+  set_path(0);
+  /* a smaller box for the same bodies (rl_forcefield_set_box), no body moved: new neighbours
+   * come within range through the new images, so the kernels' list must be rebuilt */
+  rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 1), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+  compare(fa, fg, s.sys, "256 waters before the box shrinks", 1e-12);
+  const double L2[3] = {0.93 * s.L, 0.93 * s.L, 0.93 * s.L};
+  assert_int_equal(rl_forcefield_set_box(fa, L2), RL_OK);
+  assert_int_equal(rl_forcefield_set_box(fg, L2), RL_OK);
+  compare(fa, fg, s.sys, "256 waters after rl_forcefield_set_box to 0.93 L", 1e-12);
+  rl_forcefield_free(fa);
+  rl_forcefield_free(fg);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -734,7 +803,7 @@ int main(void)
       cmocka_unit_test(test_mixture), cmocka_unit_test(test_threads_neat),
       cmocka_unit_test(test_forces_only), cmocka_unit_test(test_choice),
       cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
-      cmocka_unit_test(test_small_box_mixture),
+      cmocka_unit_test(test_small_box_mixture), cmocka_unit_test(test_image_list),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
