@@ -13,14 +13,16 @@
  *       --energy-every E: the potential energy and virial every E steps only (the integrator's
  *       energy_every; the other steps compute forces only, as OpenMM's step() and LAMMPS
  *       between thermo steps do); U_per_molecule is computed again after the timed steps.
+ *       --mixed: the force field in mixed precision (rl_ff_params.precision).
  *   ffbench scaling MODEL THREADS [NMAX]
  *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
  *       side (alternating, best of 3), the log-log slope of the auto kernel, memory per molecule.
  *       Writes bench/scaling_MODEL.csv (or $ROTLEAP_BENCH_CSV).
- *   ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE]
+ *   ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE|mixed]
  *       The force field alone, called repeatedly on one relaxed configuration (no list rebuilds),
  *       the fastest round's ms per call.  --ab: a second copy with an environment variable set
- *       (ROTLEAP_NO_AVX512=1), rounds alternating, and the median ratio of the two.
+ *       (ROTLEAP_NO_AVX512=1), or with --ab mixed in mixed precision, rounds alternating, and the
+ *       median ratio of the two.
  * Read ratios: the machine is shared. */
 #include <rotleap/catalog.h>
 #include <rotleap/forcefield.h>
@@ -77,6 +79,9 @@ typedef struct {
   double L, h, T0;
   double mem_per_molecule;
 } bench_sys;
+
+/* the force fields' precision (--mixed) */
+static rl_precision bench_precision = RL_PRECISION_DOUBLE;
 
 static void die(const char *what)
 {
@@ -135,6 +140,7 @@ static void setup_skin(bench_sys *b, const char *model, int n, int threads,
   p.kernel = kernel;
   p.threads = threads;
   p.skin = skin;
+  p.precision = bench_precision;
   if (b->tip4p) {
     p.cutoff = 0.9;
     p.eps_rf = 78.3;
@@ -238,7 +244,7 @@ static void dump(bench_sys *b, const char *path)
 
 static int cmd_time(int argc, char **argv)
 {
-  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E] [--h STEP] [--relax K]\n"); return 2; }
+  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E] [--h STEP] [--relax K] [--mixed]\n"); return 2; }
   const char *model = argv[2];
   int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0, langevin = 0;
   long energy_every = 1;
@@ -255,6 +261,7 @@ static int cmd_time(int argc, char **argv)
     else if (!strcmp(argv[k], "--energy-every") && k + 1 < argc) energy_every = atol(argv[++k]);
     else if (!strcmp(argv[k], "--h") && k + 1 < argc) h = atof(argv[++k]); /* the production step */
     else if (!strcmp(argv[k], "--relax") && k + 1 < argc) relax = atoi(argv[++k]); /* steps of 0.5 fs */
+    else if (!strcmp(argv[k], "--mixed")) bench_precision = RL_PRECISION_MIXED;
     else { fprintf(stderr, "ffbench time: unknown argument %s\n", argv[k]); return 2; }
   }
   if (!(h > 0.0 && h < 1.0)) {
@@ -281,9 +288,10 @@ static int cmd_time(int argc, char **argv)
     free(F.f);
     free(F.k);
   }
-  printf("model=%s N=%d threads=%d kernel=%s rows=%s thermostat=%s h=%g energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+  printf("model=%s N=%d threads=%d kernel=%s rows=%s precision=%s thermostat=%s h=%g energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
          "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
          model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), rl_forcefield_rows(b.ff),
+         rl_forcefield_precision(b.ff),
          nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", b.h, energy_every, 1e3 * t, share,
          1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
   if (dumpfile) {
@@ -419,7 +427,7 @@ static int cmd_skin(int argc, char **argv)
  * between the two in this one process, so both see the same share of time stolen by the host. */
 static int cmd_kernel(int argc, char **argv)
 {
-  if (argc < 5) { fprintf(stderr, "usage: ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE]\n"); return 2; }
+  if (argc < 5) { fprintf(stderr, "usage: ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE|mixed]\n"); return 2; }
   const char *model = argv[2], *ab = NULL;
   int n = atoi(argv[3]), threads = atoi(argv[4]), rounds = 40;
   for (int k = 5; k < argc; k++) {
@@ -431,7 +439,9 @@ static int cmd_kernel(int argc, char **argv)
   bench_sys b[2];
   for (int v = 0; v < nb; v++) {
     char env[256] = "";
-    if (v == 1) {
+    if (v == 1 && !strcmp(ab, "mixed")) {
+      bench_precision = RL_PRECISION_MIXED;
+    } else if (v == 1) {
       snprintf(env, sizeof env, "%s", ab);
       char *eq = strchr(env, '=');
       if (!eq) { fprintf(stderr, "ffbench: --ab ENV=VALUE\n"); return 2; }
@@ -440,7 +450,8 @@ static int cmd_kernel(int argc, char **argv)
     }
     setup(&b[v], model, n, threads, RL_KERNEL_AUTO);
     run(&b[v], n >= 16384 ? 20 : 200, NULL);
-    if (v == 1) unsetenv(env);
+    if (v == 1 && env[0]) unsetenv(env);
+    bench_precision = RL_PRECISION_DOUBLE;
   }
   rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}, 0};
   double *t = malloc(sizeof *t * (size_t)rounds * 2);
@@ -461,7 +472,7 @@ static int cmd_kernel(int argc, char **argv)
     printf("model=%s N=%d threads=%d kernel=%s rows=%s%s%s ms_per_compute_min=%.4f rounds=%d "
            "calls_per_round=%d U_per_molecule=%.9f\n",
            model, n, rl_forcefield_threads(b[v].ff), rl_forcefield_kernel(b[v].ff),
-           rl_forcefield_rows(b[v].ff), v ? " env=" : "",
+           rl_forcefield_rows(b[v].ff), v ? " ab=" : "",
            v ? ab : "", 1e3 * best, rounds, per, e.total / n);
   }
   if (nb == 2) { /* the median of the per-round ratios: robust to slow phases of the host */
@@ -490,6 +501,6 @@ int main(int argc, char **argv)
   fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin]\n"
                   "       ffbench scaling MODEL THREADS [NMAX]\n"
                   "       ffbench skin MODEL N THREADS\n"
-                  "       ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE]\n");
+                  "       ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE|mixed]\n");
   return 2;
 }

@@ -98,6 +98,8 @@ typedef struct {
   double (*pk)[8];               /* [n] dipole ranks, AVX-512 path: centre, 0, mu axis, 0 */
   double (*pk4)[16];             /* [n] TIP4P ranks, AVX-512 path: centre, then site       */
                                  /* perm[s] - centre at 3 + 3 s, 0                      */
+  float (*pk4f)[16];             /* [n] TIP4P ranks, mixed precision: site perm[s] -     */
+                                 /* centre at 3 s, 0                                    */
   /* The image list of a small box (AVX2 TIP4P rows, see build_images): row m's images are
    * xnbr[xstart[m] .. xstart[m + 1]), the neighbour's rank, and its separation from m is
    * centre_m - centre_j + (xs[0][q], xs[1][q], xs[2][q]).  NULL where not in use. */
@@ -162,6 +164,7 @@ struct rl_ff_fast {
   double (*ptq)[3];              /* [nthreads n] kernel torques, rank order             */
   int vec;                       /* the dipole and TIP4P rows: VEC_PORTABLE, or the      */
                                  /* register rows on VEC_512 (AVX-512) or VEC_256 (AVX2) */
+  int tmix;                      /* the TIP4P rows in mixed precision (AVX2, pk4f)        */
   int ndip;                      /* bodies of K_DIPOLE species                           */
   double (*pft)[8];              /* vec:  [nthreads n] force 0..2, torque 4..6 on dipole  */
                                  /* ranks from the batches (rows add their own to pfs) */
@@ -1646,9 +1649,205 @@ RL_T256 RL_INLINE void tip4p_pairs256(const int MODE, const int EV, const int TR
 }
 
 
-/* tip4p_row512 on AVX2.  In a box that needs the other images, the row's neighbours come from the image list (build_images), so the
+/* ---------------------------------------------------------------- mixed precision (AVX2) */
+
+/* in[r][c] -> out[c][r], eight rows of eight floats: 24 shuffles */
+RL_T256 static inline void tr8x8f(const __m256 in[8], __m256 out[8])
+{
+  __m256 t[8], u[8];
+  for (int h = 0; h < 2; h++) {
+    const __m256 *r = in + 4 * h;
+    __m256 *v = t + 4 * h, *w = u + 4 * h;
+    v[0] = _mm256_unpacklo_ps(r[0], r[1]); v[1] = _mm256_unpackhi_ps(r[0], r[1]);
+    v[2] = _mm256_unpacklo_ps(r[2], r[3]); v[3] = _mm256_unpackhi_ps(r[2], r[3]);
+    w[0] = _mm256_shuffle_ps(v[0], v[2], _MM_SHUFFLE(1, 0, 1, 0)); /* columns 0 | 4 */
+    w[1] = _mm256_shuffle_ps(v[0], v[2], _MM_SHUFFLE(3, 2, 3, 2)); /* 1 | 5 */
+    w[2] = _mm256_shuffle_ps(v[1], v[3], _MM_SHUFFLE(1, 0, 1, 0)); /* 2 | 6 */
+    w[3] = _mm256_shuffle_ps(v[1], v[3], _MM_SHUFFLE(3, 2, 3, 2)); /* 3 | 7 */
+  }
+  for (int c = 0; c < 4; c++) {
+    out[c] = _mm256_permute2f128_ps(u[c], u[4 + c], 0x20);
+    out[4 + c] = _mm256_permute2f128_ps(u[c], u[4 + c], 0x31);
+  }
+}
+
+/* in[r][c] -> out[c][r], eight rows of four floats */
+RL_T256 static inline void tr8x4f(const __m128 in[8], __m256 out[4])
+{
+  __m256 v[4];
+  for (int l = 0; l < 4; l++) v[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(in[l]), in[4 + l], 1);
+  const __m256 t0 = _mm256_unpacklo_ps(v[0], v[1]), t1 = _mm256_unpackhi_ps(v[0], v[1]);
+  const __m256 t2 = _mm256_unpacklo_ps(v[2], v[3]), t3 = _mm256_unpackhi_ps(v[2], v[3]);
+  out[0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+  out[1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+  out[2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+  out[3] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+}
+
+/* 1 / sqrt(x), single precision: vrsqrtps (relative error < 3.7e-4) and one Newton step */
+RL_T256 static inline __m256 rsqrt8f(__m256 x)
+{
+  const __m256 y = _mm256_rsqrt_ps(x), h = _mm256_mul_ps(_mm256_set1_ps(0.5f), x);
+  return _mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(h, y), y, _mm256_set1_ps(1.5f)));
+}
+
+/* eight doubles at p as floats */
+RL_T256 static inline __m256 load8d(const double *p)
+{
+  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_load_pd(p))),
+                              _mm256_cvtpd_ps(_mm256_load_pd(p + 4)), 1);
+}
+
+/* s += the eight floats of v, as four doubles */
+RL_T256 static inline __m256d acc8f(__m256d s, __m256 v)
+{
+  return _mm256_add_pd(s, _mm256_add_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)),
+                                        _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1))));
+}
+
+#define RL_SEL8F(rr, a, b)                                                                     \
+  _mm256_and_ps(_mm256_cmp_ps(rr, _mm256_set1_ps((float)B->rc), _CMP_LT_OQ),                  \
+                _mm256_blendv_ps(a, b, _mm256_cmp_ps(rr, _mm256_set1_ps((float)B->rsw), _CMP_GT_OQ)))
+#define RL_V1F(x) _mm256_set1_ps((float)(x))
+RL_T256 RL_INLINE void lj8f(const int TRUNC, const lj_consts C, const box_consts *B, __m256 ir2,
+                            __m256 rr, __m256 ir, __m256 *u, __m256 *fr)
+{
+  RL_LJ_VEC(__m256, RL_V1F, RL_SEL8F);
+}
+#undef RL_SEL8F
+
+/* tip4p_pairs256 in single precision, eight lanes: the neighbours' sites from their float
+ * records (V->pk4f), the centres' separations rounded to float, the terms in float; the forces
+ * on the neighbours' sites go back to their double records, the forces on i's sites, the
+ * energies and the virial are summed in double per batch. */
+RL_T256 RL_INLINE void tip4p_pairs8f(const int MODE, const int EV, const int TRUNC,
+                                     const lj_consts C, const box_consts *B,
+                                     const double a[4][3], const double qq[3][3],
+                                     const kview *V, const batch *b, double (*ft4)[16],
+                                     tip_sums4 *S)
+{
+#define V1 RL_V1F
+  const __m256 zero = _mm256_setzero_ps(), rc2 = V1(B->rc2);
+  const __m256 krf = V1(B->krf), krf2 = V1(2.0 * B->krf), crf = V1(B->crf);
+  const __m256 iota = _mm256_set_ps(7.f, 6.f, 5.f, 4.f, 3.f, 2.f, 1.f, 0.f);
+  __m256 fi[4][3], r2min = V1(HUGE_VALF);
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) fi[s][c] = zero;
+  for (int k = 0; k < b->n; k += 8) {
+    const int cnt = b->n - k < 8 ? b->n - k : 8;
+    const __m256 live = _mm256_cmp_ps(iota, V1(cnt), _CMP_LT_OQ);
+    const __m256 R[3] = {load8d(b->R[0] + k), load8d(b->R[1] + k), load8d(b->R[2] + k)};
+    __m256 xj[12];
+    {
+      __m256 lo[8];
+      __m128 hi[8];
+#pragma GCC unroll 8
+      for (int l = 0; l < 8; l++) {
+        const float *q = V->pk4f[b->idx[k + l]];
+        lo[l] = _mm256_load_ps(q);
+        hi[l] = _mm_load_ps(q + 8);
+      }
+      tr8x8f(lo, xj);
+      tr8x4f(hi, xj + 8);
+    }
+    __m256 gj[4][3];
+    { /* LJ between the LJ sites (slot 0) */
+      __m256 d[3];
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) d[c] = R[c] + V1(a[0][c]) - xj[c];
+      const __m256 r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      const __m256 in = MODE == P_MOL ? live : _mm256_cmp_ps(r2, rc2, _CMP_LT_OQ);
+      r2min = _mm256_min_ps(r2min, r2);
+      const __m256 ir2 = V1(1.0) / r2;
+      __m256 rr = zero, ir = zero;
+      if (TRUNC == RL_LJ_SHIFTED_FORCE || TRUNC == RL_LJ_SWITCHED) {
+        ir = rsqrt8f(r2);
+        rr = r2 * ir;
+      }
+      __m256 u, fr;
+      lj8f(TRUNC, C, B, ir2, rr, ir, &u, &fr);
+      fr = _mm256_and_ps(in, fr);
+      if (EV) S->elj = acc8f(S->elj, _mm256_and_ps(in, u));
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) {
+        fi[0][c] = _mm256_fmadd_ps(fr, d[c], fi[0][c]);
+        gj[0][c] = _mm256_fnmadd_ps(fr, d[c], zero);
+      }
+    }
+#pragma GCC unroll 3
+    for (int q = 0; q < 3; q++)
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) gj[1 + q][c] = zero;
+    __m256 ec = zero;
+#pragma GCC unroll 3
+    for (int p = 0; p < 3; p++) {
+      __m256 ra[3];
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) ra[c] = R[c] + V1(a[1 + p][c]);
+#pragma GCC unroll 3
+      for (int q = 0; q < 3; q++) {
+        __m256 d[3];
+#pragma GCC unroll 3
+        for (int c = 0; c < 3; c++) d[c] = ra[c] - xj[3 * (1 + q) + c];
+        const __m256 r2 =
+            _mm256_fmadd_ps(d[2], d[2], _mm256_fmadd_ps(d[1], d[1], _mm256_mul_ps(d[0], d[0])));
+        const __m256 in = MODE == P_MOL ? live : _mm256_cmp_ps(r2, rc2, _CMP_LT_OQ);
+        r2min = _mm256_min_ps(r2min, r2);
+        const __m256 ir = rsqrt8f(r2);
+        const __m256 qv = _mm256_and_ps(in, V1(qq[p][q]));
+        const __m256 fr = qv * (ir * ir * ir - krf2);
+        if (EV) ec = _mm256_fmadd_ps(qv, _mm256_fmadd_ps(krf, r2, ir) - crf, ec);
+#pragma GCC unroll 3
+        for (int c = 0; c < 3; c++) {
+          fi[1 + p][c] = _mm256_fmadd_ps(fr, d[c], fi[1 + p][c]);
+          gj[1 + q][c] = _mm256_fnmadd_ps(fr, d[c], gj[1 + q][c]);
+        }
+      }
+    }
+    if (EV) {
+      S->ecoul = acc8f(S->ecoul, ec);
+      /* R (x) F in double: R from the batch, F the pair's force on i */
+#pragma GCC unroll 3
+      for (int c = 0; c < 3; c++) {
+        const __m256 F = zero - ((gj[0][c] + gj[1][c]) + (gj[2][c] + gj[3][c]));
+        const __m256d F0 = _mm256_cvtps_pd(_mm256_castps256_ps128(F));
+        const __m256d F1 = _mm256_cvtps_pd(_mm256_extractf128_ps(F, 1));
+#pragma GCC unroll 3
+        for (int r = 0; r < 3; r++)
+          S->w[3 * r + c] = S->w[3 * r + c] + _mm256_load_pd(b->R[r] + k) * F0 +
+                            _mm256_load_pd(b->R[r] + k + 4) * F1;
+      }
+    }
+    /* the forces on the neighbours' sites, as records (centre 0, sites, 0), added in order */
+    const __m256 e[16] = {zero,     zero,     zero,     gj[0][0], gj[0][1], gj[0][2],
+                          gj[1][0], gj[1][1], gj[1][2], gj[2][0], gj[2][1], gj[2][2],
+                          gj[3][0], gj[3][1], gj[3][2], zero};
+    __m256 o[2][8]; /* o[h][l]: half h of neighbour l's record */
+    tr8x8f(e, o[0]);
+    tr8x8f(e + 8, o[1]);
+    for (int l = 0; l < cnt; l++) {
+      double *r = ft4[b->idx[k + l]];
+#pragma GCC unroll 2
+      for (int h = 0; h < 2; h++) {
+        const __m256d u0 = _mm256_cvtps_pd(_mm256_castps256_ps128(o[h][l]));
+        const __m256d u1 = _mm256_cvtps_pd(_mm256_extractf128_ps(o[h][l], 1));
+        _mm256_store_pd(r + 8 * h, _mm256_add_pd(_mm256_load_pd(r + 8 * h), u0));
+        _mm256_store_pd(r + 8 * h + 4, _mm256_add_pd(_mm256_load_pd(r + 8 * h + 4), u1));
+      }
+    }
+  }
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) S->fi[s][c] = acc8f(S->fi[s][c], fi[s][c]);
+  S->r2min = _mm256_min_pd(S->r2min, _mm256_cvtps_pd(_mm_min_ps(_mm256_castps256_ps128(r2min),
+                                                                _mm256_extractf128_ps(r2min, 1))));
+#undef V1
+}
+#undef RL_V1F
+
+/* tip4p_row512 on AVX2; MIXED: the pairs in single precision (tip4p_pairs8f).  In a box that
+ * needs the other images, the row's neighbours come from the image list (build_images), so the
  * fill needs no minimum image and no search for images (fill256x). */
-RL_T256 RL_INLINE void tip4p_row256(const int EV, const int MODE, const int TRUNC,
+RL_T256 RL_INLINE void tip4p_row256(const int MIXED, const int EV, const int MODE, const int TRUNC,
                                     const rl_forcefield *ff, const kview *V, const fast_species *K,
                                     int i, const int *nbr, int len, double (*fs)[3],
                                     double (*ft4)[16], rl_acc *acc)
@@ -1674,7 +1873,8 @@ RL_T256 RL_INLINE void tip4p_row256(const int EV, const int MODE, const int TRUN
   for (int pos = 0; pos < len;) {
     if (xl) fill256x(V->pk4[0], 16, V->pk4[i], nbr, sh, len, &pos, T.rp2, &b);
     else fill256(V->pk4[0], 16, &T.B, V->pk4[i], nbr, len, &pos, T.rp2, T.img, &b);
-    if (b.n) tip4p_pairs256(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
+    if (b.n && MIXED) tip4p_pairs8f(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
+    else if (b.n) tip4p_pairs256(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
   }
   const int oi = V->soff[i];
   for (int s = 0; s < 4; s++)
@@ -1963,9 +2163,15 @@ DIP_EV(DIP256, dipy_r, dipy_f, 1)
 DIP_EV(DIP256, dipz_r, dipz_f, 0)
 #define TIP256(NAME, EV, MODE, TRUNC)                                                          \
   ROW_FN_T(RL_T256 RL_SCHED __attribute__((flatten)), NAME,                                    \
-           tip4p_row256(EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+           tip4p_row256(0, EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
 TIP_EV(TIP256, tip4py_h, tip4py_m, 1)
 TIP_EV(TIP256, tip4pz_h, tip4pz_m, 0)
+/* mixed precision on AVX2: tip4pf_* (forces only: tip4pg_*) */
+#define TIP256F(NAME, EV, MODE, TRUNC)                                                         \
+  ROW_FN_T(RL_T256 RL_SCHED __attribute__((flatten)), NAME,                                    \
+           tip4p_row256(1, EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+TIP_EV(TIP256F, tip4pf_h, tip4pf_m, 1)
+TIP_EV(TIP256F, tip4pg_h, tip4pg_m, 0)
 #endif
 
 /* [mode][truncation] */
@@ -1973,8 +2179,8 @@ static const row_fn sites_fns[3][4] = {{sites_s0, sites_s1, sites_s2, sites_s3},
                                        {sites_h0, sites_h1, sites_h2, sites_h3},
                                        {sites_m0, sites_m1, sites_m2, sites_m3}};
 /* [variant][mode][truncation]: variant VEC_PORTABLE, then for AVX-512 and AVX2 the register
- * rows and the same without the energy and virial sums (forces only); site images (P_SITE)
- * only portable.
+ * rows and the same without the energy and virial sums (forces only), then (TIP4P) the AVX2
+ * rows in mixed precision, with and without those sums; site images (P_SITE) only portable.
  * Without target attributes (not GCC on x86-64) every variant is portable. */
 enum { VEC_PORTABLE = 0, VEC_512 = 1, VEC_256 = 2 };
 #define VAR_EV(vec) ((vec) == VEC_512 ? 1 : (vec) == VEC_256 ? 3 : 0)
@@ -1994,9 +2200,10 @@ enum { VEC_PORTABLE = 0, VEC_512 = 1, VEC_256 = 2 };
    {tip4p_h0, tip4p_h1, tip4p_h2, tip4p_h3},                                                   \
    {tip4p_m0, tip4p_m1, tip4p_m2, tip4p_m3}}
 #define DIP_VAR0 {{dip_r0, dip_r1, dip_r2, dip_r3}, {dip_f0, dip_f1, dip_f2, dip_f3}}
-static const row_fn tip4p_fns[5][3][4] = {TIP_VAR0, TIP_VAR(tip4px_h, tip4px_m),
+static const row_fn tip4p_fns[7][3][4] = {TIP_VAR0, TIP_VAR(tip4px_h, tip4px_m),
                                           TIP_VAR(tip4po_h, tip4po_m), TIP_VAR(tip4py_h, tip4py_m),
-                                          TIP_VAR(tip4pz_h, tip4pz_m)};
+                                          TIP_VAR(tip4pz_h, tip4pz_m), TIP_VAR(tip4pf_h, tip4pf_m),
+                                          TIP_VAR(tip4pg_h, tip4pg_m)};
 /* [variant, as tip4p_fns][dipole method][truncation] */
 static const row_fn dipole_fns[5][2][4] = {DIP_VAR0, DIP_VAR(dipx_r, dipx_f),
                                            DIP_VAR(dipo_r, dipo_f), DIP_VAR(dipy_r, dipy_f),
@@ -2015,7 +2222,7 @@ static void term_set(const rl_forcefield *ff, int ta, int tb, fast_term *T)
 }
 
 /* The kernel of species k from its sites and the current LJ table. */
-static void classify(const rl_forcefield *ff, int k, int vec, fast_species *K)
+static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_species *K)
 {
   memset(K, 0, sizeof *K);
   int ns = ff->sp_nsites[k], o = ff->type_off[k];
@@ -2080,8 +2287,8 @@ static void classify(const rl_forcefield *ff, int k, int vec, fast_species *K)
         T->what = T_COUL;
       }
     for (int m = 0; m < 3; m++) {
-      K->row[m] = tip4p_fns[VAR_EV(vec)][m][ff->p.lj_truncation];
-      K->row_fo[m] = tip4p_fns[VAR_FO(vec)][m][ff->p.lj_truncation];
+      K->row[m] = tip4p_fns[tmix ? 5 : VAR_EV(vec)][m][ff->p.lj_truncation];
+      K->row_fo[m] = tip4p_fns[tmix ? 6 : VAR_FO(vec)][m][ff->p.lj_truncation];
     }
   }
 }
@@ -2113,7 +2320,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
   free(f->ord);
   free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
   free(f->pfs); free(f->ptq);
-  free(f->V.pk); free(f->pft); free(f->V.pk4); free(f->pft4);
+  free(f->V.pk); free(f->pft); free(f->V.pk4); free(f->pft4); free(f->V.pk4f);
   free(f->xstart); free(f->xnbr); free(f->xsh);
   free(f);
 }
@@ -2188,12 +2395,14 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   int nonempty = 0;
   for (int k = 0; k < ff->nspecies; k++) nonempty += ff->sp_count[k] > 0 && ff->sp_nsites[k] > 0;
 #if RL_X512
+  const int avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                   !getenv("ROTLEAP_NO_AVX2");
   if (__builtin_cpu_supports("avx512f") && !getenv("ROTLEAP_NO_AVX512")) f->vec = VEC_512;
-  else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !getenv("ROTLEAP_NO_AVX2"))
-    f->vec = VEC_256;
+  else if (avx2) f->vec = VEC_256;
+  f->tmix = ff->p.precision == RL_PRECISION_MIXED && avx2; /* the AVX2 rows, on AVX-512 too */
 #endif
   for (int k = 0; k < ff->nspecies; k++) {
-    classify(ff, k, f->vec, &f->sk[k]);
+    classify(ff, k, f->vec, f->tmix, &f->sk[k]);
     if (f->sk[k].kind == K_DIPOLE) f->ndip += ff->sp_count[k];
     if (f->sk[k].kind == K_TIP4P) f->ntip4p += ff->sp_count[k];
     if (ff->sp_count[k] == 0 || ff->sp_nsites[k] == 0) continue;
@@ -2213,6 +2422,10 @@ int rl_ff_fast_setup(rl_forcefield *ff)
       f->pft = alloc_records(sizeof *f->pft * n1 * T1);
     }
     if (f->ntip4p) {
+      if (f->tmix && !(f->V.pk4f = alloc_records(sizeof *f->V.pk4f * n1))) {
+        rl_ff_fast_free(f);
+        return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
+      }
       f->V.pk4 = alloc_records(sizeof *f->V.pk4 * n1);
       f->pft4 = alloc_records(sizeof *f->pft4 * n1 * T1);
     }
@@ -2230,8 +2443,10 @@ int rl_ff_fast_setup(rl_forcefield *ff)
 const char *rl_ff_fast_name(const rl_ff_fast *f) { return f->name; }
 const char *rl_ff_fast_rows(const rl_ff_fast *f)
 {
+  if (rl_ff_fast_mixed(f)) return f->vec == VEC_512 ? "avx512+avx2-mixed" : "avx2-mixed";
   return f->vec == VEC_512 ? "avx512" : f->vec == VEC_256 ? "avx2" : "portable";
 }
+int rl_ff_fast_mixed(const rl_ff_fast *f) { return f->tmix && f->ntip4p > 0; }
 void rl_ff_fast_invalidate(rl_ff_fast *f)
 {
   if (f) rl_nlist_invalidate(f->chk);
@@ -2325,7 +2540,7 @@ static double row_cost(const rl_ff_fast *f, int k, int m)
 static int images_wanted(const rl_forcefield *ff)
 {
   const rl_ff_fast *f = ff->fast;
-  if (f->vec != VEC_256 || ff->p.scheme == RL_CUTOFF_MOLECULE) return 0;
+  if ((f->vec != VEC_256 && !f->tmix) || ff->p.scheme == RL_CUTOFF_MOLECULE) return 0;
   const box_consts B = consts_of(ff);
   for (int k = 0; k < ff->nspecies; k++) {
     const fast_species *K = &f->sk[k];
@@ -2720,6 +2935,8 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
           V->pk4[m][c] = ff->centre[i][c];
           for (int s = 0; s < 4; s++) V->pk4[m][3 + 3 * s + c] = ff->dsite[oi + K->perm[s]][c];
         }
+        if (V->pk4f)
+          for (int c = 0; c < 12; c++) V->pk4f[m][c] = (float)V->pk4[m][3 + c];
         continue;
       }
       for (int c = 0; c < 3; c++) {

@@ -30,6 +30,7 @@ void rl_ff_params_default(rl_ff_params *p)
   p->min_distance = -1.0;
   p->kernel = RL_KERNEL_AUTO;
   p->threads = 0;
+  p->precision = RL_PRECISION_DOUBLE;
 }
 
 void rl_forcefield_free(rl_forcefield *ff)
@@ -177,6 +178,11 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
   if (!isfinite(p->coulomb_constant) || p->coulomb_constant < 0.0) {
     rl_error(RL_EINVAL, "forcefield: coulomb_constant %g must be finite and >= 0 (0: default)",
              p->coulomb_constant);
+    return NULL;
+  }
+  if (p->precision != RL_PRECISION_DOUBLE && p->precision != RL_PRECISION_MIXED) {
+    rl_error(RL_EINVAL, "forcefield: unknown precision %d (double %d, mixed %d)",
+             (int)p->precision, (int)RL_PRECISION_DOUBLE, (int)RL_PRECISION_MIXED);
     return NULL;
   }
   if (p->kernel != RL_KERNEL_AUTO && p->kernel != RL_KERNEL_GENERAL) {
@@ -400,6 +406,10 @@ const char *rl_forcefield_kernel(const rl_forcefield *ff)
 const char *rl_forcefield_rows(const rl_forcefield *ff)
 {
   return ff->fast ? rl_ff_fast_rows(ff->fast) : "portable";
+}
+const char *rl_forcefield_precision(const rl_forcefield *ff)
+{
+  return ff->fast && rl_ff_fast_mixed(ff->fast) ? "mixed" : "double";
 }
 int rl_forcefield_threads(const rl_forcefield *ff) { return ff->fast ? rl_ff_fast_threads(ff->fast) : 1; }
 double rl_forcefield_list_radius(const rl_forcefield *ff) { return ff->rlist; }

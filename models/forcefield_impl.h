@@ -74,7 +74,8 @@ void rl_ff_fast_free(rl_ff_fast *fast);
 int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *acc);
 /* Kernel names for the benchmarks and tests (forcefield.h: rl_forcefield_kernel_name). */
 const char *rl_ff_fast_name(const rl_ff_fast *fast);
-const char *rl_ff_fast_rows(const rl_ff_fast *fast); /* "avx512", "avx2" or "portable" */
+const char *rl_ff_fast_rows(const rl_ff_fast *fast); /* "avx512", "avx2" or "portable" (+ mixed) */
+int rl_ff_fast_mixed(const rl_ff_fast *fast);         /* 1: the tip4p rows in single precision */
 void rl_ff_fast_invalidate(rl_ff_fast *fast);         /* rebuild the list at the next compute;
                                                          accepts NULL */
 int rl_ff_fast_threads(const rl_ff_fast *fast);

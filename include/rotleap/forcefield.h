@@ -59,6 +59,12 @@ typedef enum {
   RL_KERNEL_GENERAL = 1 /* the reference path only: one general site-site routine, serial       */
 } rl_kernel_choice;
 
+typedef enum {
+  RL_PRECISION_DOUBLE = 0, /* every pair term in double precision (default)                  */
+  RL_PRECISION_MIXED = 1   /* the "tip4p" kernel's pair terms in single precision, with double
+                              centre separations and sums (below); every other term double  */
+} rl_precision;
+
 /* Kernel choice (p.kernel = RL_KERNEL_AUTO, with the neighbour list on).  The choice is made
  * once, at rl_forcefield_alloc (and again after rl_forcefield_set_lj_pair), from each species'
  * site pattern; pairs of two bodies of one such species use its kernel, every other pair the
@@ -104,7 +110,17 @@ typedef struct {
   rl_kernel_choice kernel;        /* default RL_KERNEL_AUTO (see above)                         */
   int threads;                    /* OpenMP threads for the pair loop; 0 (default):
                                      OMP_NUM_THREADS if set, else 1                            */
+  rl_precision precision;         /* default RL_PRECISION_DOUBLE (see below)                    */
 } rl_ff_params;
+
+/* Mixed precision (p.precision = RL_PRECISION_MIXED), as GROMACS's default build and OpenMM's
+ * CPU platform compute nonbonded terms: the "tip4p" kernel forms its 10 terms per pair in single
+ * precision, eight pairs to a 256-bit vector, on CPUs with AVX2 and FMA (its AVX2 rows, also on
+ * CPUs with AVX-512).  The centres' separations (the minimum image), the list, the sums of the
+ * forces on each body, the energies and the virial stay double.  Forces, energies and virial
+ * then agree with the double kernels to about 1e-6 relative (tests/interactions/test_ff_fast.c
+ * states the bounds it checks).  Other kernels, the reference path, and CPUs without AVX2 (or
+ * with ROTLEAP_NO_AVX2 set) compute in double: rl_forcefield_precision says what is in use. */
 
 /* Energies of the last compute, split by term.  Sum = total = the energy added to rl_forces. */
 typedef struct {
@@ -171,6 +187,9 @@ const char *rl_forcefield_kernel(const rl_forcefield *ff);
  * environment rule either out), or "portable" (compiler-vectorised loops, also for every other
  * kernel and the reference path).  The three agree to round-off (about 1e-15 relative). */
 const char *rl_forcefield_rows(const rl_forcefield *ff);
+/* "mixed" when some pairs run in single precision (p.precision = RL_PRECISION_MIXED and a
+ * "tip4p" kernel on AVX2 rows), else "double". */
+const char *rl_forcefield_precision(const rl_forcefield *ff);
 int rl_forcefield_threads(const rl_forcefield *ff);
 double rl_forcefield_list_radius(const rl_forcefield *ff);
 

@@ -795,6 +795,58 @@ static void test_image_list(void **state)
   gsl_rng_free(rng);
 }
 
+/* Mixed precision (p.precision = RL_PRECISION_MIXED): the "tip4p" AVX2 rows in single
+ * precision against the double reference path, both cutoff schemes and every LJ truncation,
+ * in a box with and without other images.  Each term's separation and 1/r carry a relative
+ * error of about 1e-7 (float's unit round-off 6e-8; vrsqrtps and one Newton step), sums are
+ * double: measured here up to 2e-6 (forces, relative to the largest force), below 1e-6 for the
+ * energies and the virial, so the bound is 2e-5.  A "mixed" that computed in double would
+ * differ by 1e-14: it must differ by more than 1e-9.  Without AVX2 the precision in use is
+ * double, and so are the results. */
+static void test_mixed_precision(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 20);
+  for (int box = 0; box < 2; box++) {
+    scene s;
+    rl_ff_params p;
+    if (box) small_water_box(&s, rng, &p);
+    else neat_scene(&s, rng, 1, &p);
+    for (int scheme = 0; scheme < 2; scheme++)
+      for (int tr = 0; tr < 4; tr++) {
+        p.scheme = (rl_cutoff_scheme)scheme;
+        p.lj_truncation = (rl_lj_truncation)tr;
+        p.r_switch = 0.8 * p.cutoff;
+        p.precision = RL_PRECISION_MIXED;
+        rl_forcefield *fm = make(&s, &p, RL_KERNEL_AUTO, 2), *fm2 = make(&s, &p, RL_KERNEL_AUTO, 2);
+        p.precision = RL_PRECISION_DOUBLE;
+        rl_forcefield *fd = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
+        char what[200];
+        snprintf(what, sizeof what, "mixed, %s, %s cutoff, LJ %s", box ? "256 waters, L < 2 rp" : "400 waters",
+                 scheme ? "molecule" : "site", trunc_name[tr]);
+        const int avx2 = strcmp(expected_rows(1), "avx2") == 0;
+        char nm[320];
+        snprintf(nm, sizeof nm, "%s: precision '%s' (expected '%s')", what, rl_forcefield_precision(fm),
+                 avx2 ? "mixed" : "double");
+        FF_CHECK_TRUE(nm, strcmp(rl_forcefield_precision(fm), avx2 ? "mixed" : "double") == 0);
+        FF_CHECK_TRUE("the double kernels say 'double'", strcmp(rl_forcefield_precision(fd), "double") == 0);
+        compare(fm, fg, s.sys, what, 2e-5);
+        const double dd = compare(fm, fd, s.sys, "mixed against the double kernels", 2e-5);
+        snprintf(nm, sizeof nm, "%s: differs from double (%.1e) as %s", what, dd,
+                 avx2 ? "single precision must" : "double must not");
+        FF_CHECK_TRUE(nm, avx2 ? dd > 1e-9 : dd == 0.0);
+        compare(fm, fm2, s.sys, "mixed, 2 threads, twice: bit for bit", 0.0);
+        rl_forcefield_free(fm);
+        rl_forcefield_free(fm2);
+        rl_forcefield_free(fd);
+        rl_forcefield_free(fg);
+      }
+    rl_system_free(s.sys);
+  }
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -804,6 +856,7 @@ int main(void)
       cmocka_unit_test(test_forces_only), cmocka_unit_test(test_choice),
       cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
       cmocka_unit_test(test_small_box_mixture), cmocka_unit_test(test_image_list),
+      cmocka_unit_test(test_mixed_precision),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
