@@ -18,7 +18,7 @@ struct analysis {
   int rdf_site[MAX_RDF][2];
   char rdf_name[MAX_RDF][24];
   rl_vec_series *axis, *vel, *omega, *pos;
-  double (*prev)[3], (*unwrapped)[3], (*buf)[3], (*dip)[3];
+  double (*unwrapped)[3], (*buf)[3], (*dip)[3]; /* unwrapped: the centres of the last sample */
   rl_dipole_acc *M;
   rl_species_ff sff;
   int dipolar;
@@ -56,7 +56,6 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->vel = rl_vec_series_alloc(a->n);
   a->omega = rl_vec_series_alloc(a->n);
   a->pos = rl_vec_series_alloc(a->n);
-  a->prev = calloc((size_t)a->n, sizeof *a->prev);
   a->unwrapped = calloc((size_t)a->n, sizeof *a->unwrapped);
   a->buf = calloc((size_t)a->n, sizeof *a->buf);
   a->dip = calloc((size_t)a->n, sizeof *a->dip);
@@ -79,7 +78,7 @@ void analysis_free(analysis *a)
   rl_vec_series_free(a->vel);
   rl_vec_series_free(a->omega);
   rl_vec_series_free(a->pos);
-  free(a->prev); free(a->unwrapped); free(a->buf); free(a->dip);
+  free(a->unwrapped); free(a->buf); free(a->dip);
   rl_dipole_acc_free(a->M);
   free(a);
 }
@@ -121,9 +120,10 @@ int analysis_sample(analysis *a, const rl_system *sys)
   rl_system_angular_velocities(sys, a->buf);
   if (rl_vec_series_add(a->omega, (const double (*)[3])a->buf)) return 1;
   rl_system_positions(sys, a->buf);
+  /* each centre is the image nearest its previous *unwrapped* position (rl_unwrap's contract):
+   * nearest the previous raw position, a body would lose its image one sample after crossing */
   if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
-  else rl_unwrap(a->d->box, (const double (*)[3])a->prev, (const double (*)[3])a->buf, a->n, a->unwrapped);
-  memcpy(a->prev, a->buf, sizeof *a->buf * (size_t)a->n);
+  else rl_unwrap(a->d->box, (const double (*)[3])a->unwrapped, (const double (*)[3])a->buf, a->n, a->unwrapped);
   return rl_vec_series_add(a->pos, (const double (*)[3])a->unwrapped);
 }
 

@@ -189,7 +189,7 @@ int rl_diffusion_green_kubo(const double *vacf, long nlag, double dt, double *D)
 /* Minimum-image unwrapping: out[i] = x[i] + L round((prev[i] - x[i]) / L) per component, the
  * image of x[i] nearest the previous unwrapped position (valid while a body moves less than L/2
  * between samples).  in L[3], prev[n][3] (previous unwrapped), x[n][3] (any image);
- * out out[n][3] (may alias x). */
+ * out out[n][3] (may alias x or prev: each component is read before it is written). */
 void rl_unwrap(const double L[3], const double (*prev)[3], const double (*x)[3], int n,
                double (*out)[3]);
 

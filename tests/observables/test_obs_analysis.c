@@ -1,0 +1,140 @@
+/* rotleap run's analysis layer (app/analysis.c) fed by hand-made configurations and step reports:
+ * the MSD of wrapped positions. */
+#include "../testutil.h"
+
+#include "analysis.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define WORK "analysis_work"
+
+typedef struct {
+  rl_deck d;
+  rl_molecule mol;
+  rl_system *sys;
+  analysis *a;
+  char prefix[256];
+} fixture;
+
+/* A deck NAME.ini under WORK with `body` (its [output] prefix is WORK/NAME), the system it
+ * describes on its lattice, and the analysis of it. */
+static void setup(fixture *fx, const char *name, const char *body)
+{
+  memset(fx, 0, sizeof *fx);
+  mkdir(WORK, 0777);
+  char path[300];
+  snprintf(path, sizeof path, WORK "/%s.ini", name);
+  snprintf(fx->prefix, sizeof fx->prefix, WORK "/%s", name);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fprintf(f, "%s\n[output]\nprefix = %s\nprogress = no\n", body, fx->prefix);
+  fclose(f);
+  assert_int_equal(rl_deck_load(path, NULL, 0, &fx->d, stderr), 0);
+  assert_int_equal(rl_model_build(fx->d.model, fx->d.params, fx->d.force_general, &fx->mol), RL_OK);
+  fx->sys = rl_system_alloc(fx->d.units);
+  rl_species_desc sd;
+  rl_molecule_species(&fx->mol, &sd);
+  assert_int_equal(rl_system_add_species(fx->sys, &sd, fx->d.count, NULL), RL_OK);
+  assert_int_equal(rl_system_lattice(fx->sys, fx->d.box, fx->d.lattice, 1, 7), RL_OK);
+  fx->a = analysis_alloc(&fx->d, &fx->mol, fx->sys);
+  assert_non_null(fx->a);
+}
+
+static void teardown(fixture *fx)
+{
+  analysis_free(fx->a);
+  rl_system_free(fx->sys);
+}
+
+/* One step report: potential U (whole system), kinetic energy K, on-step T = 2K/(g kB). */
+static void step(fixture *fx, double U, double K, int g)
+{
+  rl_step_info info;
+  memset(&info, 0, sizeof info);
+  info.has_energy = 1;
+  info.potential = U;
+  info.ke_trans = 0.6 * K;
+  info.ke_rot = 0.4 * K;
+  info.total = U + K;
+  info.temperature = 2.0 * K / (g * rl_units_kB(fx->d.units));
+  info.t_trans = info.t_rot = info.temperature;
+  const int n = rl_system_count(fx->sys), nrot = rl_system_nrot(fx->sys);
+  double(*fo)[3] = calloc((size_t)n, sizeof *fo), (*to)[3] = calloc((size_t)(nrot > 0 ? nrot : 1), sizeof *to);
+  rl_forces F = {fo, to, 0.0, {0}, 0};
+  assert_int_equal(analysis_step(fx->a, &info, 1.0, &F, fx->sys), RL_OK);
+  free(fo);
+  free(to);
+}
+
+static char *slurp(const char *path)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  char *s = calloc(1, 1 << 22);
+  size_t n = fread(s, 1, (1 << 22) - 1, f);
+  s[n] = '\0';
+  fclose(f);
+  return s;
+}
+
+static char *output(const fixture *fx, const char *ext)
+{
+  char p[300];
+  snprintf(p, sizeof p, "%s.%s", fx->prefix, ext);
+  return slurp(p);
+}
+
+/* ------------------------------------------------------------------ MSD of wrapped positions */
+
+static void msd_wrapped(void **state)
+{
+  (void)state;
+  fixture fx;
+  setup(&fx, "msd", "[system]\nmodel = stockmayer\ncount = 8\nbox = 10\ntemperature = 1.35\n[interactions]\ncutoff = 2.5\n"
+                    "[run]\nsteps = 10\ntimestep = 0.002\n");
+  const int n = 8, frames = 12;
+  const double L = 10.0, v[3] = {3.1, -2.3, 1.7}; /* per sample: below L/2, crossing the box */
+  double r0[8][3];
+  for (int i = 0; i < n; i++) rl_system_get_position(fx.sys, i, r0[i]);
+  for (int k = 0; k < frames; k++) {
+    for (int i = 0; i < n; i++) {
+      double r[3];
+      for (int d = 0; d < 3; d++) {
+        r[d] = fmod(r0[i][d] + k * v[d], L);
+        if (r[d] < 0.0) r[d] += L; /* the image in [0, L): wrapped as a trajectory writer would */
+      }
+      assert_int_equal(rl_system_set_position(fx.sys, i, r), RL_OK);
+    }
+    step(&fx, -40.0, 10.0, 40);
+    assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
+  }
+  assert_int_equal(analysis_write(fx.a, fx.prefix, 0.1), RL_OK);
+  char *tcf = output(&fx, "tcf.csv");
+  assert_non_null(tcf);
+  /* msd is the last column; lag k: (k |v|)^2 exactly */
+  double err = 0.0;
+  int rows = 0;
+  const char *p = strchr(tcf, '\n');
+  for (long k = 0; p && p[1]; k++, p = strchr(p + 1, '\n')) {
+    const char *last = p + 1 + strcspn(p + 1, "\n");
+    const char *c = last;
+    while (c > p && *c != ',') c--;
+    const double msd = strtod(c + 1, NULL), want = k * k * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    err = fmax(err, fabs(msd - want) / fmax(want, 1.0));
+    rows++;
+  }
+  CHECK_NEAR("MSD rows (lags 0..frames/2)", rows, frames / 2 + 1, 0.0);
+  CHECK_LE("MSD of wrapped positions vs (k |v|)^2, relative", err, 1e-5);
+  free(tcf);
+  teardown(&fx);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {cmocka_unit_test(msd_wrapped)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
