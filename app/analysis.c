@@ -21,7 +21,9 @@ struct analysis {
   double (*unwrapped)[3], (*buf)[3], (*dip)[3]; /* unwrapped: the centres of the last sample */
   rl_dipole_acc *M;
   rl_species_ff sff;
-  int dipolar;
+  int dipolar;       /* the molecules have a net dipole: M, its fluctuation, the dielectric constant */
+  int orient;        /* the vector of P1/P2: ORIENT_DIPOLE, ORIENT_AXIS or ORIENT_NONE              */
+  char orient_text[240]; /* results.txt's orientation_vector: which vector, or n/a and why          */
   int point_dipoles; /* sites with a point dipole: their boundary is dipole_method's */
   long tcf_cap;      /* samples kept for the correlation functions and the MSD (memory bound) */
   long samples;      /* samples taken                                                        */
@@ -35,6 +37,47 @@ struct analysis {
  * dipole fluctuation and the block averages use every sample. */
 #define RL_TCF_MEMORY (256.0 * 1024 * 1024)
 #define RL_TCF_MAX_LAG 1000
+
+enum { ORIENT_DIPOLE, ORIENT_AXIS, ORIENT_NONE };
+
+/* Whether the molecule has a net dipole: |sum_a q_a s_a + sum_a p_a Z| (body frame, about the
+ * centre of mass) above round-off of the scale of its charges and dipoles.  CO2 and CH4 have
+ * charges and none; every rl_system_dipoles vector of theirs is zero. */
+static int net_dipole(const rl_molecule *m)
+{
+  double mu[3] = {0.0, 0.0, 0.0}, scale = 0.0;
+  for (int s = 0; s < m->nsites; s++) {
+    const double *x = m->sites[s];
+    for (int k = 0; k < 3; k++) mu[k] += m->charge[s] * x[k];
+    mu[2] += m->dipole[s];
+    scale += fabs(m->charge[s]) * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + fabs(m->dipole[s]);
+  }
+  return sqrt(mu[0] * mu[0] + mu[1] * mu[1] + mu[2] * mu[2]) > 1e-9 * scale;
+}
+
+/* The vector whose reorientation P1/P2 follow: the molecular dipole where there is one (water's
+ * lies along its C2 axis, not body Z); without one, the molecular axis where the molecule has a
+ * unique one (rho of linear molecules and point dipoles, body Z of a symmetric top); else none. */
+static void choose_orientation(analysis *a, const char *model)
+{
+  const rl_kind k = a->mol->natural_kind;
+  if (a->dipolar) {
+    a->orient = ORIENT_DIPOLE;
+    snprintf(a->orient_text, sizeof a->orient_text, "molecular dipole mu_i (tcf.csv columns dipole_P1, dipole_P2)");
+  } else if (k == RL_KIND_LINEAR || k == RL_KIND_DIPOLE || k == RL_KIND_SYMMETRIC) {
+    a->orient = ORIENT_AXIS;
+    snprintf(a->orient_text, sizeof a->orient_text, "%s (model %s has no net dipole; tcf.csv columns axis_P1, "
+             "axis_P2)", k == RL_KIND_SYMMETRIC ? "symmetry axis, body Z" : "molecular axis rho", model);
+  } else {
+    a->orient = ORIENT_NONE;
+    if (k == RL_KIND_POINT)
+      snprintf(a->orient_text, sizeof a->orient_text, "n/a (model %s: point molecules have no orientation; "
+               "tcf.csv columns dipole_P1, dipole_P2 are n/a)", model);
+    else
+      snprintf(a->orient_text, sizeof a->orient_text, "n/a (model %s has no net dipole and, as a %s top, no "
+               "unique molecular axis; tcf.csv columns dipole_P1, dipole_P2 are n/a)", model, rl_kind_name(k));
+  }
+}
 
 analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
@@ -61,10 +104,9 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->dip = calloc((size_t)a->n, sizeof *a->dip);
   a->M = rl_dipole_acc_alloc();
   a->sff = rl_molecule_ff(mol);
-  for (int s = 0; s < mol->nsites; s++) {
-    a->dipolar |= mol->charge[s] != 0.0 || mol->dipole[s] != 0.0;
-    a->point_dipoles |= mol->dipole[s] != 0.0;
-  }
+  for (int s = 0; s < mol->nsites; s++) a->point_dipoles |= mol->dipole[s] != 0.0;
+  a->dipolar = net_dipole(mol);
+  choose_orientation(a, d->model ? d->model->name : mol->name);
   return a;
 }
 
@@ -107,14 +149,16 @@ int analysis_sample(analysis *a, const rl_system *sys)
 {
   for (int k = 0; k < a->nrdf; k++)
     if (rl_rdf_add_sites(a->rdf[k], sys, a->d->box, 0, a->rdf_site[k][0], 0, a->rdf_site[k][1])) return 1;
-  double M[3];
-  if (rl_system_dipoles(sys, &a->sff, 1, a->dip, M)) return 1;
-  if (a->dipolar) rl_dipole_acc_add(a->M, M);
+  if (a->dipolar) {
+    double M[3];
+    if (rl_system_dipoles(sys, &a->sff, 1, a->dip, M) || rl_dipole_acc_add(a->M, M)) return 1;
+  }
   if (a->samples++ >= a->tcf_cap) return 0; /* the correlation functions have their samples */
-  /* the dipole-axis ACF uses molecular dipoles where there are any (water's lies along its C2
-   * axis, not body Z), the body Z axis otherwise */
-  if (a->dipolar) { if (rl_vec_series_add(a->axis, (const double (*)[3])a->dip)) return 1; }
-  else { rl_system_axes(sys, a->buf); if (rl_vec_series_add(a->axis, (const double (*)[3])a->buf)) return 1; }
+  if (a->orient == ORIENT_DIPOLE) { if (rl_vec_series_add(a->axis, (const double (*)[3])a->dip)) return 1; }
+  else if (a->orient == ORIENT_AXIS) {
+    rl_system_axes(sys, a->buf);
+    if (rl_vec_series_add(a->axis, (const double (*)[3])a->buf)) return 1;
+  }
   rl_system_velocities(sys, a->buf);
   if (rl_vec_series_add(a->vel, (const double (*)[3])a->buf)) return 1;
   rl_system_angular_velocities(sys, a->buf);
@@ -188,24 +232,38 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
       fprintf(f, "correlation_functions = from the first %ld of %ld samples, lags up to %ld samples "
                  "(memory bound %.0f MB, lag bound %d: analysis.c)\n", nf, a->samples, lag,
               RL_TCF_MEMORY / (1024.0 * 1024.0), RL_TCF_MAX_LAG);
-    double *c[5];
+    fprintf(f, "orientation_vector = %s\n", a->orient_text);
+    /* a column that cannot be computed is n/a in the file, with the reason here; never zeros */
+    static const char *col[5] = {"P1", "P2", "vacf", "omega_acf", "msd"};
+    double *c[5] = {NULL, NULL, NULL, NULL, NULL};
     rl_tcf_kind kinds[5] = {RL_TCF_P1, RL_TCF_P2, RL_TCF_DOT, RL_TCF_DOT, RL_TCF_MSD};
     rl_vec_series *src[5] = {a->axis, a->axis, a->vel, a->omega, a->pos};
-    for (int k = 0; k < 5; k++) {
-      c[k] = calloc((size_t)lag + 1, sizeof(double));
-      rl_tcf_compute(src[k], kinds[k], lag, 1, c[k]);
+    for (int k = a->orient == ORIENT_NONE ? 2 : 0; k < 5; k++) {
+      if (!(c[k] = calloc((size_t)lag + 1, sizeof(double))))
+        fprintf(f, "correlation_error = %s: out of memory\n", col[k]);
+      else if (rl_tcf_compute(src[k], kinds[k], lag, 1, c[k])) {
+        fprintf(f, "correlation_error = %s: %s\n", col[k], rl_last_error());
+        free(c[k]);
+        c[k] = NULL;
+      }
     }
     double D, Derr;
-    if (!rl_diffusion_einstein(c[4], lag + 1, dt_sample, lag / 5, lag, &D, &Derr))
+    if (c[4] && !rl_diffusion_einstein(c[4], lag + 1, dt_sample, lag / 5, lag, &D, &Derr))
       fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples)\n", D, Derr,
               real ? "nm^2/ps" : "", lag / 5, lag);
     char tp[700];
     snprintf(tp, sizeof tp, "%s.tcf.csv", prefix);
     rl_atomic_file tf;
     if (!rl_atomic_open(&tf, tp)) {
-      fprintf(tf.fp, "lag_time,dipole_P1,dipole_P2,vacf,omega_acf,msd\n");
-      for (long k = 0; k <= lag; k++)
-        fprintf(tf.fp, "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", k * dt_sample, c[0][k], c[1][k], c[2][k], c[3][k], c[4][k]);
+      const char *vec = a->orient == ORIENT_AXIS ? "axis" : "dipole";
+      fprintf(tf.fp, "lag_time,%s_P1,%s_P2,vacf,omega_acf,msd\n", vec, vec);
+      for (long k = 0; k <= lag; k++) {
+        fprintf(tf.fp, "%.6g", k * dt_sample);
+        for (int q = 0; q < 5; q++)
+          if (c[q]) fprintf(tf.fp, ",%.6g", c[q][k]);
+          else fputs(",n/a", tf.fp);
+        fputc('\n', tf.fp);
+      }
       if (rl_atomic_commit(&tf)) fprintf(f, "# could not write %s\n", tp);
     }
     for (int k = 0; k < 5; k++) free(c[k]);

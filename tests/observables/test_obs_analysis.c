@@ -1,5 +1,6 @@
 /* rotleap run's analysis layer (app/analysis.c) fed by hand-made configurations and step reports:
- * the MSD of wrapped positions. */
+ * which vector the P1/P2 columns follow (molecular dipole, molecular axis, or n/a with a reason),
+ * and the MSD of wrapped positions. */
 #include "../testutil.h"
 
 #include "analysis.h"
@@ -50,6 +51,18 @@ static void teardown(fixture *fx)
   rl_system_free(fx->sys);
 }
 
+/* Turn every body to a random orientation (axis bodies: a random axis). */
+static void randomise(fixture *fx, gsl_rng *rng)
+{
+  const rl_kind k = rl_system_species_kind(fx->sys, 0);
+  for (int i = 0; i < rl_system_count(fx->sys); i++) {
+    double A[9];
+    random_rotation(rng, A);
+    if (k == RL_KIND_LINEAR || k == RL_KIND_DIPOLE) assert_int_equal(rl_system_set_axis(fx->sys, i, A + 6), RL_OK);
+    else if (k != RL_KIND_POINT) assert_int_equal(rl_system_set_orientation(fx->sys, i, A), RL_OK);
+  }
+}
+
 /* One step report: potential U (whole system), kinetic energy K, on-step T = 2K/(g kB). */
 static void step(fixture *fx, double U, double K, int g)
 {
@@ -86,6 +99,74 @@ static char *output(const fixture *fx, const char *ext)
   char p[300];
   snprintf(p, sizeof p, "%s.%s", fx->prefix, ext);
   return slurp(p);
+}
+
+static const char *line_of(const char *text, const char *key, char *buf, size_t n)
+{
+  char pat[80];
+  snprintf(pat, sizeof pat, "\n%s = ", key);
+  const char *p = strstr(text, pat);
+  buf[0] = '\0';
+  if (p) {
+    size_t k = strcspn(p + 1, "\n");
+    snprintf(buf, n, "%.*s", (int)(k < n - 1 ? k : n - 1), p + 1);
+  }
+  return buf;
+}
+
+/* ------------------------------------------------------------------ P1/P2: which vector */
+
+static void orientation_columns(void **state)
+{
+  (void)state;
+  static const struct {
+    const char *model, *header, *p1_0, *why;
+  } cases[] = {
+      /* charged, no net dipole, linear: the axis rho (the dipoles were all zero: D1) */
+      {"co2", "lag_time,axis_P1,axis_P2,", "1", "molecular axis rho"},
+      /* a molecular dipole where the molecules have one */
+      {"tip4p", "lag_time,dipole_P1,dipole_P2,", "1", "molecular dipole"},
+      {"nh3", "lag_time,dipole_P1,dipole_P2,", "1", "molecular dipole"},
+      /* no charges, linear: the axis rho, named so */
+      {"n2", "lag_time,axis_P1,axis_P2,", "1", "molecular axis rho"},
+      /* no net dipole, spherical top: no vector to follow */
+      {"ch4", "lag_time,dipole_P1,dipole_P2,", "n/a", "n/a (model ch4 has no net dipole"},
+  };
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    char body[400];
+    snprintf(body, sizeof body, "[system]\nmodel = %s\ncount = 8\nbox = 3 nm\n[interactions]\ncutoff = 0.9 nm\n"
+             "[run]\nsteps = 10\ntimestep = 2 fs\nensemble = nvt-bussi\ntemperature = 250 K\n", cases[c].model);
+    fixture fx;
+    char name[40];
+    snprintf(name, sizeof name, "orient_%s", cases[c].model);
+    setup(&fx, name, body);
+    const int g = rl_system_dof(fx.sys);
+    for (int k = 0; k < 12; k++) {
+      randomise(&fx, rng);
+      step(&fx, -100.0 + k, 0.5 * g * rl_units_kB(fx.d.units) * 250.0, g);
+      assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
+    }
+    assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+    char *tcf = output(&fx, "tcf.csv"), *res = output(&fx, "results.txt"), line[400];
+    assert_non_null(tcf);
+    assert_non_null(res);
+    const int header_ok = strncmp(tcf, cases[c].header, strlen(cases[c].header)) == 0;
+    char want[40];
+    snprintf(want, sizeof want, "\n0,%s,%s,", cases[c].p1_0, cases[c].p1_0); /* lag 0: P1 = P2 = 1 */
+    const int row_ok = strstr(tcf, want) != NULL;
+    line_of(res, "orientation_vector", line, sizeof line);
+    printf("check %-8s tcf header %s, lag 0 %s; results: %s\n", cases[c].model, header_ok ? "ok" : "FAIL",
+           row_ok ? "ok" : "FAIL", line);
+    assert_true(header_ok);
+    assert_true(row_ok);
+    assert_non_null(strstr(line, cases[c].why));
+    free(tcf);
+    free(res);
+    teardown(&fx);
+  }
+  gsl_rng_free(rng);
 }
 
 /* ------------------------------------------------------------------ MSD of wrapped positions */
@@ -135,6 +216,6 @@ static void msd_wrapped(void **state)
 
 int main(void)
 {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(msd_wrapped)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(orientation_columns), cmocka_unit_test(msd_wrapped)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
