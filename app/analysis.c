@@ -1,6 +1,7 @@
 /* rotleap run's analysis: a thin layer over include/rotleap/observables.h. */
 #include "analysis.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -188,16 +189,75 @@ const char *rel_fluct_text(char *buf, size_t n, double x)
   return buf;
 }
 
+/* The correlation functions of one run, as PREFIX.tcf.csv holds them (a NULL column is n/a). */
+typedef struct {
+  const analysis *a;
+  long lag;
+  double dt, *c[5];
+} tcf_table;
+
+static void write_tcf(FILE *fp, const void *ctx)
+{
+  const tcf_table *t = ctx;
+  const char *vec = t->a->orient == ORIENT_AXIS ? "axis" : "dipole";
+  fprintf(fp, "lag_time,%s_P1,%s_P2,vacf,omega_acf,msd\n", vec, vec);
+  for (long k = 0; k <= t->lag; k++) {
+    fprintf(fp, "%.6g", k * t->dt);
+    for (int q = 0; q < 5; q++)
+      if (t->c[q]) fprintf(fp, ",%.6g", t->c[q][k]);
+      else fputs(",n/a", fp);
+    fputc('\n', fp);
+  }
+}
+
+/* The RDFs: r, then one g column per pair (r[nb], g[nrdf][nb]). */
+typedef struct {
+  const analysis *a;
+  int nb;
+  const double *r, *g;
+} rdf_table;
+
+static void write_rdf(FILE *fp, const void *ctx)
+{
+  const rdf_table *t = ctx;
+  fprintf(fp, "r");
+  for (int q = 0; q < t->a->nrdf; q++) fprintf(fp, ",g_%s", t->a->rdf_name[q]);
+  fprintf(fp, "\n");
+  for (int b = 0; b < t->nb; b++) {
+    fprintf(fp, "%.6g", t->r[b]);
+    for (int q = 0; q < t->a->nrdf; q++) fprintf(fp, ",%.6g", t->g[(size_t)q * (size_t)t->nb + (size_t)b]);
+    fprintf(fp, "\n");
+  }
+}
+
+static void write_text(FILE *fp, const void *ctx) { fputs(ctx, fp); }
+
+/* Write `path` atomically (NAME.tmp.<pid>, renamed over NAME: on failure the earlier NAME is
+ * left as it was).  On failure 1, with rl_atomic's message ("NAME: reason", naming the errno
+ * reason) appended to errs[n]. */
+static int write_file(const char *path, void (*fill)(FILE *, const void *), const void *ctx, char *errs, size_t n)
+{
+  rl_atomic_file af;
+  if (!rl_atomic_open(&af, path)) {
+    fill(af.fp, ctx);
+    if (!rl_atomic_commit(&af)) return 0;
+  }
+  const size_t used = strlen(errs);
+  snprintf(errs + used, n - used, "%s%s", used ? "; " : "", rl_last_error());
+  return 1;
+}
+
 int analysis_write(analysis *a, const char *prefix, double dt_sample)
 {
   const rl_deck *d = a->d;
   int real = d->units == RL_UNITS_REAL;
   const char *E = real ? "kJ/mol" : "";
-  char path[700];
-  snprintf(path, sizeof path, "%s.results.txt", prefix);
-  rl_atomic_file af;
-  if (rl_atomic_open(&af, path)) return 1;
-  FILE *f = af.fp;
+  /* results.txt is composed in memory and written last, so that it can report the other files;
+   * every file is attempted whatever happened to the others, and any failure is the return */
+  char errs[1024] = "", path[700], *text = NULL;
+  size_t text_len = 0;
+  FILE *f = open_memstream(&text, &text_len);
+  if (!f) return rl_error(RL_ENOMEM, "%s.results.txt: cannot compose the results: %s", prefix, strerror(errno));
   if (d->energy_every > 1)
     fprintf(f, "# rotleap results over %ld of this invocation's steps, one in %ld (output.energy_every; "
                "block-averaged standard errors, Flyvbjerg-Petersen)\n", rl_series_count(a->U), d->energy_every);
@@ -251,21 +311,9 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
     if (c[4] && !rl_diffusion_einstein(c[4], lag + 1, dt_sample, lag / 5, lag, &D, &Derr))
       fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples)\n", D, Derr,
               real ? "nm^2/ps" : "", lag / 5, lag);
-    char tp[700];
-    snprintf(tp, sizeof tp, "%s.tcf.csv", prefix);
-    rl_atomic_file tf;
-    if (!rl_atomic_open(&tf, tp)) {
-      const char *vec = a->orient == ORIENT_AXIS ? "axis" : "dipole";
-      fprintf(tf.fp, "lag_time,%s_P1,%s_P2,vacf,omega_acf,msd\n", vec, vec);
-      for (long k = 0; k <= lag; k++) {
-        fprintf(tf.fp, "%.6g", k * dt_sample);
-        for (int q = 0; q < 5; q++)
-          if (c[q]) fprintf(tf.fp, ",%.6g", c[q][k]);
-          else fputs(",n/a", tf.fp);
-        fputc('\n', tf.fp);
-      }
-      if (rl_atomic_commit(&tf)) fprintf(f, "# could not write %s\n", tp);
-    }
+    tcf_table t = {a, lag, dt_sample, {c[0], c[1], c[2], c[3], c[4]}};
+    snprintf(path, sizeof path, "%s.tcf.csv", prefix);
+    if (write_file(path, write_tcf, &t, errs, sizeof errs)) fprintf(f, "# could not write %s\n", rl_last_error());
     for (int k = 0; k < 5; k++) free(c[k]);
   }
   if (a->dipolar && rl_dipole_acc_count(a->M) >= 2) {
@@ -278,25 +326,33 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
       fprintf(f, "dielectric_constant = %.4g (dipole fluctuations, reaction-field boundary eps_rf = %g; "
                  "needs long runs to converge)\n", eps, d->ff.eps_rf);
   }
-  if (a->nrdf > 0) {
-    char rp[700];
-    snprintf(rp, sizeof rp, "%s.rdf.csv", prefix);
-    rl_atomic_file rf;
-    if (!rl_atomic_open(&rf, rp)) {
-      int nb = rl_rdf_nbins(a->rdf[0]);
-      double *r = malloc(sizeof(double) * (size_t)nb), *g = malloc(sizeof(double) * (size_t)nb * (size_t)a->nrdf);
-      for (int q = 0; q < a->nrdf; q++) rl_rdf_get(a->rdf[q], r, g + (size_t)q * (size_t)nb);
-      fprintf(rf.fp, "r");
-      for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",g_%s", a->rdf_name[q]);
-      fprintf(rf.fp, "\n");
-      for (int b2 = 0; b2 < nb; b2++) {
-        fprintf(rf.fp, "%.6g", r[b2]);
-        for (int q = 0; q < a->nrdf; q++) fprintf(rf.fp, ",%.6g", g[(size_t)q * (size_t)nb + (size_t)b2]);
-        fprintf(rf.fp, "\n");
-      }
-      free(r); free(g);
-      if (rl_atomic_commit(&rf)) fprintf(f, "# could not write %s\n", rp);
-    }
+  if (a->nrdf > 0 && rl_rdf_frames(a->rdf[0]) == 0) /* nothing to normalise: no file, not garbage */
+    fprintf(f, "rdf = n/a (no configuration was sampled: output.sample_every)\n");
+  else if (a->nrdf > 0) {
+    const int nb = rl_rdf_nbins(a->rdf[0]);
+    double *r = malloc(sizeof(double) * (size_t)nb), *g = malloc(sizeof(double) * (size_t)nb * (size_t)a->nrdf);
+    snprintf(path, sizeof path, "%s.rdf.csv", prefix);
+    int bad = !r || !g;
+    for (int q = 0; q < a->nrdf && !bad; q++) bad = rl_rdf_get(a->rdf[q], r, g + (size_t)q * (size_t)nb) != RL_OK;
+    rdf_table t = {a, nb, r, g};
+    if (bad) {
+      const size_t used = strlen(errs);
+      snprintf(errs + used, sizeof errs - used, "%s%s: %s", used ? "; " : "", path,
+               !r || !g ? "out of memory" : rl_last_error());
+      fprintf(f, "# could not write %s: %s\n", path, !r || !g ? "out of memory" : "the RDF could not be normalised");
+    } else if (write_file(path, write_rdf, &t, errs, sizeof errs))
+      fprintf(f, "# could not write %s\n", rl_last_error());
+    free(r);
+    free(g);
   }
-  return rl_atomic_commit(&af);
+  /* the results file itself */
+  const int composed = fclose(f) == 0 && text;
+  snprintf(path, sizeof path, "%s.results.txt", prefix);
+  if (!composed) {
+    const size_t used = strlen(errs);
+    snprintf(errs + used, sizeof errs - used, "%s%s: out of memory composing it", used ? "; " : "", path);
+  } else
+    write_file(path, write_text, text, errs, sizeof errs);
+  free(text);
+  return errs[0] ? rl_error(RL_EINVAL, "%s", errs) : RL_OK;
 }

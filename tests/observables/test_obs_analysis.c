@@ -1,6 +1,6 @@
 /* rotleap run's analysis layer (app/analysis.c) fed by hand-made configurations and step reports:
  * which vector the P1/P2 columns follow (molecular dipole, molecular axis, or n/a with a reason),
- * and the MSD of wrapped positions. */
+ * the MSD of wrapped positions, and failed writes of PREFIX.results.txt, .rdf.csv and .tcf.csv. */
 #include "../testutil.h"
 
 #include "analysis.h"
@@ -214,8 +214,85 @@ static void msd_wrapped(void **state)
   teardown(&fx);
 }
 
+/* ------------------------------------------------------------------ failed writes (CLI audit D6) */
+
+static int tmp_files_left(void)
+{
+  DIR *dir = opendir(WORK);
+  int n = 0;
+  for (struct dirent *e; dir && (e = readdir(dir));) n += strstr(e->d_name, "wf.") && strstr(e->d_name, ".tmp.");
+  if (dir) closedir(dir);
+  return n;
+}
+
+static void write_failures(void **state)
+{
+  (void)state;
+  static const char *which[] = {"rdf.csv", "tcf.csv", "results.txt"};
+  for (int w = 0; w < 3; w++) {
+    fixture fx;
+    setup(&fx, "wf", "[system]\nmodel = stockmayer\ncount = 8\nbox = 10\ntemperature = 1.35\n[interactions]\ncutoff = 2.5\n"
+                     "[run]\nsteps = 10\ntimestep = 0.002\n[output]\nrdf = S-S\n");
+    for (int k = 0; k < 3; k++) {
+      char p[300];
+      snprintf(p, sizeof p, "%s.%s", fx.prefix, which[k]);
+      remove(p);
+      rmdir(p);
+      if (k == w) assert_int_equal(mkdir(p, 0777), 0); /* stands for any failure: EISDIR on the rename */
+    }
+    for (int k = 0; k < 8; k++) {
+      step(&fx, -40.0, 10.0, 40);
+      assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
+    }
+    const int st = analysis_write(fx.a, fx.prefix, 0.02);
+    const char *msg = rl_last_error();
+    printf("check %s unwritable: status %d, message: %s\n", which[w], st, st ? msg : "");
+    assert_int_not_equal(st, RL_OK);
+    assert_non_null(strstr(msg, which[w]));
+    assert_non_null(strstr(msg, strerror(EISDIR)));
+    assert_int_equal(tmp_files_left(), 0);
+    for (int k = 0; k < 3; k++) { /* the others are written whatever failed */
+      char p[300];
+      struct stat sb;
+      snprintf(p, sizeof p, "%s.%s", fx.prefix, which[k]);
+      assert_int_equal(stat(p, &sb), 0);
+      assert_true(k == w ? S_ISDIR(sb.st_mode) : S_ISREG(sb.st_mode) && sb.st_size > 0);
+    }
+    if (w < 2) { /* results.txt says which file is missing, and why */
+      char *res = output(&fx, "results.txt");
+      assert_non_null(strstr(res, "# could not write"));
+      assert_non_null(strstr(res, which[w]));
+      free(res);
+    }
+    char p[300];
+    snprintf(p, sizeof p, "%s.%s", fx.prefix, which[w]);
+    rmdir(p);
+    teardown(&fx);
+  }
+}
+
+/* An RDF asked for, no configuration sampled (output.sample_every = 0): rl_rdf_get refuses, and
+ * the file used to be written from uninitialised memory. */
+static void rdf_without_samples(void **state)
+{
+  (void)state;
+  fixture fx;
+  setup(&fx, "nosample", "[system]\nmodel = stockmayer\ncount = 8\nbox = 10\ntemperature = 1.35\n"
+                         "[interactions]\ncutoff = 2.5\n[run]\nsteps = 10\ntimestep = 0.002\n[output]\nrdf = S-S\n");
+  remove(WORK "/nosample.rdf.csv");
+  for (int k = 0; k < 8; k++) step(&fx, -40.0, 10.0, 40);
+  assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+  char *rdf = output(&fx, "rdf.csv"), *res = output(&fx, "results.txt");
+  printf("check no sample: rdf.csv %s; results: %s\n", rdf ? "WRITTEN (FAIL)" : "absent", strstr(res, "\nrdf = n/a") ? "rdf = n/a" : "FAIL");
+  assert_null(rdf);
+  assert_non_null(strstr(res, "\nrdf = n/a ("));
+  free(res);
+  teardown(&fx);
+}
+
 int main(void)
 {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(orientation_columns), cmocka_unit_test(msd_wrapped)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(orientation_columns), cmocka_unit_test(msd_wrapped),
+                                     cmocka_unit_test(write_failures), cmocka_unit_test(rdf_without_samples)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
