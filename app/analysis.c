@@ -274,17 +274,28 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
   char ce[64], cu[64];
   fprintf(f, "calE = %s\ncalU = %s\n", rel_fluct_text(ce, sizeof ce, rl_series_rel_fluct(a->E)),
           rel_fluct_text(cu, sizeof cu, rl_series_rel_fluct(a->U)));
-  double kB = rl_units_kB(d->units), T = rl_series_mean(a->T), cv = NAN, sdK = rl_series_sd(a->K),
-         sdE = rl_series_sd(a->E), sdU = rl_series_sd(a->U) * a->n;
-  int dof = (int)llround(2.0 * rl_series_mean(a->K) / (kB * T)); /* T = 2K/(g kB) defines g */
-  int st = d->thermostat == RL_THERMO_NONE ? rl_heat_capacity_nve(rl_series_mean(a->K), sdK * sdK, dof, kB, &cv)
-         : d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN
-             ? rl_heat_capacity_nvt(sdE * sdE, T, kB, &cv)
-         : rl_heat_capacity_isokinetic(sdU * sdU, T, dof, kB, &cv);
-  if (!st) fprintf(f, "heat_capacity_per_molecule = %.6g %s (%s formula)\n", cv / (a->n * kB),
-                   real ? "k_B" : "", d->thermostat == RL_THERMO_NONE ? "NVE, Lebowitz-Percus-Verlet"
-                   : d->thermostat == RL_THERMO_ISOKINETIC ? "isokinetic" : "canonical");
-  else fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
+  /* The temperature of the fluctuation formulas: under a thermostat its target T0, the T of the
+   * canonical (and isokinetic) distribution; the on-step T reads low at large steps (12 K for
+   * water at 5 fs), which would bias C_V ~ 1/T^2 and y ~ 1/T.  In NVE the mean on-step T. */
+  const int nve = d->thermostat == RL_THERMO_NONE;
+  const double kB = rl_units_kB(d->units), Tm = rl_series_mean(a->T), sdK = rl_series_sd(a->K),
+               sdU = rl_series_sd(a->U) * a->n, T = nve ? Tm : d->thermostat_temperature;
+  const int dof = (int)llround(2.0 * rl_series_mean(a->K) / (kB * Tm)); /* T = 2K/(g kB) defines g */
+  /* NVE: Lebowitz-Percus-Verlet from <dK^2>.  Any NVT: K and U are independent in the canonical
+   * ensemble (and K is fixed in the isokinetic one), so the kinetic part is exactly f kB/2 and only
+   * the configurational <dU^2>/(kB T0^2) is sampled: <dE^2>/(kB T^2) would add the noise of <dK^2>
+   * and of cov(K, U), which converges slowly under Bussi, and the on-step K's step-size bias */
+  double cv = NAN;
+  const int st = nve ? rl_heat_capacity_nve(rl_series_mean(a->K), sdK * sdK, dof, kB, &cv)
+                     : rl_heat_capacity_isokinetic(sdU * sdU, T, dof, kB, &cv);
+  if (st) fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
+  else if (nve)
+    fprintf(f, "heat_capacity_per_molecule = %.6g %s (NVE, Lebowitz-Percus-Verlet formula)\n", cv / (a->n * kB),
+            real ? "k_B" : "");
+  else
+    fprintf(f, "heat_capacity_per_molecule = %.6g %s (%s formula) [f k_B/2 + <dU^2>/(k_B T0^2), f = %d, T0 = %g%s "
+               "the thermostat's target]\n", cv / (a->n * kB), real ? "k_B" : "",
+            d->thermostat == RL_THERMO_ISOKINETIC ? "isokinetic" : "canonical", dof, T, real ? " K" : "");
   long nf = rl_vec_series_frames(a->pos);
   if (nf >= 4) {
     long lag = nf / 2 < RL_TCF_MAX_LAG ? nf / 2 : RL_TCF_MAX_LAG;
@@ -323,8 +334,9 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
       fprintf(f, "dielectric_constant = n/a (dipole = sf has no reaction-field boundary for the "
                  "fluctuation formula; dipole = rf with eps_rf gives one)\n");
     else if (!rl_dielectric_constant(dM2, V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps))
-      fprintf(f, "dielectric_constant = %.4g (dipole fluctuations, reaction-field boundary eps_rf = %g; "
-                 "needs long runs to converge)\n", eps, d->ff.eps_rf);
+      fprintf(f, "dielectric_constant = %.4g (dipole fluctuations, reaction-field boundary eps_rf = %g, T = %g%s %s; "
+                 "needs long runs to converge)\n", eps, d->ff.eps_rf, T, real ? " K" : "",
+              nve ? "the mean temperature" : "the thermostat's target");
   }
   if (a->nrdf > 0 && rl_rdf_frames(a->rdf[0]) == 0) /* nothing to normalise: no file, not garbage */
     fprintf(f, "rdf = n/a (no configuration was sampled: output.sample_every)\n");

@@ -96,7 +96,10 @@ int rl_running_rel_fluct(const double *x, size_t n, double *out);
 int rl_heat_capacity_nvt(double var_E, double T, double kB, double *cv);
 /* Isokinetic NVT (the paper's eqs. 17-18: K fixed, configurations canonical): the kinetic part
  * is the ideal dof kB / 2 and the configurational part comes from the potential energy,
- * C_V = dof kB / 2 + <dU^2> / (kB T^2).   in var_U, T, dof (kinetic degrees of freedom).      */
+ * C_V = dof kB / 2 + <dU^2> / (kB T^2).   in var_U, T, dof (kinetic degrees of freedom).
+ * The same formula holds for canonical sampling (K and U independent, <dK^2> = dof (kB T)^2 / 2):
+ * it is rl_heat_capacity_nvt with the kinetic part known instead of sampled, and `rotleap run`
+ * uses it, with T the thermostat's target, for every NVT run (docs/observables.md).            */
 int rl_heat_capacity_isokinetic(double var_U, double T, int dof, double kB, double *cv);
 /* NVE, Lebowitz-Percus-Verlet (Phys. Rev. 153, 250 (1967)) from kinetic-energy fluctuations:
  *   <dK^2> = (2 <K>^2 / f) (1 - f kB / (2 C_V))   =>   C_V = (f kB / 2) / (1 - f <dK^2> / (2 <K>^2))

@@ -1,6 +1,7 @@
 /* rotleap run's analysis layer (app/analysis.c) fed by hand-made configurations and step reports:
  * which vector the P1/P2 columns follow (molecular dipole, molecular axis, or n/a with a reason),
- * the MSD of wrapped positions, and failed writes of PREFIX.results.txt, .rdf.csv and .tcf.csv. */
+ * the MSD of wrapped positions, the NVT fluctuation formulas at the thermostat's target T0 (NVE
+ * keeps Lebowitz-Percus-Verlet), and failed writes of PREFIX.results.txt, .rdf.csv and .tcf.csv. */
 #include "../testutil.h"
 
 #include "analysis.h"
@@ -99,6 +100,18 @@ static char *output(const fixture *fx, const char *ext)
   char p[300];
   snprintf(p, sizeof p, "%s.%s", fx->prefix, ext);
   return slurp(p);
+}
+
+/* The number after "KEY = " at the start of a line of text, NAN if there is none. */
+static double value_of(const char *text, const char *key)
+{
+  char pat[80];
+  snprintf(pat, sizeof pat, "\n%s = ", key);
+  const char *p = strstr(text, pat);
+  if (!p) return NAN;
+  char *end;
+  double x = strtod(p + strlen(pat), &end);
+  return end == p + strlen(pat) ? NAN : x;
 }
 
 static const char *line_of(const char *text, const char *key, char *buf, size_t n)
@@ -214,6 +227,93 @@ static void msd_wrapped(void **state)
   teardown(&fx);
 }
 
+/* ------------------------------------------------------------------ fluctuation formulas */
+
+/* A Stockmayer deck for the fluctuation tests; its thermostat target is T0 = 1.35. */
+#define SM_DECK(ensemble)                                                                          \
+  "[system]\nmodel = stockmayer\ncount = 8\nbox = 10\ntemperature = 1.35\n[interactions]\ncutoff = 2.5\n" \
+  "dipole = rf\neps_rf = 10\n[run]\nsteps = 10\ntimestep = 0.002\nensemble = " ensemble "\n"
+
+static void nvt_uses_target_temperature(void **state)
+{
+  (void)state;
+  static const char *ensembles[] = {SM_DECK("nvt-bussi\ntemperature = 1.35"), SM_DECK("nvt-langevin\ntemperature = 1.35"),
+                                    SM_DECK("nvt-isokinetic\ntemperature = 1.35")};
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 5);
+  for (int e = 0; e < 3; e++) {
+    fixture fx;
+    char name[32];
+    snprintf(name, sizeof name, "nvt%d", e);
+    setup(&fx, name, ensembles[e]);
+    const int g = rl_system_dof(fx.sys), n = rl_system_count(fx.sys);
+    const double T0 = 1.35, Tlow = 0.9 * T0; /* the on-step temperature reads low (large steps) */
+    rl_series *U = rl_series_alloc();
+    rl_dipole_acc *M = rl_dipole_acc_alloc();
+    rl_species_ff sff = rl_molecule_ff(&fx.mol);
+    for (int k = 0; k < 400; k++) {
+      const double u = -50.0 + 3.0 * sin(0.37 * k) + gsl_ran_gaussian(rng, 1.0);
+      const double K = 0.5 * g * Tlow * (1.0 + 0.05 * gsl_ran_gaussian(rng, 1.0));
+      rl_series_add(U, u);
+      step(&fx, u, K, g);
+      if (k % 4 == 0) {
+        randomise(&fx, rng);
+        double Mk[3];
+        assert_int_equal(rl_system_dipoles(fx.sys, &sff, 1, NULL, Mk), RL_OK);
+        rl_dipole_acc_add(M, Mk);
+        assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
+      }
+    }
+    assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+    char *res = output(&fx, "results.txt");
+    assert_non_null(res);
+    const double sdU = rl_series_sd(U);
+    const double cv_want = (0.5 * g + sdU * sdU / (T0 * T0)) / n; /* f kB/2 + <dU^2>/(kB T0^2), kB = 1 */
+    double eps_want;
+    assert_int_equal(rl_dielectric_constant(rl_dipole_acc_fluct(M, NULL), 1000.0, T0, 10.0, RL_UNITS_LJ, 0.0, &eps_want),
+                     RL_OK);
+    const double cv = value_of(res, "heat_capacity_per_molecule"), eps = value_of(res, "dielectric_constant");
+    printf("check %s: C_V/N %.6g (want %.6g), eps %.5g (want %.5g at T0)\n", fx.d.thermostat == RL_THERMO_BUSSI ? "bussi"
+           : fx.d.thermostat == RL_THERMO_LANGEVIN ? "langevin" : "isokinetic", cv, cv_want, eps, eps_want);
+    CHECK_LE("C_V per molecule at T0, relative", fabs(cv - cv_want) / cv_want, 1e-5);
+    CHECK_LE("dielectric constant at T0, relative", fabs(eps - eps_want) / eps_want, 1e-3);
+    if (e < 2) assert_non_null(strstr(res, "(canonical formula)"));
+    free(res);
+    rl_series_free(U);
+    rl_dipole_acc_free(M);
+    teardown(&fx);
+  }
+  gsl_rng_free(rng);
+}
+
+static void nve_keeps_lpv(void **state)
+{
+  (void)state;
+  fixture fx;
+  setup(&fx, "nve", SM_DECK("nve"));
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 6);
+  const int g = rl_system_dof(fx.sys), n = rl_system_count(fx.sys);
+  rl_series *K = rl_series_alloc();
+  for (int k = 0; k < 400; k++) {
+    const double kin = 0.5 * g * 1.2 * (1.0 + 0.1 * gsl_ran_gaussian(rng, 1.0));
+    rl_series_add(K, kin);
+    step(&fx, -50.0 - kin, kin, g); /* E conserved */
+  }
+  assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+  char *res = output(&fx, "results.txt");
+  assert_non_null(res);
+  double cv_want;
+  assert_int_equal(rl_heat_capacity_nve(rl_series_mean(K), rl_series_sd(K) * rl_series_sd(K), g, 1.0, &cv_want), RL_OK);
+  cv_want /= n;
+  CHECK_LE("NVE C_V per molecule: Lebowitz-Percus-Verlet, relative", fabs(value_of(res, "heat_capacity_per_molecule") - cv_want) / cv_want, 1e-5);
+  assert_non_null(strstr(res, "Lebowitz-Percus-Verlet"));
+  free(res);
+  rl_series_free(K);
+  gsl_rng_free(rng);
+  teardown(&fx);
+}
+
 /* ------------------------------------------------------------------ failed writes (CLI audit D6) */
 
 static int tmp_files_left(void)
@@ -293,6 +393,7 @@ static void rdf_without_samples(void **state)
 int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(orientation_columns), cmocka_unit_test(msd_wrapped),
+                                     cmocka_unit_test(nvt_uses_target_temperature), cmocka_unit_test(nve_keeps_lpv),
                                      cmocka_unit_test(write_failures), cmocka_unit_test(rdf_without_samples)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
