@@ -1,7 +1,8 @@
 /* rotleap run's analysis layer (app/analysis.c) fed by hand-made configurations and step reports:
  * which vector the P1/P2 columns follow (molecular dipole, molecular axis, or n/a with a reason),
  * the MSD of wrapped positions, the NVT fluctuation formulas at the thermostat's target T0 (NVE
- * keeps Lebowitz-Percus-Verlet), and failed writes of PREFIX.results.txt, .rdf.csv and .tcf.csv. */
+ * keeps Lebowitz-Percus-Verlet), the dielectric constant's error bar and its short-run note, and
+ * failed writes of PREFIX.results.txt, .rdf.csv and .tcf.csv. */
 #include "../testutil.h"
 
 #include "analysis.h"
@@ -314,6 +315,49 @@ static void nve_keeps_lpv(void **state)
   teardown(&fx);
 }
 
+/* ------------------------------------------------------------------ dielectric: error and note */
+
+static void dielectric_short_run(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 9);
+  /* 8: too short for the blocking to find a plateau; 20: a plateau, but an error above 10 % of
+   * eps - 1 (sd(M^2)/<M^2> ~ 0.8 for 8 random dipoles); 4000: enough, no note */
+  static const int samples[3] = {8, 20, 4000};
+  static const char *note_has[3] = {"found no plateau", "% of eps - 1", NULL};
+  for (int c = 0; c < 3; c++) {
+    fixture fx;
+    char name[32];
+    snprintf(name, sizeof name, "eps%d", samples[c]);
+    setup(&fx, name, SM_DECK("nvt-bussi\ntemperature = 1.35"));
+    const int g = rl_system_dof(fx.sys);
+    for (int k = 0; k < samples[c]; k++) { /* independent orientations: tau = 1/2 sample */
+      randomise(&fx, rng);
+      step(&fx, -50.0 + gsl_ran_gaussian(rng, 1.0), 0.5 * g * 1.35, g);
+      assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
+    }
+    assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+    char *res = output(&fx, "results.txt"), line[400], note[400];
+    line_of(res, "dielectric_constant", line, sizeof line);
+    line_of(res, "dielectric_note", note, sizeof note);
+    printf("check %d samples: %s | %s\n", samples[c], line, note[0] ? note : "(no note)");
+    assert_non_null(strstr(line, " +- ")); /* a block error, never a bare number */
+    if (note_has[c]) assert_non_null(strstr(note, note_has[c]));
+    else assert_true(note[0] == '\0');
+    if (c == 2) { /* random orientations: <dM^2> = N mu^2 = 8 x 3 exactly; the error bar covers it */
+      double exact, eps = value_of(res, "dielectric_constant"), err = strtod(strstr(line, " +- ") + 4, NULL);
+      assert_int_equal(rl_dielectric_constant(24.0, 1000.0, 1.35, 10.0, RL_UNITS_LJ, 0.0, &exact), RL_OK);
+      printf("check eps %.5g +- %.2g against the exact %.5g\n", eps, err, exact);
+      CHECK_LE("|eps - exact| / its error bar (4000 independent samples)", fabs(eps - exact) / err, 4.0);
+      CHECK_LE("its error bar, relative to eps - 1", err / (exact - 1.0), 0.05);
+    }
+    free(res);
+    teardown(&fx);
+  }
+  gsl_rng_free(rng);
+}
+
 /* ------------------------------------------------------------------ failed writes (CLI audit D6) */
 
 static int tmp_files_left(void)
@@ -394,6 +438,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(orientation_columns), cmocka_unit_test(msd_wrapped),
                                      cmocka_unit_test(nvt_uses_target_temperature), cmocka_unit_test(nve_keeps_lpv),
+                                     cmocka_unit_test(dielectric_short_run),
                                      cmocka_unit_test(write_failures), cmocka_unit_test(rdf_without_samples)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
