@@ -83,7 +83,7 @@ static void choose_orientation(analysis *a, const char *model)
 analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
   analysis *a = calloc(1, sizeof *a);
-  if (!a) return NULL;
+  if (!a) { rl_error(RL_ENOMEM, "out of memory for the analysis"); return NULL; }
   a->d = d;
   a->mol = mol;
   a->n = rl_system_count(sys);
@@ -104,6 +104,14 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->buf = calloc((size_t)a->n, sizeof *a->buf);
   a->dip = calloc((size_t)a->n, sizeof *a->dip);
   a->M = rl_dipole_acc_alloc();
+  int ok = a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->M;
+  for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) ok = ok && *ser[k];
+  for (int k = 0; k < a->nrdf; k++) ok = ok && a->rdf[k];
+  if (!ok) { /* the samplers would dereference NULL */
+    analysis_free(a);
+    rl_error(RL_ENOMEM, "out of memory for the analysis of %d molecules", rl_system_count(sys));
+    return NULL;
+  }
   a->sff = rl_molecule_ff(mol);
   for (int s = 0; s < mol->nsites; s++) a->point_dipoles |= mol->dipole[s] != 0.0;
   a->dipolar = net_dipole(mol);

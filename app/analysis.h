@@ -8,7 +8,7 @@
 
 typedef struct analysis analysis;
 
-/* NULL with a message (rl_last_error) on a bad output.rdf pair name. */
+/* NULL with a message (rl_last_error) on a bad output.rdf pair name or out of memory. */
 analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
 void analysis_free(analysis *a);
 /* Every step: on-step values at t, pressure at t, forces and torques at t. */
