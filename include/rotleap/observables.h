@@ -179,8 +179,10 @@ int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long 
                    double *c);
 
 /* Self-diffusion, Einstein: least-squares line msd(t) = a + 6 D t over lags lag_lo..lag_hi
- * (inclusive; t = lag dt).  Documented default window: from 10% to 50% of the lags computed
- * (the ballistic start and the poorly averaged tail excluded).  out D, D_err (standard error of
+ * (inclusive; t = lag dt).  `rotleap run` computes lags up to L = min(frames / 2, 1000) and fits
+ * L/5..L: 20 % to 100 % of the lags computed, i.e. 10 % to 50 % of the stored samples while the
+ * 1,000-lag bound does not apply (the ballistic start excluded; no lag beyond half the samples,
+ * where fewer origins average it).  out D, D_err (standard error of
  * the slope / 6 from the fit residuals; it ignores the correlation between lags, so it is a
  * lower bound), either may be NULL.  in msd[nlag], 0 <= lag_lo < lag_hi < nlag. */
 int rl_diffusion_einstein(const double *msd, long nlag, double dt, long lag_lo, long lag_hi,

@@ -224,6 +224,11 @@ static void msd_wrapped(void **state)
   }
   CHECK_NEAR("MSD rows (lags 0..frames/2)", rows, frames / 2 + 1, 0.0);
   CHECK_LE("MSD of wrapped positions vs (k |v|)^2, relative", err, 1e-5);
+  /* the Einstein window docs/observables.md gives: lags L/5..L, L = frames/2 */
+  char *res = output(&fx, "results.txt");
+  printf("check Einstein window of %d samples: %s\n", frames, strstr(res, "MSD lags 1-6 samples") ? "lags 1-6 ok" : "FAIL");
+  assert_non_null(strstr(res, "(Einstein, MSD lags 1-6 samples)"));
+  free(res);
   free(tcf);
   teardown(&fx);
 }
