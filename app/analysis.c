@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -281,6 +282,18 @@ static void write_rdf(FILE *fp, const void *ctx)
 
 static void write_text(FILE *fp, const void *ctx) { fputs(ctx, fp); }
 
+/* Append one failure to the "; "-separated list errs[n]. */
+static void add_failure(char *errs, size_t n, const char *fmt, ...)
+{
+  const size_t used = strlen(errs);
+  if (used + 2 >= n) return;
+  if (used) strcat(errs, "; ");
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(errs + strlen(errs), n - strlen(errs), fmt, ap);
+  va_end(ap);
+}
+
 /* Write `path` atomically (NAME.tmp.<pid>, renamed over NAME: on failure the earlier NAME is
  * left as it was).  On failure 1, with rl_atomic's message ("NAME: reason", naming the errno
  * reason) appended to errs[n]. */
@@ -291,8 +304,7 @@ static int write_file(const char *path, void (*fill)(FILE *, const void *), cons
     fill(af.fp, ctx);
     if (!rl_atomic_commit(&af)) return 0;
   }
-  const size_t used = strlen(errs);
-  snprintf(errs + used, n - used, "%s%s", used ? "; " : "", rl_last_error());
+  add_failure(errs, n, "%s", rl_last_error());
   return 1;
 }
 
@@ -397,9 +409,7 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
     for (int q = 0; q < a->nrdf && !bad; q++) bad = rl_rdf_get(a->rdf[q], r, g + (size_t)q * (size_t)nb) != RL_OK;
     rdf_table t = {a, nb, r, g};
     if (bad) {
-      const size_t used = strlen(errs);
-      snprintf(errs + used, sizeof errs - used, "%s%s: %s", used ? "; " : "", path,
-               !r || !g ? "out of memory" : rl_last_error());
+      add_failure(errs, sizeof errs, "%s: %s", path, !r || !g ? "out of memory" : rl_last_error());
       fprintf(f, "# could not write %s: %s\n", path, !r || !g ? "out of memory" : "the RDF could not be normalised");
     } else if (write_file(path, write_rdf, &t, errs, sizeof errs))
       fprintf(f, "# could not write %s\n", rl_last_error());
@@ -409,11 +419,8 @@ int analysis_write(analysis *a, const char *prefix, double dt_sample)
   /* the results file itself */
   const int composed = fclose(f) == 0 && text;
   snprintf(path, sizeof path, "%s.results.txt", prefix);
-  if (!composed) {
-    const size_t used = strlen(errs);
-    snprintf(errs + used, sizeof errs - used, "%s%s: out of memory composing it", used ? "; " : "", path);
-  } else
-    write_file(path, write_text, text, errs, sizeof errs);
+  if (!composed) add_failure(errs, sizeof errs, "%s: out of memory composing it", path);
+  else write_file(path, write_text, text, errs, sizeof errs);
   free(text);
   return errs[0] ? rl_error(RL_EINVAL, "%s", errs) : RL_OK;
 }
