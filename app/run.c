@@ -653,8 +653,10 @@ int rl_app_run(const rl_deck *d)
   /* a new trajectory replaces an earlier one only if this run has frames for it or ended well */
   const int traj_bad = traj_close(&tr, done > 0 || !st);
   if (traj_bad) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-  if (an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep))
-    fprintf(stderr, "rotleap run: writing results: %s\n", rl_last_error());
+  /* results, RDF and TCF files: each is written (atomically) whatever happened to the others; a
+   * failure is named on stderr and makes the exit status 1, like a failed thermo or trajectory */
+  const int results_bad = an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep);
+  if (results_bad) fprintf(stderr, "rotleap run: cannot write the results: %s\n", rl_last_error());
   analysis_free(an);
   free(fsnap_store.f);
   free(fsnap_store.k);
@@ -724,7 +726,7 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: cannot write %s: %s\n", summary_path, strerror(errno));
     io_ok = 0;
   }
-  if (traj_bad) io_ok = 0;
+  if (traj_bad || results_bad) io_ok = 0;
   if (!st) fputs(text, stdout);
   rl_integrator_free(in);
   scene_free(&s);

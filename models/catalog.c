@@ -196,7 +196,7 @@ static const rl_model catalog[] = {
      "e.g. J. Vrabec, J. Stoll, H. Hasse, J. Phys. Chem. B 105, 12126 (2001) for the 2CLJ family",
      RL_UNITS_LJ, RL_KIND_LINEAR, 0, 1, {"elongation"}, {"sigma"}, {0.5}, def_2clj},
     {"2cljq", "two-centre Lennard-Jones + point quadrupole (reduced units)",
-     "J. Stoll, J. Vrabec, H. Hasse, J. Chem. Phys. 119, 11396 (2003)",
+     "J. Stoll, J. Vrabec, H. Hasse, J. Fischer, Fluid Phase Equilib. 179, 339 (2001)",
      RL_UNITS_LJ, RL_KIND_LINEAR, 0, 2, {"elongation", "quadrupole"}, {"sigma", "sqrt(eps sigma^5)"},
      {0.5, 1.0}, def_2cljq},
     {"n2", "nitrogen, 2CLJQ", "J. Vrabec, J. Stoll, H. Hasse, J. Phys. Chem. B 105, 12126 (2001)",

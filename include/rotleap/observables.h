@@ -96,7 +96,10 @@ int rl_running_rel_fluct(const double *x, size_t n, double *out);
 int rl_heat_capacity_nvt(double var_E, double T, double kB, double *cv);
 /* Isokinetic NVT (the paper's eqs. 17-18: K fixed, configurations canonical): the kinetic part
  * is the ideal dof kB / 2 and the configurational part comes from the potential energy,
- * C_V = dof kB / 2 + <dU^2> / (kB T^2).   in var_U, T, dof (kinetic degrees of freedom).      */
+ * C_V = dof kB / 2 + <dU^2> / (kB T^2).   in var_U, T, dof (kinetic degrees of freedom).
+ * The same formula holds for canonical sampling (K and U independent, <dK^2> = dof (kB T)^2 / 2):
+ * it is rl_heat_capacity_nvt with the kinetic part known instead of sampled, and `rotleap run`
+ * uses it, with T the thermostat's target, for every NVT run (docs/observables.md).            */
 int rl_heat_capacity_isokinetic(double var_U, double T, int dof, double kB, double *cv);
 /* NVE, Lebowitz-Percus-Verlet (Phys. Rev. 153, 250 (1967)) from kinetic-energy fluctuations:
  *   <dK^2> = (2 <K>^2 / f) (1 - f kB / (2 C_V))   =>   C_V = (f kB / 2) / (1 - f <dK^2> / (2 <K>^2))
@@ -176,8 +179,10 @@ int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long 
                    double *c);
 
 /* Self-diffusion, Einstein: least-squares line msd(t) = a + 6 D t over lags lag_lo..lag_hi
- * (inclusive; t = lag dt).  Documented default window: from 10% to 50% of the lags computed
- * (the ballistic start and the poorly averaged tail excluded).  out D, D_err (standard error of
+ * (inclusive; t = lag dt).  `rotleap run` computes lags up to L = min(frames / 2, 1000) and fits
+ * L/5..L: 20 % to 100 % of the lags computed, i.e. 10 % to 50 % of the stored samples while the
+ * 1,000-lag bound does not apply (the ballistic start excluded; no lag beyond half the samples,
+ * where fewer origins average it).  out D, D_err (standard error of
  * the slope / 6 from the fit residuals; it ignores the correlation between lags, so it is a
  * lower bound), either may be NULL.  in msd[nlag], 0 <= lag_lo < lag_hi < nlag. */
 int rl_diffusion_einstein(const double *msd, long nlag, double dt, long lag_lo, long lag_hi,
@@ -189,7 +194,7 @@ int rl_diffusion_green_kubo(const double *vacf, long nlag, double dt, double *D)
 /* Minimum-image unwrapping: out[i] = x[i] + L round((prev[i] - x[i]) / L) per component, the
  * image of x[i] nearest the previous unwrapped position (valid while a body moves less than L/2
  * between samples).  in L[3], prev[n][3] (previous unwrapped), x[n][3] (any image);
- * out out[n][3] (may alias x). */
+ * out out[n][3] (may alias x or prev: each component is read before it is written). */
 void rl_unwrap(const double L[3], const double (*prev)[3], const double (*x)[3], int n,
                double (*out)[3]);
 
