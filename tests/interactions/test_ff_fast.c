@@ -731,15 +731,15 @@ static void test_small_box_mixture(void **state)
  * in ff_fast.c, and the other fills' images).  The bodies move by less than half the skin between
  * computes, so the list is not rebuilt, while pairs near half the box edge change which image
  * is the nearest: each compute against the reference path. */
-static void small_water_box(scene *s, gsl_rng *rng, rl_ff_params *p)
+static void water_box(scene *s, gsl_rng *rng, rl_ff_params *p, int count, double rc)
 {
   *s = (scene){.nsp = 1};
   ff_water(&s->sp[0]);
-  int cnt[1] = {256};
+  int cnt[1] = {count};
   scene_build(s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
   rl_ff_params_default(p);
   p->box[0] = p->box[1] = p->box[2] = s->L;
-  p->cutoff = 0.9;
+  p->cutoff = rc;
 }
 
 static void nudge(rl_system *sys, gsl_rng *rng, double a)
@@ -760,7 +760,7 @@ static void test_image_list(void **state)
   gsl_rng_set(rng, 19);
   scene s;
   rl_ff_params p;
-  small_water_box(&s, rng, &p);
+  water_box(&s, rng, &p, 256, 0.9);
   p.skin = 0.2;
   for (int k = 0; k < NPATH; k++) {
     set_path(k);
@@ -781,6 +781,24 @@ static void test_image_list(void **state)
     }
   }
   set_path(0);
+  /* 64 waters at rc = 0.6 nm (L = 1.24 nm) with a skin of 0.3 nm (rlist 1.08 nm): the image
+   * list holds 2.8 entries per listed pair (2,016 pairs, 5,668 images), more than its first
+   * allocation, so it grows while it is built */
+  {
+    scene w;
+    rl_ff_params q;
+    water_box(&w, rng, &q, 64, 0.6);
+    q.skin = 0.3;
+    for (int t = 1; t <= 2; t++) {
+      rl_forcefield *fa = make(&w, &q, RL_KERNEL_AUTO, t), *fg = make(&w, &q, RL_KERNEL_GENERAL, 0);
+      char what[120];
+      snprintf(what, sizeof what, "64 waters, L = %.3f nm, rc 0.6, %d thread(s)", w.L, t);
+      compare(fa, fg, w.sys, what, 1e-12);
+      rl_forcefield_free(fa);
+      rl_forcefield_free(fg);
+    }
+    rl_system_free(w.sys);
+  }
   /* a smaller box for the same bodies (rl_forcefield_set_box), no body moved: new neighbours
    * come within range through the new images, so the kernels' list must be rebuilt */
   rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 1), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
@@ -811,7 +829,7 @@ static void test_mixed_precision(void **state)
   for (int box = 0; box < 2; box++) {
     scene s;
     rl_ff_params p;
-    if (box) small_water_box(&s, rng, &p);
+    if (box) water_box(&s, rng, &p, 256, 0.9);
     else neat_scene(&s, rng, 1, &p);
     for (int scheme = 0; scheme < 2; scheme++)
       for (int tr = 0; tr < 4; tr++) {
