@@ -460,6 +460,51 @@ static void drift(rl_integrator *in, double hd)
     for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
 }
 
+static int all_finite(const double *x, int n)
+{
+  double z = 0.0;
+  for (int c = 0; c < n; c++) z += 0.0 * x[c]; /* NaN iff some x[c] is NaN or Inf */
+  return z == 0.0;
+}
+
+/* What of body i is not finite (position, orientation or axis), or NULL. */
+static const char *nonfinite_part(const rl_system *s, int i)
+{
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  const int b = i - sp->first;
+  if (!all_finite(s->r[i], 3)) return "position";
+  if (sp->mat_off >= 0 && !all_finite(s->A[sp->mat_off + b], 9)) return "orientation";
+  if (sp->axis_off >= 0 && !all_finite(s->rho[sp->axis_off + b], 3)) return "axis";
+  return NULL;
+}
+
+/* After the drift and the rotation: RL_ENONFINITE naming the mid-step kinetic energy K (the
+ * step's Kmid) or the first body whose new position or orientation is not finite, so that a step
+ * never returns RL_OK with a NaN or Inf in the state (and no force provider sees one). */
+static int check_state(const rl_integrator *in, const double K[2])
+{
+  const rl_system *s = in->sys;
+  if (!isfinite(K[0]) || !isfinite(K[1]))
+    return rl_error(RL_ENONFINITE, "non-finite mid-step kinetic energy at step %ld (t = %g): translational "
+                    "%g, rotational %g", in->steps, in->t, K[0], K[1]);
+  const int n = s->n;
+  int bad = n;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(in->threads) if (in->threads > 1 && n >= RL_THREAD_MIN_BODIES) \
+    reduction(min : bad)
+#endif
+  {
+    int i0, i1;
+    rl_thread_range(n, &i0, &i1);
+    for (int i = i0; i < i1; i++)
+      if (nonfinite_part(s, i)) { bad = i; break; }
+  }
+  if (bad < n)
+    return rl_error(RL_ENONFINITE, "non-finite %s of body %d after step %ld (t = %g)",
+                    nonfinite_part(s, bad), bad, in->steps, in->t);
+  return RL_OK;
+}
+
 /* The kick of one component x (v or l) by the force f over the step (eqs. 8, 10), as eqs. 17-18
  * under the isokinetic scheme (beta != 1, c2 = 2 beta - 1); w = h / 2 (times 1/m for v). */
 static inline double kicked(double beta, double c2, double x, double w, double f)
@@ -576,6 +621,10 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   rl_step_info info;
   onstep_info(in, &info);
   const double ket = info.ke_trans, ker = info.ke_rot;
+  if (!isfinite(ket) || !isfinite(ker))
+    return rl_error(RL_ENONFINITE, "non-finite on-step kinetic energy at step %ld (t = %g): translational "
+                    "%g, rotational %g (velocities or angular momenta beyond the range of doubles)",
+                    in->steps, in->t, ket, ker);
   int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
   double beta = 1.0, ke = ket + ker;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) {
@@ -665,6 +714,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     st = rotate_all(in, &rw);
     rw.max_h_omega *= 2.0; /* reported as h |Omega| over the whole step */
   }
+  if (!st) st = check_state(in, Kmid);
   if (st) return st;
   info.fallbacks = rw.fallbacks;
   info.quat_iterations = rw.quat_iterations;

@@ -217,6 +217,12 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
       loc.residual = rl_omega_residual(J, theta, h, Om);
     }
   }
+  /* beyond h|theta| ~ 1e100 the reduced equation overflows: keep the promise of a finite
+   * Omega (theta itself) and let the residual below report the failure */
+  if (!isfinite(Om[0] + Om[1] + Om[2])) {
+    Om[0] = theta[0]; Om[1] = theta[1]; Om[2] = theta[2];
+    loc.residual = rl_omega_residual(J, theta, h, Om);
+  }
   Omega[0] = Om[0]; Omega[1] = Om[1]; Omega[2] = Om[2];
   if (info) *info = loc;
   if (!(loc.residual <= 1e-12))
@@ -292,9 +298,36 @@ void rl_omega_symmetric(const double J[3], const double theta[3], double h, doub
 
 /* ---------------------------------------------------------------------- Cayley evolution */
 
+/* The Cayley maps turn about u = w/|w| by phi = 2 atan(x), x = f h |w| (f = 1/2 for D and the
+ * axis, 1/4 for the quaternion G).  Their usual form divides by 1 + x^2, which overflows for
+ * h|w| beyond ~1e154 (x^2 = Inf, and then (1 - x^2)/(1 + x^2) = NaN).  For x^2 > 1 the callers
+ * divide through by x^2 instead: cos phi = (y - 1)/(y + 1), sin phi = 2 (1/x)/(1 + y),
+ * 1 - cos phi = 2/(1 + y) with y = 1/x^2, all finite (x = Inf gives the rotation by pi). */
+static void cayley_large(const double w[3], double fh, double u[3], double *c, double *s, double *omc)
+{
+  double m = fmax(fmax(fabs(w[0]), fabs(w[1])), fabs(w[2]));
+  for (int k = 0; k < 3; k++) u[k] = w[k] / m;
+  double n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (int k = 0; k < 3; k++) u[k] /= n;
+  double ix = 1.0 / (fh * m * n), y = ix * ix, den = 1.0 + y;
+  *c = (y - 1.0) / den;
+  *s = 2.0 * ix / den;
+  *omc = 2.0 / den;
+}
+
 void rl_cayley(const double w[3], double h, double D[9])
 {
   double x2 = 0.25 * h * h * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  if (x2 > 1.0) { /* D = cos(phi) I + sin(phi) W(u) + (1 - cos(phi)) u u^T */
+    double u[3], c, sn, b;
+    cayley_large(w, 0.5 * h, u, &c, &sn, &b);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) D[3 * i + j] = (i == j ? c : 0.0) + b * u[i] * u[j];
+    D[1] += sn * u[2]; D[2] -= sn * u[1];
+    D[3] -= sn * u[2]; D[5] += sn * u[0];
+    D[6] += sn * u[1]; D[7] -= sn * u[0];
+    return;
+  }
   double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, hs = h * inv, p = 0.5 * h * h * inv;
   /* W(w) of eq. 3: [[0, wz, -wy], [-wz, 0, wx], [wy, -wx, 0]] */
   D[0] = c + p * w[0] * w[0];
@@ -322,13 +355,25 @@ void rl_rotate_axis(double rho[3], const double w[3], double h)
 {
   /* d rho/dt = w x rho = W^T(w) rho; Cayley: rho' = [(1-x^2) rho + h w x rho + h^2/2 (w.rho) w]/(1+x^2) */
   double x2 = 0.25 * h * h * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, hs = h * inv;
-  double wr = 0.5 * h * h * inv * (w[0] * rho[0] + w[1] * rho[1] + w[2] * rho[2]);
-  double cx = w[1] * rho[2] - w[2] * rho[1], cy = w[2] * rho[0] - w[0] * rho[2],
-         cz = w[0] * rho[1] - w[1] * rho[0];
-  double n0 = c * rho[0] + hs * cx + wr * w[0];
-  double n1 = c * rho[1] + hs * cy + wr * w[1];
-  double n2 = c * rho[2] + hs * cz + wr * w[2];
+  double c, hs, wr;
+  const double *v = w; /* w, or its unit vector when x^2 > 1 (cayley_large) */
+  double u[3];
+  if (x2 > 1.0) {
+    double b;
+    cayley_large(w, 0.5 * h, u, &c, &hs, &b);
+    wr = b * (u[0] * rho[0] + u[1] * rho[1] + u[2] * rho[2]);
+    v = u;
+  } else {
+    double inv = 1.0 / (1.0 + x2);
+    c = (1.0 - x2) * inv;
+    hs = h * inv;
+    wr = 0.5 * h * h * inv * (w[0] * rho[0] + w[1] * rho[1] + w[2] * rho[2]);
+  }
+  double cx = v[1] * rho[2] - v[2] * rho[1], cy = v[2] * rho[0] - v[0] * rho[2],
+         cz = v[0] * rho[1] - v[1] * rho[0];
+  double n0 = c * rho[0] + hs * cx + wr * v[0];
+  double n1 = c * rho[1] + hs * cy + wr * v[1];
+  double n2 = c * rho[2] + hs * cz + wr * v[2];
   rho[0] = n0; rho[1] = n1; rho[2] = n2;
 }
 
@@ -377,8 +422,16 @@ void rl_quat_rotate(double q[4], const double Om[3], double h)
 {
   /* eq. 23: q' = [I (1 - h^2 Omega^2/16) + h Q(Omega)] q / (1 + h^2 Omega^2/16), Q of eq. 5 */
   double x2 = h * h * (Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]) / 16.0;
-  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, g = 0.5 * h * inv;
-  double X = Om[0], Y = Om[1], Z = Om[2];
+  double c, g, X = Om[0], Y = Om[1], Z = Om[2];
+  if (x2 > 1.0) { /* divided through by x^2 (cayley_large): g Omega = sin(phi) u */
+    double u[3], b;
+    cayley_large(Om, 0.25 * h, u, &c, &g, &b);
+    X = u[0]; Y = u[1]; Z = u[2];
+  } else {
+    double inv = 1.0 / (1.0 + x2);
+    c = (1.0 - x2) * inv;
+    g = 0.5 * h * inv;
+  }
   double n0 = c * q[0] + g * (Z * q[1] - X * q[2] - Y * q[3]);
   double n1 = c * q[1] + g * (-Z * q[0] - Y * q[2] + X * q[3]);
   double n2 = c * q[2] + g * (X * q[0] + Y * q[1] + Z * q[3]);

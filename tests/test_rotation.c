@@ -240,12 +240,70 @@ static void quaternion_convention(void **state)
   CHECK_LE("dA/dt from quaternions = W(Omega) A", err, 1e-8);
 }
 
+/* Huge h|w|: the Cayley maps divide through by x^2 once x = h|w|/2 (h|w|/4 for G) exceeds 1, so
+ * they stay finite and orthogonal up to the largest doubles and keep turning by 2 atan(h|w|/2),
+ * which tends to pi (the plain form gave NaN from h|w| ~ 1.3e154 on).  The guarded solve of eq.
+ * 28, which overflows far earlier, reports RL_ENOCONV with a finite Omega. */
+static void cayley_overflow(void **state)
+{
+  (void)state;
+  /* (h, |w|): h|w| = 2.5, 1e10, 1e150, 1e155, 1e200, 1e300, 1e308 and 1e318 (beyond the doubles:
+   * the rotation by pi) */
+  const double hw[][2] = {{1, 2.5},     {1, 1e10},      {1, 1e150},     {1, 1e155},
+                          {1e100, 1e100}, {1e10, 1e290}, {1e10, 1e298}, {1e20, 1e298}};
+  const double u[3] = {0.48, -0.6, 0.64}; /* unit */
+  double worst_rod = 0.0, worst_orth = 0.0, worst_ax = 0.0, worst_q = 0.0;
+  for (size_t k = 0; k < sizeof hw / sizeof *hw; k++) {
+    const double h = hw[k][0], x = h * hw[k][1]; /* x = Inf for the last */
+    double w[3] = {u[0] * hw[k][1], u[1] * hw[k][1], u[2] * hw[k][1]}, D[9], R[9], A[9];
+    rl_cayley(w, h, D);
+    rodrigues(u, 2.0 * atan(0.5 * x), R);
+    worst_rod = fmax(worst_rod, max_abs_diff(D, R, 9));
+    worst_orth = fmax(worst_orth, rl_orthonormality_error(D));
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 40 + k);
+    random_rotation(r, A);
+    gsl_rng_free(r);
+    double rho[3] = {A[6], A[7], A[8]}, lab[3], DA[9], q[4], Aq[9], Rq[9], RA[9];
+    memcpy(DA, A, sizeof DA);
+    rl_rotate_matrix(DA, w, h);
+    for (int c = 0; c < 3; c++) lab[c] = A[c] * w[0] + A[3 + c] * w[1] + A[6 + c] * w[2];
+    rl_rotate_axis(rho, lab, h);
+    worst_ax = fmax(worst_ax, max_abs_diff(rho, DA + 6, 3));
+    assert_int_equal(rl_matrix_to_quat(A, q), RL_OK);
+    rl_quat_rotate(q, w, h);
+    rl_quat_to_matrix(q, Aq);
+    rodrigues(u, 4.0 * atan(0.25 * x), Rq);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        RA[3 * i + j] = Rq[3 * i] * A[j] + Rq[3 * i + 1] * A[3 + j] + Rq[3 * i + 2] * A[6 + j];
+    worst_q = fmax(worst_q, max_abs_diff(RA, Aq, 9));
+  }
+  CHECK_LE("Cayley D at h|w| = 2.5 .. 1e308: |D - Rodrigues(2 atan(h w/2))|", worst_rod, 1e-14);
+  CHECK_LE("Cayley D at h|w| = 2.5 .. 1e308: orthonormality", worst_orth, 4e-15);
+  CHECK_LE("axis rotation at h|w| = 2.5 .. 1e308 = third row of D A", worst_ax, 1e-14);
+  CHECK_LE("quaternion G at h|w| = 2.5 .. 1e308 = rotation by 4 atan(h w/4)", worst_q, 1e-14);
+  const double J[3] = {0.6, 1.0, 1.4};
+  int finite = 1, enoconv = 0;
+  for (double m = 1e50; m < 1e300; m *= 1e10) {
+    const double th[3] = {0.3 * m, -0.8 * m, 0.52 * m};
+    double Om[3];
+    int st = rl_omega_guarded(J, th, 1.0, 0.0, Om, NULL);
+    finite &= isfinite(Om[0]) && isfinite(Om[1]) && isfinite(Om[2]);
+    enoconv += st == RL_ENOCONV;
+  }
+  printf("info  guarded solve at h|theta| = 1e50 .. 1e290: %d of 25 RL_ENOCONV\n", enoconv);
+  CHECK_LE("guarded solve at h|theta| up to 1e290: a non-finite Omega", !finite, 0);
+  assert_true(enoconv > 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(water_thermal),      cmocka_unit_test(extremes),
       cmocka_unit_test(cubic_root),         cmocka_unit_test(symmetric_and_linear),
       cmocka_unit_test(cayley_and_quaternions), cmocka_unit_test(quaternion_convention),
+      cmocka_unit_test(cayley_overflow),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

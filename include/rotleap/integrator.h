@@ -201,7 +201,11 @@ int rl_integrator_init(rl_integrator *in);
  * nothing is staggered or projected, and the step counter and time are set, so that a restart
  * continues bit for bit.  Restore the thermostat account and RNG state after this call. */
 int rl_integrator_resume(rl_integrator *in, long step, double t);
-/* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t. */
+/* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t.
+ * RL_ENONFINITE if the on-step or mid-step kinetic energy or a new position or orientation is
+ * not finite (velocities or angular momenta beyond the range of doubles): a step never returns
+ * RL_OK with a NaN or Inf in the state or the report.  After such an error the state may be
+ * partly advanced and is not to be continued. */
 int rl_integrator_step(rl_integrator *in, rl_step_info *info);
 /* The on-step values at the current time, as the next rl_integrator_step would report them
  * (energies, on-step kinetic energies of eqs. 9/12, the conserved quantity, the mid-step

@@ -50,7 +50,8 @@ double rl_omega_residual(const double J[3], const double theta[3], double h,
  * out Omega[3]  mid-step principal angular velocity
  * out info      how it was found (may be NULL)
  * Never returns NaN or Inf for finite input.  Returns RL_OK, or RL_ENOCONV if even the bracketed
- * solve could not meet 1e-12 (not observed; reported rather than hidden). */
+ * solve could not meet 1e-12 (reported rather than hidden; seen only far beyond any usable step,
+ * where the reduced equation overflows: Omega is then theta, finite, and must not be used). */
 int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
                      double Omega[3], rl_omega_info *info);
 
@@ -72,7 +73,10 @@ void rl_omega_symmetric(const double J[3], const double theta[3], double h, doub
 /* The Cayley / evolution matrix D of eq. 24 for the vector w (row-major 3x3):
  *   D = [I (1 - h^2 w^2/4) + h W(w) + h^2/2 w w^T] / (1 + h^2 w^2/4),
  * exactly orthogonal; it is the rotation exp[phi W(w)/|w|] with phi = 2 atan(h |w| / 2), which is
- * the paper's arcsin form for h|w| <= 2 and continues it beyond. */
+ * the paper's arcsin form for h|w| <= 2 and continues it beyond.  For h|w| > 2 it is evaluated
+ * divided through by h^2 w^2/4, so it stays finite and orthogonal for every finite h and w (it
+ * tends to the rotation by pi; the undivided form overflowed to NaN from h|w| ~ 1.3e154).  The
+ * same holds for rl_rotate_axis and rl_quat_rotate (tests/test_rotation.c, cayley_overflow). */
 void rl_cayley(const double w[3], double h, double D[9]);
 
 /* A <- D(Omega) A (eq. 24), A row-major 3x3. */
