@@ -792,9 +792,20 @@ void rl_integrator_mid_angmom(const rl_integrator *in, int i, double l[3])
 int rl_integrator_quaternion(const rl_integrator *in, int i, double q[4])
 {
   const rl_system *s = in->sys;
+  if (i < 0 || i >= s->n) return rl_error(RL_EINVAL, "rl_integrator_quaternion: body %d out of range", i);
   const rl_species *sp = &s->sp[s->species_of[i]];
-  if (!in->q || sp->mat_off < 0)
-    return rl_error(RL_ESTATE, "body %d has no quaternion (no quaternion method selected)", i);
-  memcpy(q, in->q[sp->mat_off + i - sp->first], 4 * sizeof(double));
+  if (sp->mat_off < 0)
+    return rl_error(RL_ESTATE, "body %d (%s) has no orientation quaternion: %s", i, rl_kind_name(sp->kind),
+                    sp->axis_off >= 0 ? "only its axis is stored" : "it does not rotate");
+  if (!in->q)
+    return rl_error(RL_ESTATE, "body %d has no quaternion: rotation method %s does not use one", i,
+                    rl_rot_method_name(in->p.method));
+  const int b = i - sp->first;
+  /* under RL_ROT_QUATERNION only the general path advances q; the spherical and symmetric fast
+   * paths advance A, which is then the state, and their q is A's */
+  if (in->p.method == RL_ROT_QUATERNION &&
+      rl_family_for(sp->kind, in->p.force_general) != &rl_family_asymmetric)
+    return rl_matrix_to_quat(s->A[sp->mat_off + b], q);
+  memcpy(q, in->q[sp->mat_off + b], 4 * sizeof(double));
   return RL_OK;
 }

@@ -241,9 +241,12 @@ const rl_forces *rl_integrator_forces(const rl_integrator *in);
  * return the stored mid-step values v(t-h/2), l(t-h/2). */
 void rl_integrator_mid_velocity(const rl_integrator *in, int body, double v[3]);
 void rl_integrator_mid_angmom(const rl_integrator *in, int body, double l[3]);
-/* Quaternion of a matrix body under RL_ROT_QUATERNION, or, under the baselines, the q(t+h) the
- * last step produced (A = A(q); the periodic round-off polish of A does not update it); returns
- * RL_ESTATE for the other methods. */
+/* Quaternion of a matrix body (eq. 4: A = A(q)).  Under RL_ROT_QUATERNION: the iterated q of the
+ * general path, or, for the spherical and symmetric tops that keep their fast paths (which
+ * advance A), the q of their current A (chi >= 0).  Under the baselines: the q(t+h) the last step
+ * produced (the periodic round-off polish of A does not update it).  RL_ESTATE for the other
+ * methods and for bodies without an orientation matrix (points, point dipoles, linear
+ * molecules); RL_EINVAL for a body out of range. */
 int rl_integrator_quaternion(const rl_integrator *in, int body, double q[4]);
 
 #ifdef __cplusplus
