@@ -74,7 +74,7 @@ static void extremes(void **state)
       {1.0, 2.0, 2.9}, {0.2, 1.0, 1.1}, {1.0, 1.0, 2.0}};
   const int nb = sizeof bodies / sizeof bodies[0];
   double worst = 0.0;
-  long n = 0, nonfinite = 0, three_real = 0, fallbacks = 0;
+  long n = 0, nonfinite = 0, three_real = 0, fallbacks = 0, off_branch = 0;
   for (int k = 0; k < nb; k++) {
     const double *J = bodies[k];
     for (int trial = 0; trial < 20000; trial++) {
@@ -92,11 +92,12 @@ static void extremes(void **state)
       worst = fmax(worst, gi.residual);
       three_real += gi.three_real;
       fallbacks += gi.path >= RL_OMEGA_PATH_NEWTON;
+      off_branch += gi.off_branch;
       n++;
     }
   }
-  printf("info  extremes: %ld solves, %ld with three real roots, %ld fallbacks\n", n, three_real,
-         fallbacks);
+  printf("info  extremes: %ld solves, %ld with three real roots, %ld fallbacks, %ld fast roots off "
+         "the branch (replaced)\n", n, three_real, fallbacks, off_branch);
   CHECK_LE("extremes: non-finite results", (double)nonfinite, 0.0);
   CHECK_LE("extremes: max eq. 28 residual (relative), h|Omega| <= 6", worst, 1e-12);
   printf("check %-58s %ld > 0 %s\n", "extremes: negative discriminant met", three_real,
@@ -292,9 +293,84 @@ static void cayley_overflow(void **state)
     finite &= isfinite(Om[0]) && isfinite(Om[1]) && isfinite(Om[2]);
     enoconv += st == RL_ENOCONV;
   }
-  printf("info  guarded solve at h|theta| = 1e50 .. 1e290: %d of 25 RL_ENOCONV\n", enoconv);
+  printf("info  guarded solve at h|theta| = 1e50 .. 1e290: %d RL_ENOCONV\n", enoconv);
   CHECK_LE("guarded solve at h|theta| up to 1e290: a non-finite Omega", !finite, 0);
   assert_true(enoconv > 0);
+}
+
+/* The solution of eq. 28 is the one that continues from Omega = theta at h = 0 (the auditor's
+ * test, shortened).  Reference: that branch followed in long double by 3-D Newton over 400 equal
+ * steps of h from 0.  At h|theta| >= 3, Cardano's three real roots or the Newton polish used to
+ * land on another solution (1-4 % of the solves at h|theta| = 3.5-6 for these bodies); the guarded
+ * and the exact solves must now both return the branch, and the test makes sure such cases were
+ * met (off_branch). */
+static int ref_newton(const double J[3], const double th[3], double h, long double x[3])
+{
+  const long double r0 = (J[1] - J[2]) / (2.0L * J[0]), r1 = (J[2] - J[0]) / (2.0L * J[1]),
+                    r2 = (J[0] - J[1]) / (2.0L * J[2]);
+  for (int it = 0; it < 60; it++) {
+    long double g[3] = {x[0] - th[0] - h * r0 * x[1] * x[2], x[1] - th[1] - h * r1 * x[2] * x[0],
+                        x[2] - th[2] - h * r2 * x[0] * x[1]};
+    long double M[9] = {1, -h * r0 * x[2], -h * r0 * x[1], -h * r1 * x[2], 1, -h * r1 * x[0],
+                        -h * r2 * x[1], -h * r2 * x[0], 1};
+    long double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+                      M[2] * (M[3] * M[7] - M[4] * M[6]);
+    if (!(det > 1e-12L)) return 0; /* det M > 0 on the branch; near 0: a fold */
+    long double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
+                          M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
+                          M[3] * M[7] - M[4] * M[6], M[1] * M[6] - M[0] * M[7], M[0] * M[4] - M[1] * M[3]};
+    long double d2 = 0;
+    for (int i = 0; i < 3; i++) {
+      long double d = (inv[3 * i] * g[0] + inv[3 * i + 1] * g[1] + inv[3 * i + 2] * g[2]) / det;
+      x[i] -= d;
+      d2 += d * d;
+    }
+    if (d2 <= 1e-36L * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2])) return 1;
+  }
+  return 1;
+}
+
+static void branch_from_zero(void **state)
+{
+  (void)state;
+  const double bodies[][3] = {{0.3, 0.6, 0.9}, {1.0, 2.0, 2.9}, {0.2, 1.0, 1.1},
+                              {1e-2, 0.7, 0.705}, {0.5, 0.8, 1.2}, {0.61, 1.0, 1.6}};
+  const double hws[] = {2.5, 3.0, 3.5, 4.0, 6.0};
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(r, 7);
+  long n = 0, folds = 0, wrong_g = 0, wrong_e = 0, errors = 0, off = 0;
+  double worst = 0.0;
+  for (size_t b = 0; b < sizeof bodies / sizeof *bodies; b++)
+    for (size_t k = 0; k < sizeof hws / sizeof *hws; k++)
+      for (int trial = 0; trial < 120; trial++) {
+        double th[3], h = hws[k];
+        gsl_ran_dir_3d(r, th, th + 1, th + 2);
+        long double x[3] = {th[0], th[1], th[2]};
+        int ok = 1;
+        for (int s = 1; s <= 400 && ok; s++) ok = ref_newton(bodies[b], th, h * s / 400.0, x);
+        if (!ok) { folds++; continue; }
+        const double xr[3] = {(double)x[0], (double)x[1], (double)x[2]};
+        double Og[3], Oe[3];
+        rl_omega_info gi, ei;
+        errors += rl_omega_guarded(bodies[b], th, h, 0.0, Og, &gi) != RL_OK;
+        errors += rl_omega_exact(bodies[b], th, h, Oe, &ei) != RL_OK;
+        const double dg = max_abs_diff(Og, xr, 3) / norm3d(xr), de = max_abs_diff(Oe, xr, 3) / norm3d(xr);
+        wrong_g += dg > 1e-8;
+        wrong_e += de > 1e-8;
+        if (dg <= 1e-8) worst = fmax(worst, dg);
+        off += gi.off_branch;
+        n++;
+      }
+  gsl_rng_free(r);
+  printf("info  %ld solves at h|theta| = 2.5-6 (%ld reference folds skipped): %ld fast roots off the "
+         "branch, replaced\n", n, folds, off);
+  CHECK_LE("branch from h = 0: guarded solves on another root", wrong_g, 0);
+  CHECK_LE("branch from h = 0: exact solves on another root", wrong_e, 0);
+  CHECK_LE("branch from h = 0: solves returning an error", errors, 0);
+  CHECK_LE("branch from h = 0: max relative distance to the reference", worst, 1e-12);
+  CHECK_LE("branch from h = 0: reference folds (the test needs the branch)", folds, 0);
+  printf("check %-58s %ld > 0 %s\n", "branch from h = 0: off-branch fast roots met", off, off > 0 ? "ok" : "FAIL");
+  assert_true(off > 0);
 }
 
 int main(void)
@@ -303,7 +379,7 @@ int main(void)
       cmocka_unit_test(water_thermal),      cmocka_unit_test(extremes),
       cmocka_unit_test(cubic_root),         cmocka_unit_test(symmetric_and_linear),
       cmocka_unit_test(cayley_and_quaternions), cmocka_unit_test(quaternion_convention),
-      cmocka_unit_test(cayley_overflow),
+      cmocka_unit_test(cayley_overflow),    cmocka_unit_test(branch_from_zero),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
