@@ -586,9 +586,8 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) beta = sqrt(in->p.T0 / info.temperature);
   info.beta = info.beta_rot = beta;
   info.conserved = info.total + in->thermo_work;
-  /* the mid-step temperatures the step's kick would give (eqs. 8, 10; 17-18 isokinetic), before
-   * any rescaling: the t_trans_mid, t_rot_mid a step reports */
-  const double c2 = 2.0 * beta - 1.0;
+  /* the mid-step temperatures of the plain kick (eqs. 8, 10), before any thermostat acts: the
+   * t_trans_mid, t_rot_mid a step reports */
   double Kmid[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
@@ -597,12 +596,12 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
     for (int b = 0; b < sp->count; b++) {
       const int i = sp->first + b;
       double v[3];
-      for (int c = 0; c < 3; c++) v[c] = kicked(beta, c2, s->v[i][c], w, in->F.f[i][c]);
+      for (int c = 0; c < 3; c++) v[c] = kicked(1.0, 1.0, s->v[i][c], w, in->F.f[i][c]);
       Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       if (sp->rot_off < 0) continue;
       const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
       double lt[3];
-      for (int c = 0; c < 3; c++) lt[c] = kicked(beta, c2, l[c], h2, kk[c]);
+      for (int c = 0; c < 3; c++) lt[c] = kicked(1.0, 1.0, l[c], h2, kk[c]);
       Kmid[1] += fam->ke_rot(sp, s, b, lt);
     }
   }
@@ -646,8 +645,11 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   /* Fincham needs l(t-h/2) next to l'(t+h/2) for its on-step l'(t) */
   if (in->lprev) memcpy(in->lprev, s->l, sizeof(*s->l) * (size_t)s->nrot);
 
-  /* 2-3. kick and drift; Kmid: kinetic energies of the new mid-step v(t+h/2) and l(t+h/2)
-   * (rotational part with A(t), which the rotation below replaces) */
+  /* 2-3. kick and drift; Kmid: kinetic energies of the plain kick's mid-step v(t+h/2) and
+   * l(t+h/2), before any thermostat acts (rotational part with A(t), which the rotation below
+   * replaces).  Under the isokinetic scheme the values carried forward are eqs. 17-18's; the
+   * reported t_trans_mid, t_rot_mid are still those of the plain kick, as for Bussi (before its
+   * rescaling) and Langevin (before its Ornstein-Uhlenbeck step). */
   const double c2 = 2.0 * beta - 1.0;
   double Kmid[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
@@ -667,16 +669,21 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         int i = sp->first + b;
         double *v = s->v[i];
         const double *f = in->F.f[i];
+        double x[3]; /* the plain kick, for Kmid; the same as v, l unless isokinetic */
         for (int c = 0; c < 3; c++) {
+          x[c] = kicked(1.0, 1.0, v[c], w, f[c]);
           v[c] = kicked(beta, c2, v[c], w, f[c]); /* eq. 8, or 17 */
           if (!bussi && !langevin) s->r[i][c] += h * v[c];
         }
-        kt += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        kt += 0.5 * sp->mass * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
         if (sp->rot_off < 0) continue;
         double *l = s->l[sp->rot_off + b];
         const double *kk = in->F.k[sp->rot_off + b];
-        for (int c = 0; c < 3; c++) l[c] = kicked(beta, c2, l[c], h2, kk[c]); /* eq. 10, or 18 */
-        kr += fam->ke_rot(sp, s, b, l);
+        for (int c = 0; c < 3; c++) {
+          x[c] = kicked(1.0, 1.0, l[c], h2, kk[c]);
+          l[c] = kicked(beta, c2, l[c], h2, kk[c]); /* eq. 10, or 18 */
+        }
+        kr += fam->ke_rot(sp, s, b, x);
       }
       pt[q] = kt;
       pr[q] = kr;

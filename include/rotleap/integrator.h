@@ -81,7 +81,11 @@ const char *rl_rot_method_name(rl_rot_method m);
 
 typedef enum {
   RL_THERMO_NONE = 0,       /* NVE                                                          */
-  RL_THERMO_ISOKINETIC = 1, /* the paper's isokinetic scaling (eqs. 17-18, III.B)            */
+  RL_THERMO_ISOKINETIC = 1, /* the paper's isokinetic scaling (eqs. 17-18, III.B), as
+                               published: the on-step T is T0 exactly, but a start at
+                               T(0) = r0^2 T0 leaves an undamped period-2 mode, T alternating
+                               r0^2 T0, (2 - r0)^2 T0 for free bodies (docs/integrators.md,
+                               "The isokinetic scheme's period-2 mode"); start near T0      */
   RL_THERMO_BUSSI = 2,      /* canonical stochastic velocity rescaling, Bussi, Donadio &
                                Parrinello, J. Chem. Phys. 126, 014101 (2007): the on-step
                                mid-step v and l are rescaled after the kick by alpha, alpha^2
@@ -158,13 +162,19 @@ typedef struct {
   double total;          /* ke_trans + ke_rot + potential                                   */
   double temperature;    /* 2 KE / (dof kB)                                                 */
   double t_trans, t_rot; /* translational / rotational temperatures                         */
-  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) that
-                            the thermostat acts on, before it acts: after the kick (l with
-                            A(t)) for NVE, isokinetic and Bussi; at the middle of the drift
-                            (l with the half-rotated A) for Langevin, where BAOAB makes them
-                            exactly canonical for harmonic modes.  At large h they differ
-                            from the on-step t_trans, t_rot by the leapfrog's O(h^2) shadow
-                            terms (1/(1 - h^2 omega^2/4) for a harmonic mode)              */
+  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) as the
+                            dynamics makes them, before any thermostat acts: the plain kick
+                            v(t-h/2) + h f/m, l(t-h/2) + h k (l with A(t)) for NVE, Bussi
+                            (before its rescaling) and isokinetic (not eqs. 17-18's
+                            (2 beta - 1) v(t) + h/2 f/m, which is what is carried forward);
+                            at the middle of the drift (l with the half-rotated A), before
+                            the Ornstein-Uhlenbeck step, for Langevin, where BAOAB makes
+                            them exactly canonical for harmonic modes.  At large h they
+                            differ from the on-step t_trans, t_rot by the leapfrog's O(h^2)
+                            shadow terms (1/(1 - h^2 omega^2/4) for a harmonic mode).  For
+                            free bodies under the isokinetic scheme they equal the on-step
+                            temperature before scaling, which alternates (docs/
+                            integrators.md, "The isokinetic scheme's period-2 mode")      */
   double beta;           /* thermostat scaling factor applied at t (1 for NVE): isokinetic
                             beta of eqs. 17-18; Bussi alpha applied to v(t+h/2) (and to
                             l(t+h/2) with RL_THERMO_GROUPS_ALL); Langevin: sqrt(K'/K) of the
@@ -177,7 +187,8 @@ typedef struct {
                             (the thermostat's work accounted; it drifts only by the
                             integration error); for the
                             isokinetic scheme the same sum with (1 - beta^2) KE(t), a
-                            diagnostic that is not conserved                                */
+                            diagnostic that is not conserved: the period-2 mode alone makes
+                            it climb by (r0 - 1)^2 g kB T0 / 2 per step                  */
   double max_h_omega;    /* max over bodies of h |Omega(t+h/2)|: > 1 means poorly resolved */
   long fallbacks;        /* guarded solves that needed Newton in this step                  */
   long quat_iterations;  /* quaternion iterations in this step (sum over bodies)            */
