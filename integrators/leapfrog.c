@@ -108,6 +108,15 @@ static int stochastic(const rl_integrator_params *p)
   return p->thermostat == RL_THERMO_BUSSI || p->thermostat == RL_THERMO_LANGEVIN;
 }
 
+/* Translational degrees of freedom under p's thermostat.  Langevin's noise moves the centre of
+ * mass, so all 3N count; the other thermostats conserve (NVE) or scale (Bussi, isokinetic) the
+ * total momentum, which carries no thermal energy, and the system's removed_dof (3 by default:
+ * the total momentum, held at zero by init and resume) comes off. */
+static int dof_trans(const rl_system *s, const rl_integrator_params *p)
+{
+  return p->thermostat == RL_THERMO_LANGEVIN ? 3 * s->n : rl_system_dof_translational(s);
+}
+
 static int validate(const rl_system *s, const rl_integrator_params *p)
 {
   if (!(p->h > 0.0) || !isfinite(p->h))
@@ -141,9 +150,9 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
     return rl_error(RL_EINVAL, "integrator energy_every = %ld must be >= 0 (0 or 1: every step)",
                     p->energy_every);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
-  if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
-    return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
-                    rl_system_dof(s));
+  const int g = dof_trans(s, p) + rl_system_dof_rotational(s);
+  if (p->thermostat != RL_THERMO_NONE && g <= 0)
+    return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold", g);
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     /* the baselines are quaternion schemes for full orientations; an axis-only species has no
@@ -279,6 +288,31 @@ static void kick(rl_integrator *in, double dt, double sign)
   }
 }
 
+/* The centre of mass as each thermostat needs it.  Under Langevin it is thermal, and nothing is
+ * done.  Under the others, when the system's count takes the total momentum P out (removed_dof
+ * >= 3), P must be zero, and a P above round-off (|P| > 1e-10 sum m|v|) is removed: a state that
+ * comes from a Langevin run has |P| ~ sqrt(3 M kT).  One at round-off is left as it is, so that
+ * restarts continue bit for bit.  Returns 1 if P was removed. */
+static int zero_momentum(rl_integrator *in)
+{
+  rl_system *s = in->sys;
+  if (in->p.thermostat == RL_THERMO_LANGEVIN || s->removed_dof < 3) return 0;
+  double P[3] = {0.0, 0.0, 0.0}, M = 0.0, mv = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    for (int i = sp->first; i < sp->first + sp->count; i++) {
+      const double *v = s->v[i];
+      for (int c = 0; c < 3; c++) P[c] += sp->mass * v[c];
+      mv += sp->mass * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      M += sp->mass;
+    }
+  }
+  if (!(sqrt(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]) > 1e-10 * mv)) return 0;
+  for (int i = 0; i < s->n; i++)
+    for (int c = 0; c < 3; c++) s->v[i][c] -= P[c] / M;
+  return 1;
+}
+
 int rl_integrator_init(rl_integrator *in)
 {
   rl_system *s = in->sys;
@@ -297,8 +331,7 @@ int rl_integrator_init(rl_integrator *in)
       for (int b = 0; b < sp->count; b++)
         if ((st = rl_matrix_to_quat(s->A[sp->mat_off + b], in->q[sp->mat_off + b]))) return st;
     }
-  /* Langevin noise moves the centre of mass: its 3 dof are thermal, not removed */
-  if (in->p.thermostat == RL_THERMO_LANGEVIN) rl_system_set_removed_dof(s, 0);
+  zero_momentum(in);
   in->steps = 0;
   in->thermo_work = 0.0;
   in->fallbacks = 0;
@@ -367,7 +400,7 @@ static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
 static void bussi_rescale(rl_integrator *in, const double K[2], double a[2])
 {
   rl_system *s = in->sys;
-  const int g[2] = {rl_system_dof_translational(s), rl_system_dof_rotational(s)};
+  const int g[2] = {dof_trans(s, &in->p), rl_system_dof_rotational(s)};
   const double kT = s->kB * in->p.T0, x = in->p.h / in->p.tau;
   double a2[2] = {1.0, 1.0};
   if (in->p.groups == RL_THERMO_GROUPS_ALL) {
@@ -560,7 +593,7 @@ static void onstep_info(rl_integrator *in, rl_step_info *info)
     }
     ket += 0.5 * sp->mass * kt;
   }
-  int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s), g = gt + gr;
+  int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s), g = gt + gr;
   info->ke_trans = ket;
   info->ke_rot = ker;
   info->total = ket + ker + info->potential;
@@ -605,7 +638,7 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
       Kmid[1] += fam->ke_rot(sp, s, b, lt);
     }
   }
-  const int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
+  const int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s);
   info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
   info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
   *out = info;
@@ -624,7 +657,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     return rl_error(RL_ENONFINITE, "non-finite on-step kinetic energy at step %ld (t = %g): translational "
                     "%g, rotational %g (velocities or angular momenta beyond the range of doubles)",
                     in->steps, in->t, ket, ker);
-  int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
+  int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s);
   double beta = 1.0, ke = ket + ker;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) {
     beta = sqrt(in->p.T0 / info.temperature);
@@ -756,7 +789,7 @@ int rl_integrator_resume(rl_integrator *in, long step, double t)
     for (int i = 0; i < s->nmat; i++)
       if ((st = rl_matrix_to_quat(s->A[i], in->q[i]))) return st;
   }
-  if (in->p.thermostat == RL_THERMO_LANGEVIN) rl_system_set_removed_dof(in->sys, 0);
+  zero_momentum(in);
   in->steps = step;
   in->t = t;
   in->fallbacks = 0;
@@ -779,6 +812,14 @@ double rl_integrator_thermostat_work(const rl_integrator *in) { return in->therm
 void rl_integrator_set_thermostat_work(rl_integrator *in, double w) { in->thermo_work = w; }
 size_t rl_integrator_rng_size(const rl_integrator *in) { return in->rng ? gsl_rng_size(in->rng) : 0; }
 void *rl_integrator_rng_state(rl_integrator *in) { return in->rng ? gsl_rng_state(in->rng) : NULL; }
+
+int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational)
+{
+  const int gt = dof_trans(in->sys, &in->p), gr = rl_system_dof_rotational(in->sys);
+  if (translational) *translational = gt;
+  if (rotational) *rotational = gr;
+  return gt + gr;
+}
 
 long rl_integrator_fallbacks(const rl_integrator *in) { return in->fallbacks; }
 long rl_integrator_quat_iterations(const rl_integrator *in) { return in->quat_iterations; }

@@ -4,6 +4,8 @@
 #include "testutil.h"
 
 #include <gsl/gsl_statistics_double.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 static int no_forces(void *ctx, const rl_system *sys, rl_forces *out)
 {
@@ -116,6 +118,38 @@ static void bussi_groups(void **state)
   }
 }
 
+/* n point particles (mass 1) and n asymmetric tops (mass 2, J = 0.3, 0.5, 0.7) on a simple
+ * cubic lattice in a box of edge L, Maxwell-Boltzmann at T. */
+static rl_system *points_and_tops(int n, double L, double T, unsigned long seed)
+{
+  rl_system *s = rl_system_alloc(RL_UNITS_LJ);
+  rl_species_desc pt = {.name = "a", .kind = RL_KIND_POINT, .mass = 1.0};
+  rl_species_desc top = {.name = "t", .kind = RL_KIND_ASYMMETRIC, .mass = 2.0, .inertia = {0.3, 0.5, 0.7}};
+  assert_int_equal(rl_system_add_species(s, &pt, n, NULL), RL_OK);
+  assert_int_equal(rl_system_add_species(s, &top, n, NULL), RL_OK);
+  const double box[3] = {L, L, L};
+  assert_int_equal(rl_system_lattice(s, box, RL_LATTICE_SC, 1, 1), RL_OK);
+  assert_int_equal(rl_system_maxwell_boltzmann(s, T, seed), RL_OK);
+  return s;
+}
+
+/* An integrator for s under thermostat th at T0 (tau and seed for the stochastic ones), not yet
+ * initialised. */
+static rl_integrator *thermostatted(rl_system *s, rl_thermostat th, double h, double T0, double tau,
+                                   unsigned long seed, rl_force_provider f)
+{
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = h;
+  p.thermostat = th;
+  p.T0 = T0;
+  p.tau = tau;
+  p.seed = seed;
+  rl_integrator *in = rl_integrator_alloc(s, &p, f);
+  assert_non_null(in);
+  return in;
+}
+
 /* A Stockmayer liquid of n molecules at rho* = 0.8 on a lattice, Maxwell-Boltzmann at T, and its
  * force field (shifted-force LJ and dipoles, cutoff rc); m must outlive the force field. */
 static rl_system *stockmayer_liquid(int n, rl_lattice lattice, double T, double rc, rl_molecule *m,
@@ -150,14 +184,7 @@ static void bussi_conserved(void **state)
   rl_molecule m;
   rl_forcefield *ff;
   rl_system *s = stockmayer_liquid(64, RL_LATTICE_SC, 2.5, 2.0, &m, &ff); /* hot: the thermostat works */
-  rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = 0.001;
-  p.thermostat = RL_THERMO_BUSSI;
-  p.T0 = 1.35;
-  p.tau = 0.05;
-  p.seed = 7;
-  rl_integrator *in = rl_integrator_alloc(s, &p, rl_forcefield_provider(ff));
+  rl_integrator *in = thermostatted(s, RL_THERMO_BUSSI, 0.001, 1.35, 0.05, 7, rl_forcefield_provider(ff));
   assert_int_equal(rl_integrator_init(in), RL_OK);
   double c0 = 0.0, cmax = 0.0, T = 0.0;
   rl_step_info info;
@@ -177,19 +204,6 @@ static void bussi_conserved(void **state)
   rl_system_free(s);
 }
 
-/* An isokinetic integrator at T0 for s, not yet initialised. */
-static rl_integrator *isokinetic(rl_system *s, double h, double T0, rl_force_provider f)
-{
-  rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = h;
-  p.thermostat = RL_THERMO_ISOKINETIC;
-  p.T0 = T0;
-  rl_integrator *in = rl_integrator_alloc(s, &p, f);
-  assert_non_null(in);
-  return in;
-}
-
 /* The isokinetic scheme refuses to run when T is far above T0 (beta < 1/2 would reverse the
  * velocities through eqs. 17-18) and says so. */
 static void isokinetic_far_from_T0(void **state)
@@ -201,7 +215,7 @@ static void isokinetic_far_from_T0(void **state)
   const double L[3] = {10, 10, 10};
   assert_int_equal(rl_system_lattice(s, L, RL_LATTICE_SC, 0, 1), RL_OK);
   assert_int_equal(rl_system_maxwell_boltzmann(s, 10.0, 2), RL_OK);
-  rl_integrator *in = isokinetic(s, 0.005, 1.0, (rl_force_provider){no_forces, NULL});
+  rl_integrator *in = thermostatted(s, RL_THERMO_ISOKINETIC, 0.005, 1.0, 0.0, 0, (rl_force_provider){no_forces, NULL});
   assert_int_equal(rl_integrator_init(in), RL_OK);
   int st = rl_integrator_step(in, NULL);
   printf("check isokinetic with T >> T0 refused: \"%s\" %s\n", rl_last_error(),
@@ -276,16 +290,9 @@ static double onstep_ke(const rl_system *s, const double (*v0)[3], const double 
 static void isokinetic_free_bodies(void **state)
 {
   (void)state;
-  rl_system *s = rl_system_alloc(RL_UNITS_LJ);
-  rl_species_desc pt = {.name = "a", .kind = RL_KIND_POINT, .mass = 1.0};
-  rl_species_desc top = {.name = "t", .kind = RL_KIND_ASYMMETRIC, .mass = 2.0, .inertia = {0.3, 0.5, 0.7}};
-  assert_int_equal(rl_system_add_species(s, &pt, NFREE / 2, NULL), RL_OK);
-  assert_int_equal(rl_system_add_species(s, &top, NFREE / 2, NULL), RL_OK);
-  const double L[3] = {8, 8, 8};
-  assert_int_equal(rl_system_lattice(s, L, RL_LATTICE_SC, 1, 1), RL_OK);
-  assert_int_equal(rl_system_maxwell_boltzmann(s, 1.4, 4), RL_OK);
+  rl_system *s = points_and_tops(NFREE / 2, 8.0, 1.4, 4);
   const double T0 = 1.0;
-  rl_integrator *in = isokinetic(s, 0.005, T0, (rl_force_provider){no_forces, NULL});
+  rl_integrator *in = thermostatted(s, RL_THERMO_ISOKINETIC, 0.005, T0, 0.0, 0, (rl_force_provider){no_forces, NULL});
   assert_int_equal(rl_integrator_init(in), RL_OK);
   const int g = rl_system_dof(s);
   double *T = malloc(sizeof(double) * NSTEP), *Tm = malloc(sizeof(double) * NSTEP);
@@ -341,7 +348,7 @@ static void isokinetic_run(rl_system *sys, rl_forcefield *ff, double T0, double 
 {
   rl_system *s = rl_system_clone(sys);
   assert_non_null(s);
-  rl_integrator *in = isokinetic(s, 0.002, T0, rl_forcefield_provider(ff));
+  rl_integrator *in = thermostatted(s, RL_THERMO_ISOKINETIC, 0.002, T0, 0.0, 0, rl_forcefield_provider(ff));
   if (tstart > 0.0) { /* scale the on-step v, l to T(0) = tstart */
     rl_step_info o;
     assert_int_equal(rl_integrator_init(in), RL_OK);
@@ -384,14 +391,7 @@ static void isokinetic_liquid(void **state)
   rl_forcefield *ff;
   rl_system *s = stockmayer_liquid(NLIQ, RL_LATTICE_FCC, T0, 2.2, &m, &ff);
   { /* Bussi equilibration, tau = 20 steps, as run.equilibrate */
-    rl_integrator_params p;
-    rl_integrator_params_default(&p);
-    p.h = 0.002;
-    p.thermostat = RL_THERMO_BUSSI;
-    p.T0 = T0;
-    p.tau = 0.04;
-    p.seed = 5;
-    rl_integrator *in = rl_integrator_alloc(s, &p, rl_forcefield_provider(ff));
+    rl_integrator *in = thermostatted(s, RL_THERMO_BUSSI, 0.002, T0, 0.04, 5, rl_forcefield_provider(ff));
     assert_int_equal(rl_integrator_init(in), RL_OK);
     for (int k = 0; k < 2000; k++) assert_int_equal(rl_integrator_step(in, NULL), RL_OK);
     assert_int_equal(rl_integrator_finish(in), RL_OK);
@@ -425,6 +425,92 @@ static void isokinetic_liquid(void **state)
   const double pb = 2.0 * fabs(r0[0] - 1.0) * T0;
   CHECK_LE("liquid, Bussi state: |amplitude (last window) - 2|r0-1| T0| / T0", fabs(a[0][NWIN - 1] - pb) / T0, 2e-3);
   rl_forcefield_free(ff);
+  rl_system_free(s);
+}
+
+/* The centre of mass after Langevin (audit S2).  Langevin's noise moves it, so a Langevin run
+ * counts all 3N translational dof; the other thermostats conserve or scale the total momentum P
+ * and count 3N - 3.  A Langevin run used to set the system's removed dof to 0, which its
+ * checkpoint kept: a run continued from it under NVE, Bussi or the isokinetic scheme then
+ * counted 3N and carried the Langevin run's P for ever.  Here: free bodies under Langevin, their
+ * state through a checkpoint (as `system.start = PREFIX.chk` with another run.ensemble), then
+ * each other thermostat by init (the CLI's path) and by resume; and the cases that must keep P:
+ * Langevin itself, and a system whose count keeps the centre of mass (removed dof 0). */
+static double momentum(const rl_system *s)
+{
+  double P[3] = {0.0, 0.0, 0.0};
+  for (int i = 0; i < rl_system_count(s); i++) {
+    double v[3];
+    rl_system_get_velocity(s, i, v);
+    for (int c = 0; c < 3; c++) P[c] += rl_system_mass(s, i) * v[c];
+  }
+  return norm3d(P);
+}
+
+static void centre_of_mass_after_langevin(void **state)
+{
+  (void)state;
+  rl_system *s = points_and_tops(20, 10.0, 1.0, 2);
+  const int n = rl_system_count(s), g3 = 3 * n - 3 + 3 * 20;
+  rl_integrator *in = thermostatted(s, RL_THERMO_LANGEVIN, 0.005, 1.0, 0.05, 3, (rl_force_provider){no_forces, NULL});
+  assert_int_equal(rl_integrator_init(in), RL_OK);
+  for (int k = 0; k < 200; k++) assert_int_equal(rl_integrator_step(in, NULL), RL_OK);
+  const int gl = rl_integrator_dof(in, NULL, NULL);
+  const double P_lang = momentum(s);
+  printf("info  after 200 Langevin steps: |P| = %.3f (sqrt(3 M kT) = %.3f); Langevin counts %d dof, "
+         "the system %d\n", P_lang, sqrt(3.0 * 60.0), gl, rl_system_dof(s));
+  assert_int_equal(gl, g3 + 3);
+  assert_int_equal(rl_system_dof(s), g3);
+  assert_true(P_lang > 1.0);
+  /* the state as the CLI keeps it: half-step v, l in a checkpoint */
+  char path[] = "/tmp/rotleap_test_com_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  rl_checkpoint_meta meta = {.time = 1.0, .step = 200, .box = {10, 10, 10}};
+  assert_int_equal(rl_checkpoint_write(path, s, &meta), RL_OK);
+  rl_integrator_free(in);
+  const rl_thermostat others[3] = {RL_THERMO_NONE, RL_THERMO_BUSSI, RL_THERMO_ISOKINETIC};
+  double worst = 0.0;
+  int dof_bad = 0;
+  for (int k = 0; k < 3; k++)
+    for (int route = 0; route < 2; route++) { /* 0: init (a new run), 1: resume */
+      rl_checkpoint_meta m = {0};
+      rl_system *c = rl_checkpoint_load(path, &m);
+      assert_non_null(c);
+      free((void *)m.blob);
+      rl_integrator *j = thermostatted(c, others[k], 0.005, 1.0, 0.05, 3, (rl_force_provider){no_forces, NULL});
+      assert_int_equal(route ? rl_integrator_resume(j, 200, 1.0) : rl_integrator_init(j), RL_OK);
+      rl_step_info info;
+      for (int st = 0; st < 50; st++) assert_int_equal(rl_integrator_step(j, &info), RL_OK);
+      worst = fmax(worst, momentum(c) / P_lang);
+      int gt, gr;
+      const int g = rl_integrator_dof(j, &gt, &gr);
+      /* the reported temperature is over that count */
+      dof_bad += g != g3 || fabs(info.temperature * g / 2.0 - info.ke_trans - info.ke_rot) > 1e-12 * g;
+      printf("info  %-10s by %s: |P| = %.2e, dof %d\n", rl_thermostat_name(others[k]), route ? "resume" : "init",
+             momentum(c), g);
+      rl_integrator_free(j);
+      rl_system_free(c);
+    }
+  CHECK_LE("after Langevin, NVE/Bussi/isokinetic by init and resume: |P| / |P_Langevin|", worst, 1e-14);
+  CHECK_LE("after Langevin, NVE/Bussi/isokinetic: runs not counting 3N - 3 + rot dof", dof_bad, 0);
+  /* P stays where it is thermal (Langevin), or where the count keeps it (removed dof 0) */
+  double kept = 0.0;
+  for (int k = 0; k < 2; k++) {
+    rl_checkpoint_meta m = {0};
+    rl_system *c = rl_checkpoint_load(path, &m);
+    free((void *)m.blob);
+    if (k) rl_system_set_removed_dof(c, 0);
+    rl_integrator *j = thermostatted(c, k ? RL_THERMO_NONE : RL_THERMO_LANGEVIN, 0.005, 1.0, 0.05, 3,
+                                     (rl_force_provider){no_forces, NULL});
+    assert_int_equal(rl_integrator_resume(j, 200, 1.0), RL_OK);
+    kept = fmax(kept, fabs(momentum(c) / P_lang - 1.0));
+    rl_integrator_free(j);
+    rl_system_free(c);
+  }
+  CHECK_LE("P kept by a Langevin resume and under removed dof 0: ||P| / |P_Langevin| - 1|", kept, 1e-14);
+  remove(path);
   rl_system_free(s);
 }
 
@@ -588,6 +674,7 @@ int main(void)
                                      cmocka_unit_test(isokinetic_far_from_T0),
                                      cmocka_unit_test(isokinetic_free_bodies),
                                      cmocka_unit_test(isokinetic_liquid),
+                                     cmocka_unit_test(centre_of_mass_after_langevin),
                                      cmocka_unit_test(langevin_harmonic_exact),
                                      cmocka_unit_test(langevin_orientations)};
   return cmocka_run_group_tests(tests, NULL, NULL);

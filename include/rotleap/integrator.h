@@ -100,8 +100,10 @@ typedef enum {
                                sampled exactly at any stable h; librations in a field to 0.2 %
                                at h omega = 0.5 (tests/test_thermostat.c; docs/integrators.md,
                                "Langevin in the middle of the drift").  The noise moves the
-                               centre of mass, so init and resume set the system's removed dof
-                               to 0.  Not with the baseline rotation methods                  */
+                               centre of mass, so all 3N translational dof count
+                               (rl_integrator_dof); the system's removed dof is left as it is,
+                               for whatever thermostat continues from the state.  Not with the
+                               baseline rotation methods                                      */
 } rl_thermostat;
 
 /* Which degrees of freedom share one Bussi thermostat.  RL_THERMO_GROUPS_TRANS_ROT (the default):
@@ -205,12 +207,18 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
                                    rl_force_provider provider);
 void rl_integrator_free(rl_integrator *in); /* accepts NULL */
 
-/* Forces at the current time, and v, l staggered back half a step. */
+/* Forces at the current time, and v, l staggered back half a step.  The centre of mass as the
+ * thermostat needs it: under every thermostat but Langevin the total momentum is conserved or
+ * scaled and carries no heat, so when the system's count removes it (rl_system_set_removed_dof,
+ * 3 by default) a total momentum above round-off (|P| > 1e-10 sum m|v|, as a Langevin run leaves
+ * it) is subtracted from the velocities; Langevin counts and keeps it (rl_integrator_dof). */
 int rl_integrator_init(rl_integrator *in);
 /* Continue from a state whose v and l are already the half-step values v(t-h/2), l(t-h/2) (as a
  * stepping integrator leaves them, and as a checkpoint stores them): forces at t are computed,
  * nothing is staggered or projected, and the step counter and time are set, so that a restart
- * continues bit for bit.  Restore the thermostat account and RNG state after this call. */
+ * continues bit for bit.  The centre of mass is treated as by init (a state from a Langevin run
+ * continued under another thermostat loses its total momentum; one at round-off is untouched).
+ * Restore the thermostat account and RNG state after this call. */
 int rl_integrator_resume(rl_integrator *in, long step, double t);
 /* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t.
  * RL_ENONFINITE if the on-step or mid-step kinetic energy or a new position or orientation is
@@ -239,6 +247,11 @@ double rl_integrator_thermostat_work(const rl_integrator *in);
 void rl_integrator_set_thermostat_work(rl_integrator *in, double w);
 size_t rl_integrator_rng_size(const rl_integrator *in);
 void *rl_integrator_rng_state(rl_integrator *in);
+
+/* Degrees of freedom of the temperatures the integrator reports (total; translational and
+ * rotational parts, either pointer may be NULL): rl_system_dof's count, except under Langevin,
+ * which counts all 3N translational ones. */
+int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational);
 
 /* Cumulative counters since init. */
 long rl_integrator_fallbacks(const rl_integrator *in);

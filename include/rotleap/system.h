@@ -81,7 +81,10 @@ rl_units rl_system_units(const rl_system *sys);
 double rl_system_kB(const rl_system *sys);
 
 /* Degrees of freedom: sum over bodies of 3 + rotational, minus `removed` constraints (default 3
- * for the conserved total momentum; set 0 for a single body in free space if wanted). */
+ * for the conserved total momentum; set 0 for a single body in free space if wanted).  With 3 or
+ * more removed, rl_integrator_init and rl_integrator_resume hold the total momentum at zero
+ * under every thermostat but Langevin, which counts all 3N translational dof instead and leaves
+ * this setting alone (rl_integrator_dof gives the integrator's count). */
 void rl_system_set_removed_dof(rl_system *sys, int removed);
 int rl_system_dof(const rl_system *sys);
 int rl_system_dof_translational(const rl_system *sys);
