@@ -26,7 +26,10 @@ typedef enum {
   RL_KIND_POINT = 0,     /* no rotation                                                      */
   RL_KIND_DIPOLE = 1,    /* point dipole: rho only, spherical inertia I, omega = l / I       */
   RL_KIND_LINEAR = 2,    /* linear molecule: rho only, J_XX = J_YY, J_ZZ = 0                 */
-  RL_KIND_SPHERICAL = 3, /* J_XX = J_YY = J_ZZ: exact exponential map, no solve             */
+  RL_KIND_SPHERICAL = 3, /* J_XX = J_YY = J_ZZ: A exp[phi W(omega)/omega], omega = l/J, with
+                            the Cayley angle phi = 2 atan(h omega/2) (section III.D), not the
+                            exact rotation by h omega (phi is (h omega)^2/12 short, relatively);
+                            no solve                                                        */
   RL_KIND_SYMMETRIC = 4, /* two equal moments: Omega_Z = theta_Z, eq. 29 in closed form      */
   RL_KIND_ASYMMETRIC = 5 /* general: guarded quasi-analytic cubic (or exact / quaternion)    */
 } rl_kind;
