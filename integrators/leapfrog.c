@@ -108,6 +108,15 @@ static int stochastic(const rl_integrator_params *p)
   return p->thermostat == RL_THERMO_BUSSI || p->thermostat == RL_THERMO_LANGEVIN;
 }
 
+/* Translational degrees of freedom under p's thermostat.  Langevin's noise moves the centre of
+ * mass, so all 3N count; the other thermostats conserve (NVE) or scale (Bussi, isokinetic) the
+ * total momentum, which carries no thermal energy, and the system's removed_dof (3 by default:
+ * the total momentum, held at zero by init and resume) comes off. */
+static int dof_trans(const rl_system *s, const rl_integrator_params *p)
+{
+  return p->thermostat == RL_THERMO_LANGEVIN ? 3 * s->n : rl_system_dof_translational(s);
+}
+
 static int validate(const rl_system *s, const rl_integrator_params *p)
 {
   if (!(p->h > 0.0) || !isfinite(p->h))
@@ -141,9 +150,9 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
     return rl_error(RL_EINVAL, "integrator energy_every = %ld must be >= 0 (0 or 1: every step)",
                     p->energy_every);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
-  if (p->thermostat != RL_THERMO_NONE && rl_system_dof(s) <= 0)
-    return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold",
-                    rl_system_dof(s));
+  const int g = dof_trans(s, p) + rl_system_dof_rotational(s);
+  if (p->thermostat != RL_THERMO_NONE && g <= 0)
+    return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold", g);
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     /* the baselines are quaternion schemes for full orientations; an axis-only species has no
@@ -279,6 +288,31 @@ static void kick(rl_integrator *in, double dt, double sign)
   }
 }
 
+/* The centre of mass as each thermostat needs it.  Under Langevin it is thermal, and nothing is
+ * done.  Under the others, when the system's count takes the total momentum P out (removed_dof
+ * >= 3), P must be zero, and a P above round-off (|P| > 1e-10 sum m|v|) is removed: a state that
+ * comes from a Langevin run has |P| ~ sqrt(3 M kT).  One at round-off is left as it is, so that
+ * restarts continue bit for bit.  Returns 1 if P was removed. */
+static int zero_momentum(rl_integrator *in)
+{
+  rl_system *s = in->sys;
+  if (in->p.thermostat == RL_THERMO_LANGEVIN || s->removed_dof < 3) return 0;
+  double P[3] = {0.0, 0.0, 0.0}, M = 0.0, mv = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    for (int i = sp->first; i < sp->first + sp->count; i++) {
+      const double *v = s->v[i];
+      for (int c = 0; c < 3; c++) P[c] += sp->mass * v[c];
+      mv += sp->mass * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      M += sp->mass;
+    }
+  }
+  if (!(sqrt(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]) > 1e-10 * mv)) return 0;
+  for (int i = 0; i < s->n; i++)
+    for (int c = 0; c < 3; c++) s->v[i][c] -= P[c] / M;
+  return 1;
+}
+
 int rl_integrator_init(rl_integrator *in)
 {
   rl_system *s = in->sys;
@@ -297,8 +331,7 @@ int rl_integrator_init(rl_integrator *in)
       for (int b = 0; b < sp->count; b++)
         if ((st = rl_matrix_to_quat(s->A[sp->mat_off + b], in->q[sp->mat_off + b]))) return st;
     }
-  /* Langevin noise moves the centre of mass: its 3 dof are thermal, not removed */
-  if (in->p.thermostat == RL_THERMO_LANGEVIN) rl_system_set_removed_dof(s, 0);
+  zero_momentum(in);
   in->steps = 0;
   in->thermo_work = 0.0;
   in->fallbacks = 0;
@@ -367,7 +400,7 @@ static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
 static void bussi_rescale(rl_integrator *in, const double K[2], double a[2])
 {
   rl_system *s = in->sys;
-  const int g[2] = {rl_system_dof_translational(s), rl_system_dof_rotational(s)};
+  const int g[2] = {dof_trans(s, &in->p), rl_system_dof_rotational(s)};
   const double kT = s->kB * in->p.T0, x = in->p.h / in->p.tau;
   double a2[2] = {1.0, 1.0};
   if (in->p.groups == RL_THERMO_GROUPS_ALL) {
@@ -460,6 +493,51 @@ static void drift(rl_integrator *in, double hd)
     for (int c = 0; c < 3; c++) s->r[i][c] += hd * s->v[i][c];
 }
 
+static int all_finite(const double *x, int n)
+{
+  double z = 0.0;
+  for (int c = 0; c < n; c++) z += 0.0 * x[c]; /* NaN iff some x[c] is NaN or Inf */
+  return z == 0.0;
+}
+
+/* What of body i is not finite (position, orientation or axis), or NULL. */
+static const char *nonfinite_part(const rl_system *s, int i)
+{
+  const rl_species *sp = &s->sp[s->species_of[i]];
+  const int b = i - sp->first;
+  if (!all_finite(s->r[i], 3)) return "position";
+  if (sp->mat_off >= 0 && !all_finite(s->A[sp->mat_off + b], 9)) return "orientation";
+  if (sp->axis_off >= 0 && !all_finite(s->rho[sp->axis_off + b], 3)) return "axis";
+  return NULL;
+}
+
+/* After the drift and the rotation: RL_ENONFINITE naming the mid-step kinetic energy K (the
+ * step's Kmid) or the first body whose new position or orientation is not finite, so that a step
+ * never returns RL_OK with a NaN or Inf in the state (and no force provider sees one). */
+static int check_state(const rl_integrator *in, const double K[2])
+{
+  const rl_system *s = in->sys;
+  if (!isfinite(K[0]) || !isfinite(K[1]))
+    return rl_error(RL_ENONFINITE, "non-finite mid-step kinetic energy at step %ld (t = %g): translational "
+                    "%g, rotational %g", in->steps, in->t, K[0], K[1]);
+  const int n = s->n;
+  int bad = n;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(in->threads) if (in->threads > 1 && n >= RL_THREAD_MIN_BODIES) \
+    reduction(min : bad)
+#endif
+  {
+    int i0, i1;
+    rl_thread_range(n, &i0, &i1);
+    for (int i = i0; i < i1; i++)
+      if (nonfinite_part(s, i)) { bad = i; break; }
+  }
+  if (bad < n)
+    return rl_error(RL_ENONFINITE, "non-finite %s of body %d after step %ld (t = %g)",
+                    nonfinite_part(s, bad), bad, in->steps, in->t);
+  return RL_OK;
+}
+
 /* The kick of one component x (v or l) by the force f over the step (eqs. 8, 10), as eqs. 17-18
  * under the isokinetic scheme (beta != 1, c2 = 2 beta - 1); w = h / 2 (times 1/m for v). */
 static inline double kicked(double beta, double c2, double x, double w, double f)
@@ -515,7 +593,7 @@ static void onstep_info(rl_integrator *in, rl_step_info *info)
     }
     ket += 0.5 * sp->mass * kt;
   }
-  int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s), g = gt + gr;
+  int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s), g = gt + gr;
   info->ke_trans = ket;
   info->ke_rot = ker;
   info->total = ket + ker + info->potential;
@@ -541,9 +619,8 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) beta = sqrt(in->p.T0 / info.temperature);
   info.beta = info.beta_rot = beta;
   info.conserved = info.total + in->thermo_work;
-  /* the mid-step temperatures the step's kick would give (eqs. 8, 10; 17-18 isokinetic), before
-   * any rescaling: the t_trans_mid, t_rot_mid a step reports */
-  const double c2 = 2.0 * beta - 1.0;
+  /* the mid-step temperatures of the plain kick (eqs. 8, 10), before any thermostat acts: the
+   * t_trans_mid, t_rot_mid a step reports */
   double Kmid[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
@@ -552,16 +629,16 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
     for (int b = 0; b < sp->count; b++) {
       const int i = sp->first + b;
       double v[3];
-      for (int c = 0; c < 3; c++) v[c] = kicked(beta, c2, s->v[i][c], w, in->F.f[i][c]);
+      for (int c = 0; c < 3; c++) v[c] = kicked(1.0, 1.0, s->v[i][c], w, in->F.f[i][c]);
       Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       if (sp->rot_off < 0) continue;
       const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
       double lt[3];
-      for (int c = 0; c < 3; c++) lt[c] = kicked(beta, c2, l[c], h2, kk[c]);
+      for (int c = 0; c < 3; c++) lt[c] = kicked(1.0, 1.0, l[c], h2, kk[c]);
       Kmid[1] += fam->ke_rot(sp, s, b, lt);
     }
   }
-  const int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
+  const int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s);
   info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
   info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
   *out = info;
@@ -576,7 +653,11 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   rl_step_info info;
   onstep_info(in, &info);
   const double ket = info.ke_trans, ker = info.ke_rot;
-  int gt = rl_system_dof_translational(s), gr = rl_system_dof_rotational(s);
+  if (!isfinite(ket) || !isfinite(ker))
+    return rl_error(RL_ENONFINITE, "non-finite on-step kinetic energy at step %ld (t = %g): translational "
+                    "%g, rotational %g (velocities or angular momenta beyond the range of doubles)",
+                    in->steps, in->t, ket, ker);
+  int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s);
   double beta = 1.0, ke = ket + ker;
   if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) {
     beta = sqrt(in->p.T0 / info.temperature);
@@ -597,8 +678,11 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   /* Fincham needs l(t-h/2) next to l'(t+h/2) for its on-step l'(t) */
   if (in->lprev) memcpy(in->lprev, s->l, sizeof(*s->l) * (size_t)s->nrot);
 
-  /* 2-3. kick and drift; Kmid: kinetic energies of the new mid-step v(t+h/2) and l(t+h/2)
-   * (rotational part with A(t), which the rotation below replaces) */
+  /* 2-3. kick and drift; Kmid: kinetic energies of the plain kick's mid-step v(t+h/2) and
+   * l(t+h/2), before any thermostat acts (rotational part with A(t), which the rotation below
+   * replaces).  Under the isokinetic scheme the values carried forward are eqs. 17-18's; the
+   * reported t_trans_mid, t_rot_mid are still those of the plain kick, as for Bussi (before its
+   * rescaling) and Langevin (before its Ornstein-Uhlenbeck step). */
   const double c2 = 2.0 * beta - 1.0;
   double Kmid[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
@@ -618,16 +702,21 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         int i = sp->first + b;
         double *v = s->v[i];
         const double *f = in->F.f[i];
+        double x[3]; /* the plain kick, for Kmid; the same as v, l unless isokinetic */
         for (int c = 0; c < 3; c++) {
+          x[c] = kicked(1.0, 1.0, v[c], w, f[c]);
           v[c] = kicked(beta, c2, v[c], w, f[c]); /* eq. 8, or 17 */
           if (!bussi && !langevin) s->r[i][c] += h * v[c];
         }
-        kt += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        kt += 0.5 * sp->mass * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
         if (sp->rot_off < 0) continue;
         double *l = s->l[sp->rot_off + b];
         const double *kk = in->F.k[sp->rot_off + b];
-        for (int c = 0; c < 3; c++) l[c] = kicked(beta, c2, l[c], h2, kk[c]); /* eq. 10, or 18 */
-        kr += fam->ke_rot(sp, s, b, l);
+        for (int c = 0; c < 3; c++) {
+          x[c] = kicked(1.0, 1.0, l[c], h2, kk[c]);
+          l[c] = kicked(beta, c2, l[c], h2, kk[c]); /* eq. 10, or 18 */
+        }
+        kr += fam->ke_rot(sp, s, b, x);
       }
       pt[q] = kt;
       pr[q] = kr;
@@ -665,6 +754,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     st = rotate_all(in, &rw);
     rw.max_h_omega *= 2.0; /* reported as h |Omega| over the whole step */
   }
+  if (!st) st = check_state(in, Kmid);
   if (st) return st;
   info.fallbacks = rw.fallbacks;
   info.quat_iterations = rw.quat_iterations;
@@ -699,7 +789,7 @@ int rl_integrator_resume(rl_integrator *in, long step, double t)
     for (int i = 0; i < s->nmat; i++)
       if ((st = rl_matrix_to_quat(s->A[i], in->q[i]))) return st;
   }
-  if (in->p.thermostat == RL_THERMO_LANGEVIN) rl_system_set_removed_dof(in->sys, 0);
+  zero_momentum(in);
   in->steps = step;
   in->t = t;
   in->fallbacks = 0;
@@ -723,6 +813,14 @@ void rl_integrator_set_thermostat_work(rl_integrator *in, double w) { in->thermo
 size_t rl_integrator_rng_size(const rl_integrator *in) { return in->rng ? gsl_rng_size(in->rng) : 0; }
 void *rl_integrator_rng_state(rl_integrator *in) { return in->rng ? gsl_rng_state(in->rng) : NULL; }
 
+int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational)
+{
+  const int gt = dof_trans(in->sys, &in->p), gr = rl_system_dof_rotational(in->sys);
+  if (translational) *translational = gt;
+  if (rotational) *rotational = gr;
+  return gt + gr;
+}
+
 long rl_integrator_fallbacks(const rl_integrator *in) { return in->fallbacks; }
 long rl_integrator_quat_iterations(const rl_integrator *in) { return in->quat_iterations; }
 long rl_integrator_steps(const rl_integrator *in) { return in->steps; }
@@ -742,9 +840,20 @@ void rl_integrator_mid_angmom(const rl_integrator *in, int i, double l[3])
 int rl_integrator_quaternion(const rl_integrator *in, int i, double q[4])
 {
   const rl_system *s = in->sys;
+  if (i < 0 || i >= s->n) return rl_error(RL_EINVAL, "rl_integrator_quaternion: body %d out of range", i);
   const rl_species *sp = &s->sp[s->species_of[i]];
-  if (!in->q || sp->mat_off < 0)
-    return rl_error(RL_ESTATE, "body %d has no quaternion (no quaternion method selected)", i);
-  memcpy(q, in->q[sp->mat_off + i - sp->first], 4 * sizeof(double));
+  if (sp->mat_off < 0)
+    return rl_error(RL_ESTATE, "body %d (%s) has no orientation quaternion: %s", i, rl_kind_name(sp->kind),
+                    sp->axis_off >= 0 ? "only its axis is stored" : "it does not rotate");
+  if (!in->q)
+    return rl_error(RL_ESTATE, "body %d has no quaternion: rotation method %s does not use one", i,
+                    rl_rot_method_name(in->p.method));
+  const int b = i - sp->first;
+  /* under RL_ROT_QUATERNION only the general path advances q; the spherical and symmetric fast
+   * paths advance A, which is then the state, and their q is A's */
+  if (in->p.method == RL_ROT_QUATERNION &&
+      rl_family_for(sp->kind, in->p.force_general) != &rl_family_asymmetric)
+    return rl_matrix_to_quat(s->A[sp->mat_off + b], q);
+  memcpy(q, in->q[sp->mat_off + b], 4 * sizeof(double));
   return RL_OK;
 }

@@ -8,6 +8,7 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 /* ---------------------------------------------------------------- eq. 28 and its residual */
 
@@ -30,6 +31,159 @@ double rl_omega_residual(const double J[3], const double theta[3], double h, con
   double n = norm3(Om), rn = norm3(res);
   if (n == 0.0) return rn == 0.0 ? 0.0 : INFINITY;
   return rn / n;
+}
+
+/* ----------------------------------------------------- the branch continuing from h = 0 */
+
+/* g = Omega - theta - h P(Omega), the residual vector of eq. 28 with P = (rho_X Omega_Y Omega_Z,
+ * rho_Y Omega_Z Omega_X, rho_Z Omega_X Omega_Y), and (if M) its Jacobian M = I - h dP/dOmega. */
+static void eq28(const double r[3], const double th[3], double h, const double x[3], double g[3],
+                 double M[9])
+{
+  g[0] = x[0] - th[0] - h * r[0] * x[1] * x[2];
+  g[1] = x[1] - th[1] - h * r[1] * x[2] * x[0];
+  g[2] = x[2] - th[2] - h * r[2] * x[0] * x[1];
+  if (!M) return;
+  M[0] = 1.0;               M[1] = -h * r[0] * x[2]; M[2] = -h * r[0] * x[1];
+  M[3] = -h * r[1] * x[2];  M[4] = 1.0;              M[5] = -h * r[1] * x[0];
+  M[6] = -h * r[2] * x[1];  M[7] = -h * r[2] * x[0]; M[8] = 1.0;
+}
+
+static double det3(const double M[9])
+{
+  return M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+         M[2] * (M[3] * M[7] - M[4] * M[6]);
+}
+
+static int solve3(const double M[9], const double b[3], double x[3])
+{
+  double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+               M[2] * (M[3] * M[7] - M[4] * M[6]);
+  if (!(fabs(det) > 0.0) || !isfinite(det)) return 0;
+  double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
+                   M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
+                   M[3] * M[7] - M[4] * M[6], M[1] * M[6] - M[0] * M[7], M[0] * M[4] - M[1] * M[3]};
+  for (int i = 0; i < 3; i++)
+    x[i] = (inv[3 * i] * b[0] + inv[3 * i + 1] * b[1] + inv[3 * i + 2] * b[2]) / det;
+  return 1;
+}
+
+static double dist3(const double a[3], const double b[3])
+{
+  double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  return norm3(d);
+}
+
+static double rho_max(const double r[3]) { return fmax(fmax(fabs(r[0]), fabs(r[1])), fabs(r[2])); }
+
+/* Eq. 28 has up to five solutions; the scheme's is the one that continues from Omega = theta at
+ * h = 0.  A certificate: with t = |theta|, m = max |rho| (<= 1/2 for physical moments) and
+ * a = h m / sqrt(3), |P(Omega)| <= m |Omega|^2 / sqrt(3) and |dP/dOmega| <= sqrt(2) m |Omega|
+ * (Frobenius).  So G(Omega) = theta + h P(Omega) maps the ball |Omega - theta| <= R into itself
+ * when a (t + R)^2 <= R, i.e. R in [R-, R+] (which exist iff 4 a t <= 1), and contracts it when
+ * sqrt(2) h m (t + R) < 1.  For such R eq. 28 has exactly one solution in the ball (Banach), and
+ * since both conditions hold for every smaller h, the branch from theta stays in the ball: a
+ * solution found in it is the branch.  Returns the largest such R (Inf if rho = 0), or -1 if
+ * there is none, which happens from h m |theta| ~ 0.42 on (h|theta| ~ 0.84 for water). */
+static double certified_radius(double m, const double th[3], double h)
+{
+  const double t = norm3(th), a = h * m / sqrt(3.0);
+  if (!(a > 0.0)) return INFINITY; /* eq. 28 is Omega = theta */
+  const double disc = 1.0 - 4.0 * a * t;
+  if (!(disc >= 0.0)) return -1.0;
+  const double q = 1.0 - 2.0 * a * t + sqrt(disc);
+  const double rminus = 2.0 * a * t * t / q, rplus = q / (2.0 * a);
+  const double R = fmin(rplus, (1.0 - 1e-12) * (1.0 / (sqrt(2.0) * h * m) - t));
+  return R >= rminus ? R : -1.0;
+}
+
+/* Om in the certified ball.  The usual case first, without a root or a division: for
+ * h m |theta| <= 0.4 the radius is at least 0.76 |theta| (both R+ and the contraction bound
+ * decrease with h m |theta|, to 1.76 |theta| and 0.77 |theta| at 0.4). */
+static int on_branch(double m, const double th[3], double h, const double Om[3])
+{
+  const double d[3] = {Om[0] - th[0], Om[1] - th[1], Om[2] - th[2]};
+  const double t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2], d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  if (h * h * m * m * t2 <= 0.16 && d2 <= 0.5 * t2) return 1;
+  return sqrt(d2) <= certified_radius(m, th, h);
+}
+
+/* The branch itself, by continuation in h: from h0 with h0 m |theta| = 1/4, where the
+ * fixed-point iteration of G contracts (by 0.43 at most) to the certified solution, to h in steps
+ * of at most 0.05 in h m |theta|, with the tangent dOmega/dh = M^-1 P(Omega) as predictor and
+ * Newton as corrector.  A step is accepted only if Newton converges within 8 iterations, lands
+ * within a quarter of the step from the prediction, and keeps det M > 0: det M = 1 at h = 0 and
+ * vanishes only where the branch folds, so on the branch it stays positive, and a root with
+ * det M <= 0 belongs to another one.  Otherwise the step is halved.  Returns 0, or -1 if the step
+ * falls below 1e-9 h (the branch folds, i.e. ends, before h) or after 20000 steps (h m |theta|
+ * beyond ~1000: no usable step).  *iters counts Newton and fixed-point iterations. */
+static int branch_continue(const double r[3], const double th[3], double h, double Om[3], int *iters)
+{
+  const double m = rho_max(r), t = norm3(th), h0 = fmin(h, 0.25 / (m * t)), dmax = 0.05 / (m * t);
+  double x[3] = {th[0], th[1], th[2]}, g[3], M[9];
+  for (int it = 0; it < 200; it++) { /* x <- theta + h0 P(x) = x - g */
+    eq28(r, th, h0, x, g, NULL);
+    for (int c = 0; c < 3; c++) x[c] -= g[c];
+    (*iters)++;
+    if (norm3(g) <= 1e-16 * (norm3(x) + t)) break;
+  }
+  double hk = h0, dh = dmax;
+  for (int steps = 0; hk < h; steps++) {
+    if (steps == 20000 || !isfinite(dmax)) return -1;
+    const int last = dh >= h - hk;
+    if (last) dh = h - hk;
+    const double hn = last ? h : hk + dh;
+    double P[3] = {r[0] * x[1] * x[2], r[1] * x[2] * x[0], r[2] * x[0] * x[1]}, tg[3], y[3], p[3];
+    eq28(r, th, hk, x, g, M);
+    if (!solve3(M, P, tg)) return -1;
+    for (int c = 0; c < 3; c++) y[c] = p[c] = x[c] + (hn - hk) * tg[c];
+    int ok = 0;
+    for (int it = 0; it < 8 && !ok; it++) {
+      double d[3];
+      eq28(r, th, hn, y, g, M);
+      if (!solve3(M, g, d)) break;
+      for (int c = 0; c < 3; c++) y[c] -= d[c];
+      (*iters)++;
+      ok = norm3(d) <= 1e-15 * (norm3(y) + t);
+    }
+    if (ok) {
+      eq28(r, th, hn, y, g, M);
+      ok = det3(M) > 0.0 && dist3(y, p) <= 0.25 * (hn - hk) * norm3(tg) + 1e-12 * (norm3(y) + t);
+    }
+    if (!ok) {
+      dh *= 0.5;
+      if (dh < 1e-9 * h) return -1;
+      continue;
+    }
+    memcpy(x, y, sizeof x);
+    hk = hn;
+    dh = fmin(2.0 * dh, dmax);
+  }
+  memcpy(Om, x, sizeof x);
+  return 0;
+}
+
+/* Where the certificate does not hold (m = max |rho|), Om (a solution of eq. 28 found by a fast
+ * path) is checked against the continued branch and replaced by it if it is another solution
+ * (info->off_branch); with `failed` (the fast path found no solution) it is replaced in any case.
+ * RL_ENOCONV if the branch cannot be followed to h. */
+static int keep_branch(const double J[3], double m, const double th[3], double h, double Om[3],
+                       rl_omega_info *info, int failed, const char *who)
+{
+  if (!failed && on_branch(m, th, h, Om)) return RL_OK;
+  double r[3], Oc[3];
+  rho_coeffs(J, r);
+  info->path = RL_OMEGA_PATH_CONTINUATION;
+  if (branch_continue(r, th, h, Oc, &info->iterations))
+    return rl_error(RL_ENOCONV, "%s: the solution of eq. 28 that continues from h = 0 could not be "
+                    "followed to h|theta| = %.3g (h = %g, theta = %g %g %g): it folds, or the step "
+                    "is far too large", who, h * norm3(th), h, th[0], th[1], th[2]);
+  if (failed || !(dist3(Oc, Om) <= 1e-9 * norm3(Oc))) {
+    info->off_branch = !failed;
+    memcpy(Om, Oc, sizeof Oc);
+  }
+  info->residual = rl_omega_residual(J, th, h, Om);
+  return RL_OK;
 }
 
 /* ------------------------------------------------------- the reduced scalar equation (29) */
@@ -153,7 +307,7 @@ static double bracketed_reduced(const reduced *s, double z0, int *iters)
 int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
                      double Omega[3], rl_omega_info *info)
 {
-  rl_omega_info loc = {RL_OMEGA_PATH_CUBIC, 0, 0.0, 0};
+  rl_omega_info loc = {RL_OMEGA_PATH_CUBIC, 0, 0.0, 0, 0};
   if (guard_tol <= 0.0) guard_tol = RL_OMEGA_GUARD_TOL;
 
   /* cyclic relabelling: the largest moment becomes Z */
@@ -217,8 +371,18 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
       loc.residual = rl_omega_residual(J, theta, h, Om);
     }
   }
+  /* beyond the certified range, the root must be the branch from h = 0 (Cardano's three real
+   * roots, or Newton, may have picked another) */
+  int st = keep_branch(J, rho_max(r), theta, h, Om, &loc, !(loc.residual <= 1e-12), "rl_omega_guarded");
+  /* beyond h|theta| ~ 1e100 the reduced equation overflows: keep the promise of a finite
+   * Omega (theta itself) and let the residual below report the failure */
+  if (!isfinite(Om[0] + Om[1] + Om[2])) {
+    Om[0] = theta[0]; Om[1] = theta[1]; Om[2] = theta[2];
+    loc.residual = rl_omega_residual(J, theta, h, Om);
+  }
   Omega[0] = Om[0]; Omega[1] = Om[1]; Omega[2] = Om[2];
   if (info) *info = loc;
+  if (st) return st;
   if (!(loc.residual <= 1e-12))
     return rl_error(RL_ENOCONV, "rl_omega_guarded: eq. 28 residual %.3g after fallback "
                     "(h = %g, theta = %g %g %g)", loc.residual, h, theta[0], theta[1], theta[2]);
@@ -227,19 +391,6 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
 
 /* ------------------------------------------------------------------- reference 3-D Newton */
 
-static int solve3(const double M[9], const double b[3], double x[3])
-{
-  double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
-               M[2] * (M[3] * M[7] - M[4] * M[6]);
-  if (!(fabs(det) > 0.0) || !isfinite(det)) return 0;
-  double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
-                   M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
-                   M[3] * M[7] - M[4] * M[6], M[1] * M[6] - M[0] * M[7], M[0] * M[4] - M[1] * M[3]};
-  for (int i = 0; i < 3; i++)
-    x[i] = (inv[3 * i] * b[0] + inv[3 * i + 1] * b[1] + inv[3 * i + 2] * b[2]) / det;
-  return 1;
-}
-
 int rl_omega_exact(const double J[3], const double theta[3], double h, double Omega[3],
                    rl_omega_info *info)
 {
@@ -247,19 +398,15 @@ int rl_omega_exact(const double J[3], const double theta[3], double h, double Om
   rho_coeffs(J, r);
   int it;
   for (it = 1; it <= 100; it++) {
-    double g[3] = {x[0] - theta[0] - h * r[0] * x[1] * x[2], x[1] - theta[1] - h * r[1] * x[2] * x[0],
-                   x[2] - theta[2] - h * r[2] * x[0] * x[1]};
-    double M[9] = {1.0, -h * r[0] * x[2], -h * r[0] * x[1], -h * r[1] * x[2], 1.0,
-                   -h * r[1] * x[0], -h * r[2] * x[1], -h * r[2] * x[0], 1.0};
-    double dx[3];
+    double g[3], M[9], dx[3];
+    eq28(r, theta, h, x, g, M);
     if (!solve3(M, g, dx)) break;
-    /* damping: halve the step while it does not reduce |g| (keeps the branch near theta) */
+    /* damping: halve the step while it does not reduce |g| */
     double g0 = norm3(g), lam = 1.0, xn[3];
     for (int k = 0; k < 30; k++) {
+      double gn[3];
       for (int i = 0; i < 3; i++) xn[i] = x[i] - lam * dx[i];
-      double gn[3] = {xn[0] - theta[0] - h * r[0] * xn[1] * xn[2],
-                      xn[1] - theta[1] - h * r[1] * xn[2] * xn[0],
-                      xn[2] - theta[2] - h * r[2] * xn[0] * xn[1]};
+      eq28(r, theta, h, xn, gn, NULL);
       if (norm3(gn) <= g0 || lam < 1e-6) break;
       lam *= 0.5;
     }
@@ -267,13 +414,16 @@ int rl_omega_exact(const double J[3], const double theta[3], double h, double Om
     for (int i = 0; i < 3; i++) x[i] = xn[i];
     if (change <= 1e-15 * size || size == 0.0) break;
   }
+  rl_omega_info loc = {RL_OMEGA_PATH_NEWTON, it, rl_omega_residual(J, theta, h, x), 0, 0};
+  /* at large h Newton from theta may converge to another solution, or to none */
+  const int failed = !(loc.residual <= 1e-13) && !(norm3(x) == 0.0);
+  int st = keep_branch(J, rho_max(r), theta, h, x, &loc, failed, "rl_omega_exact");
   Omega[0] = x[0]; Omega[1] = x[1]; Omega[2] = x[2];
-  double res = rl_omega_residual(J, theta, h, Omega);
-  if (info) { info->path = RL_OMEGA_PATH_NEWTON; info->iterations = it; info->residual = res; info->three_real = 0; }
-  if (!(res <= 1e-13) && !(norm3(x) == 0.0))
-    return rl_error(RL_ENOCONV, "rl_omega_exact: Newton on eq. 28 did not converge "
-                    "(residual %.3g after %d iterations)", res, it);
-  return RL_OK;
+  if (info) *info = loc;
+  if (!st && !(loc.residual <= 1e-13) && !(norm3(x) == 0.0))
+    st = rl_error(RL_ENOCONV, "rl_omega_exact: Newton on eq. 28 did not converge "
+                  "(residual %.3g after %d iterations)", loc.residual, loc.iterations);
+  return st;
 }
 
 /* ---------------------------------------------------------------------- symmetric top */
@@ -292,9 +442,36 @@ void rl_omega_symmetric(const double J[3], const double theta[3], double h, doub
 
 /* ---------------------------------------------------------------------- Cayley evolution */
 
+/* The Cayley maps turn about u = w/|w| by phi = 2 atan(x), x = f h |w| (f = 1/2 for D and the
+ * axis, 1/4 for the quaternion G).  Their usual form divides by 1 + x^2, which overflows for
+ * h|w| beyond ~1e154 (x^2 = Inf, and then (1 - x^2)/(1 + x^2) = NaN).  For x^2 > 1 the callers
+ * divide through by x^2 instead: cos phi = (y - 1)/(y + 1), sin phi = 2 (1/x)/(1 + y),
+ * 1 - cos phi = 2/(1 + y) with y = 1/x^2, all finite (x = Inf gives the rotation by pi). */
+static void cayley_large(const double w[3], double fh, double u[3], double *c, double *s, double *omc)
+{
+  double m = fmax(fmax(fabs(w[0]), fabs(w[1])), fabs(w[2]));
+  for (int k = 0; k < 3; k++) u[k] = w[k] / m;
+  double n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (int k = 0; k < 3; k++) u[k] /= n;
+  double ix = 1.0 / (fh * m * n), y = ix * ix, den = 1.0 + y;
+  *c = (y - 1.0) / den;
+  *s = 2.0 * ix / den;
+  *omc = 2.0 / den;
+}
+
 void rl_cayley(const double w[3], double h, double D[9])
 {
   double x2 = 0.25 * h * h * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  if (x2 > 1.0) { /* D = cos(phi) I + sin(phi) W(u) + (1 - cos(phi)) u u^T */
+    double u[3], c, sn, b;
+    cayley_large(w, 0.5 * h, u, &c, &sn, &b);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) D[3 * i + j] = (i == j ? c : 0.0) + b * u[i] * u[j];
+    D[1] += sn * u[2]; D[2] -= sn * u[1];
+    D[3] -= sn * u[2]; D[5] += sn * u[0];
+    D[6] += sn * u[1]; D[7] -= sn * u[0];
+    return;
+  }
   double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, hs = h * inv, p = 0.5 * h * h * inv;
   /* W(w) of eq. 3: [[0, wz, -wy], [-wz, 0, wx], [wy, -wx, 0]] */
   D[0] = c + p * w[0] * w[0];
@@ -322,13 +499,25 @@ void rl_rotate_axis(double rho[3], const double w[3], double h)
 {
   /* d rho/dt = w x rho = W^T(w) rho; Cayley: rho' = [(1-x^2) rho + h w x rho + h^2/2 (w.rho) w]/(1+x^2) */
   double x2 = 0.25 * h * h * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, hs = h * inv;
-  double wr = 0.5 * h * h * inv * (w[0] * rho[0] + w[1] * rho[1] + w[2] * rho[2]);
-  double cx = w[1] * rho[2] - w[2] * rho[1], cy = w[2] * rho[0] - w[0] * rho[2],
-         cz = w[0] * rho[1] - w[1] * rho[0];
-  double n0 = c * rho[0] + hs * cx + wr * w[0];
-  double n1 = c * rho[1] + hs * cy + wr * w[1];
-  double n2 = c * rho[2] + hs * cz + wr * w[2];
+  double c, hs, wr;
+  const double *v = w; /* w, or its unit vector when x^2 > 1 (cayley_large) */
+  double u[3];
+  if (x2 > 1.0) {
+    double b;
+    cayley_large(w, 0.5 * h, u, &c, &hs, &b);
+    wr = b * (u[0] * rho[0] + u[1] * rho[1] + u[2] * rho[2]);
+    v = u;
+  } else {
+    double inv = 1.0 / (1.0 + x2);
+    c = (1.0 - x2) * inv;
+    hs = h * inv;
+    wr = 0.5 * h * h * inv * (w[0] * rho[0] + w[1] * rho[1] + w[2] * rho[2]);
+  }
+  double cx = v[1] * rho[2] - v[2] * rho[1], cy = v[2] * rho[0] - v[0] * rho[2],
+         cz = v[0] * rho[1] - v[1] * rho[0];
+  double n0 = c * rho[0] + hs * cx + wr * v[0];
+  double n1 = c * rho[1] + hs * cy + wr * v[1];
+  double n2 = c * rho[2] + hs * cz + wr * v[2];
   rho[0] = n0; rho[1] = n1; rho[2] = n2;
 }
 
@@ -377,8 +566,16 @@ void rl_quat_rotate(double q[4], const double Om[3], double h)
 {
   /* eq. 23: q' = [I (1 - h^2 Omega^2/16) + h Q(Omega)] q / (1 + h^2 Omega^2/16), Q of eq. 5 */
   double x2 = h * h * (Om[0] * Om[0] + Om[1] * Om[1] + Om[2] * Om[2]) / 16.0;
-  double inv = 1.0 / (1.0 + x2), c = (1.0 - x2) * inv, g = 0.5 * h * inv;
-  double X = Om[0], Y = Om[1], Z = Om[2];
+  double c, g, X = Om[0], Y = Om[1], Z = Om[2];
+  if (x2 > 1.0) { /* divided through by x^2 (cayley_large): g Omega = sin(phi) u */
+    double u[3], b;
+    cayley_large(Om, 0.25 * h, u, &c, &g, &b);
+    X = u[0]; Y = u[1]; Z = u[2];
+  } else {
+    double inv = 1.0 / (1.0 + x2);
+    c = (1.0 - x2) * inv;
+    g = 0.5 * h * inv;
+  }
   double n0 = c * q[0] + g * (Z * q[1] - X * q[2] - Y * q[3]);
   double n1 = c * q[1] + g * (-Z * q[0] - Y * q[2] + X * q[3]);
   double n2 = c * q[2] + g * (X * q[0] + Y * q[1] + Z * q[3]);

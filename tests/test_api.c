@@ -124,6 +124,68 @@ static void force_errors(void **state)
   rl_system_free(NULL);
 }
 
+/* Overflow: angular momenta or steps so large that h|omega| or the kinetic energy leave the range
+ * of doubles.  rl_integrator_step may fail, but never with RL_OK and a NaN or Inf in the state
+ * or the report; where the kinetic energy itself overflows it says so.  Every rotating kind, and
+ * a translation whose drift overflows the position. */
+static void overflow_errors(void **state)
+{
+  (void)state;
+  const struct { rl_kind kind; double J[3]; } kinds[] = {
+      {RL_KIND_SPHERICAL, {1, 1, 1}},  {RL_KIND_SYMMETRIC, {1, 1, 1.5}}, {RL_KIND_LINEAR, {1, 1, 0}},
+      {RL_KIND_DIPOLE, {1, 1, 1}},     {RL_KIND_ASYMMETRIC, {0.6, 1, 1.4}}};
+  const double mags[] = {1e100, 1e150, 1e153, 1e155, 1e160};
+  int ok_steps = 0, errors = 0, bad = 0;
+  for (size_t k = 0; k < sizeof kinds / sizeof *kinds; k++)
+    for (size_t m = 0; m < sizeof mags / sizeof *mags; m++) {
+      rl_system *s = rl_system_alloc(RL_UNITS_LJ);
+      rl_species_desc d = {.name = "x", .kind = kinds[k].kind, .mass = 1.0,
+                           .inertia = {kinds[k].J[0], kinds[k].J[1], kinds[k].J[2]}};
+      assert_int_equal(rl_system_add_species(s, &d, 1, NULL), RL_OK);
+      rl_system_set_removed_dof(s, 0);
+      const double l[3] = {mags[m], 0.3 * mags[m], 0.0};
+      assert_int_equal(rl_system_set_angmom(s, 0, l), RL_OK);
+      rl_integrator_params p;
+      rl_integrator_params_default(&p);
+      p.h = 1.0;
+      rl_integrator *in = rl_integrator_alloc(s, &p, (rl_force_provider){zero_forces, NULL});
+      assert_int_equal(rl_integrator_init(in), RL_OK);
+      rl_step_info info;
+      int st = rl_integrator_step(in, &info);
+      double A[9];
+      rl_system_get_orientation(s, 0, A);
+      int finite = 1;
+      for (int c = 0; c < 9; c++) finite &= isfinite(A[c]) != 0;
+      if (st == RL_OK) {
+        ok_steps++;
+        finite &= isfinite(info.ke_rot) && isfinite(info.temperature) && rl_orthonormality_error(A) < 1e-14;
+        bad += !finite;
+      } else {
+        errors++;
+      }
+      /* |l| = 1e155 and more: J Omega^2 / 2 is beyond 1e308 */
+      if (mags[m] >= 1e155) bad += !(st == RL_ENONFINITE && strstr(rl_last_error(), "kinetic energy"));
+      printf("info  %-10s |l| = %g: %s%s%s\n", rl_kind_name(kinds[k].kind), mags[m], rl_strerror(st),
+             st ? ": " : "", st ? rl_last_error() : "");
+      rl_integrator_free(in);
+      rl_system_free(s);
+    }
+  printf("info  %d steps returned RL_OK, %d returned an error\n", ok_steps, errors);
+  CHECK_LE("huge l: steps with RL_OK and a non-finite state, or overflow not reported", bad, 0);
+  /* the drift: v = 1e150 with h = 1e160 puts r beyond 1e308 */
+  rl_system *s = one_body((const double[3]){1, 1, 1}, RL_KIND_SPHERICAL);
+  rl_system_set_removed_dof(s, 0);
+  assert_int_equal(rl_system_set_velocity(s, 0, (const double[3]){1e150, 0, 0}), RL_OK);
+  rl_integrator_params p;
+  rl_integrator_params_default(&p);
+  p.h = 1e160;
+  rl_integrator *in = rl_integrator_alloc(s, &p, (rl_force_provider){zero_forces, NULL});
+  assert_int_equal(rl_integrator_init(in), RL_OK);
+  EXPECT_ERROR(rl_integrator_step(in, NULL), RL_ENONFINITE, "non-finite position of body 0");
+  rl_integrator_free(in);
+  rl_system_free(s);
+}
+
 static void dof_and_kinds(void **state)
 {
   (void)state;
@@ -156,6 +218,6 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(bad_time_step), cmocka_unit_test(bad_inertia),
                                      cmocka_unit_test(bad_orientation), cmocka_unit_test(force_errors),
-                                     cmocka_unit_test(dof_and_kinds)};
+                                     cmocka_unit_test(overflow_errors), cmocka_unit_test(dof_and_kinds)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -138,6 +138,71 @@ static void quaternion_fast_paths(void **state)
   }
 }
 
+/* rl_integrator_quaternion returns a q with A(q) = A for every matrix body under RL_ROT_QUATERNION:
+ * the iterated q of the general path (asymmetric, and any top with force_general), the q of A for
+ * the spherical and symmetric fast paths (it once returned their q(0) forever: |A - A(q)| = 0.8
+ * after 100 steps).  Checked after 300 steps, past the polish at step 256.  Bodies without an
+ * orientation matrix, and the methods without quaternions, are refused with RL_ESTATE. */
+static void quaternion_of_every_kind(void **state)
+{
+  (void)state;
+  const struct { rl_kind kind; double J[3]; int general; } bodies[] = {
+      {RL_KIND_SPHERICAL, {1.3, 1.3, 1.3}, 0}, {RL_KIND_SYMMETRIC, {1.0, 1.0, 1.7}, 0},
+      {RL_KIND_SYMMETRIC, {1.7, 1.0, 1.0}, 0}, {RL_KIND_ASYMMETRIC, {0.6, 1.2, 1.7}, 0},
+      {RL_KIND_SPHERICAL, {1.3, 1.3, 1.3}, 1}, {RL_KIND_SYMMETRIC, {1.0, 1.0, 1.7}, 1}};
+  double worst = 0.0, turned = 1.0;
+  for (size_t k = 0; k < sizeof bodies / sizeof *bodies; k++) {
+    rl_system *sys = rl_system_alloc(RL_UNITS_LJ);
+    rl_species_desc d = {.name = "top", .kind = bodies[k].kind, .mass = 1.0,
+                         .inertia = {bodies[k].J[0], bodies[k].J[1], bodies[k].J[2]}};
+    assert_int_equal(rl_system_add_species(sys, &d, 1, NULL), RL_OK);
+    assert_int_equal(rl_system_set_angmom(sys, 0, L0), RL_OK);
+    rl_integrator_params p;
+    rl_integrator_params_default(&p);
+    p.h = 0.02;
+    p.method = RL_ROT_QUATERNION;
+    p.force_general = bodies[k].general;
+    rl_integrator *in = rl_integrator_alloc(sys, &p, (rl_force_provider){zero_forces, NULL});
+    assert_int_equal(rl_integrator_init(in), RL_OK);
+    for (int s = 0; s < 300; s++) assert_int_equal(rl_integrator_step(in, NULL), RL_OK);
+    double q[4], A[9], Aq[9];
+    assert_int_equal(rl_integrator_quaternion(in, 0, q), RL_OK);
+    rl_quat_to_matrix(q, Aq);
+    rl_system_get_orientation(sys, 0, A);
+    worst = fmax(worst, max_abs_diff(A, Aq, 9));
+    const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    turned = fmin(turned, max_abs_diff(A, I, 9)); /* the body has moved away from A(0) = I */
+    rl_integrator_free(in);
+    rl_system_free(sys);
+  }
+  printf("info  smallest max |A - I| after 300 steps: %.3f\n", turned);
+  assert_true(turned > 0.1);
+  CHECK_LE("rl-quaternion, every matrix kind: max |A - A(rl_integrator_quaternion)|", worst, 1e-14);
+  /* refusals */
+  rl_system *sys = rl_system_alloc(RL_UNITS_LJ);
+  rl_species_desc lin = {.name = "rod", .kind = RL_KIND_LINEAR, .mass = 1.0, .inertia = {1, 1, 0}};
+  rl_species_desc top = {.name = "top", .kind = RL_KIND_ASYMMETRIC, .mass = 1.0, .inertia = {0.6, 1.2, 1.7}};
+  assert_int_equal(rl_system_add_species(sys, &lin, 1, NULL), RL_OK);
+  assert_int_equal(rl_system_add_species(sys, &top, 1, NULL), RL_OK);
+  for (int m = 0; m < 2; m++) {
+    rl_integrator_params p;
+    rl_integrator_params_default(&p);
+    p.h = 0.02;
+    p.method = m ? RL_ROT_CUBIC : RL_ROT_QUATERNION;
+    rl_integrator *in = rl_integrator_alloc(sys, &p, (rl_force_provider){zero_forces, NULL});
+    assert_int_equal(rl_integrator_init(in), RL_OK);
+    double q[4];
+    int st0 = rl_integrator_quaternion(in, 0, q), st1 = rl_integrator_quaternion(in, 1, q);
+    int ok = st0 == RL_ESTATE && (m ? st1 == RL_ESTATE : st1 == RL_OK);
+    printf("check %-58s %s\n", m ? "rl: no body has a quaternion" : "rl-quaternion: the linear body has none, the top has one",
+           ok ? "ok" : "FAIL");
+    assert_true(ok);
+    assert_int_equal(rl_integrator_quaternion(in, 2, q), RL_EINVAL);
+    rl_integrator_free(in);
+  }
+  rl_system_free(sys);
+}
+
 /* The asymmetric bodies' rotation solves run on rl_integrator_params.threads OpenMP threads;
  * bodies are independent and report only a count and a maximum, so 1, 2 and 3 threads must
  * give the same orientations bit for bit, the same fallback count and the same max h|Omega|.
@@ -312,6 +377,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(convergence), cmocka_unit_test(long_run), cmocka_unit_test(reversibility),
       cmocka_unit_test(quaternion_norm), cmocka_unit_test(quaternion_fast_paths),
+      cmocka_unit_test(quaternion_of_every_kind),
       cmocka_unit_test(threaded_rotations), cmocka_unit_test(threaded_body_loops)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -74,7 +74,7 @@ static void extremes(void **state)
       {1.0, 2.0, 2.9}, {0.2, 1.0, 1.1}, {1.0, 1.0, 2.0}};
   const int nb = sizeof bodies / sizeof bodies[0];
   double worst = 0.0;
-  long n = 0, nonfinite = 0, three_real = 0, fallbacks = 0;
+  long n = 0, nonfinite = 0, three_real = 0, fallbacks = 0, off_branch = 0;
   for (int k = 0; k < nb; k++) {
     const double *J = bodies[k];
     for (int trial = 0; trial < 20000; trial++) {
@@ -92,11 +92,12 @@ static void extremes(void **state)
       worst = fmax(worst, gi.residual);
       three_real += gi.three_real;
       fallbacks += gi.path >= RL_OMEGA_PATH_NEWTON;
+      off_branch += gi.off_branch;
       n++;
     }
   }
-  printf("info  extremes: %ld solves, %ld with three real roots, %ld fallbacks\n", n, three_real,
-         fallbacks);
+  printf("info  extremes: %ld solves, %ld with three real roots, %ld fallbacks, %ld fast roots off "
+         "the branch (replaced)\n", n, three_real, fallbacks, off_branch);
   CHECK_LE("extremes: non-finite results", (double)nonfinite, 0.0);
   CHECK_LE("extremes: max eq. 28 residual (relative), h|Omega| <= 6", worst, 1e-12);
   printf("check %-58s %ld > 0 %s\n", "extremes: negative discriminant met", three_real,
@@ -240,12 +241,197 @@ static void quaternion_convention(void **state)
   CHECK_LE("dA/dt from quaternions = W(Omega) A", err, 1e-8);
 }
 
+/* Huge h|w|: the Cayley maps divide through by x^2 once x = h|w|/2 (h|w|/4 for G) exceeds 1, so
+ * they stay finite and orthogonal up to the largest doubles and keep turning by 2 atan(h|w|/2),
+ * which tends to pi (the plain form gave NaN from h|w| ~ 1.3e154 on).  The guarded solve of eq.
+ * 28, which overflows far earlier, reports RL_ENOCONV with a finite Omega. */
+static void cayley_overflow(void **state)
+{
+  (void)state;
+  /* (h, |w|): h|w| = 2.5, 1e10, 1e150, 1e155, 1e200, 1e300, 1e308 and 1e318 (beyond the doubles:
+   * the rotation by pi) */
+  const double hw[][2] = {{1, 2.5},     {1, 1e10},      {1, 1e150},     {1, 1e155},
+                          {1e100, 1e100}, {1e10, 1e290}, {1e10, 1e298}, {1e20, 1e298}};
+  const double u[3] = {0.48, -0.6, 0.64}; /* unit */
+  double worst_rod = 0.0, worst_orth = 0.0, worst_ax = 0.0, worst_q = 0.0;
+  for (size_t k = 0; k < sizeof hw / sizeof *hw; k++) {
+    const double h = hw[k][0], x = h * hw[k][1]; /* x = Inf for the last */
+    double w[3] = {u[0] * hw[k][1], u[1] * hw[k][1], u[2] * hw[k][1]}, D[9], R[9], A[9];
+    rl_cayley(w, h, D);
+    rodrigues(u, 2.0 * atan(0.5 * x), R);
+    worst_rod = fmax(worst_rod, max_abs_diff(D, R, 9));
+    worst_orth = fmax(worst_orth, rl_orthonormality_error(D));
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 40 + k);
+    random_rotation(r, A);
+    gsl_rng_free(r);
+    double rho[3] = {A[6], A[7], A[8]}, lab[3], DA[9], q[4], Aq[9], Rq[9], RA[9];
+    memcpy(DA, A, sizeof DA);
+    rl_rotate_matrix(DA, w, h);
+    for (int c = 0; c < 3; c++) lab[c] = A[c] * w[0] + A[3 + c] * w[1] + A[6 + c] * w[2];
+    rl_rotate_axis(rho, lab, h);
+    worst_ax = fmax(worst_ax, max_abs_diff(rho, DA + 6, 3));
+    assert_int_equal(rl_matrix_to_quat(A, q), RL_OK);
+    rl_quat_rotate(q, w, h);
+    rl_quat_to_matrix(q, Aq);
+    rodrigues(u, 4.0 * atan(0.25 * x), Rq);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        RA[3 * i + j] = Rq[3 * i] * A[j] + Rq[3 * i + 1] * A[3 + j] + Rq[3 * i + 2] * A[6 + j];
+    worst_q = fmax(worst_q, max_abs_diff(RA, Aq, 9));
+  }
+  CHECK_LE("Cayley D at h|w| = 2.5 .. 1e308: |D - Rodrigues(2 atan(h w/2))|", worst_rod, 1e-14);
+  CHECK_LE("Cayley D at h|w| = 2.5 .. 1e308: orthonormality", worst_orth, 4e-15);
+  CHECK_LE("axis rotation at h|w| = 2.5 .. 1e308 = third row of D A", worst_ax, 1e-14);
+  CHECK_LE("quaternion G at h|w| = 2.5 .. 1e308 = rotation by 4 atan(h w/4)", worst_q, 1e-14);
+  const double J[3] = {0.6, 1.0, 1.4};
+  int finite = 1, enoconv = 0;
+  for (double m = 1e50; m < 1e300; m *= 1e10) {
+    const double th[3] = {0.3 * m, -0.8 * m, 0.52 * m};
+    double Om[3];
+    int st = rl_omega_guarded(J, th, 1.0, 0.0, Om, NULL);
+    finite &= isfinite(Om[0]) && isfinite(Om[1]) && isfinite(Om[2]);
+    enoconv += st == RL_ENOCONV;
+  }
+  printf("info  guarded solve at h|theta| = 1e50 .. 1e290: %d RL_ENOCONV\n", enoconv);
+  CHECK_LE("guarded solve at h|theta| up to 1e290: a non-finite Omega", !finite, 0);
+  assert_true(enoconv > 0);
+}
+
+/* The solution of eq. 28 is the one that continues from Omega = theta at h = 0 (the auditor's
+ * test, shortened).  Reference: that branch followed in long double by 3-D Newton over 400 equal
+ * steps of h from 0.  At h|theta| >= 3, Cardano's three real roots or the Newton polish used to
+ * land on another solution (1-4 % of the solves at h|theta| = 3.5-6 for these bodies); the guarded
+ * and the exact solves must now both return the branch, and the test makes sure such cases were
+ * met (off_branch). */
+static int ref_newton(const double J[3], const double th[3], double h, long double x[3])
+{
+  const long double r0 = (J[1] - J[2]) / (2.0L * J[0]), r1 = (J[2] - J[0]) / (2.0L * J[1]),
+                    r2 = (J[0] - J[1]) / (2.0L * J[2]);
+  for (int it = 0; it < 60; it++) {
+    long double g[3] = {x[0] - th[0] - h * r0 * x[1] * x[2], x[1] - th[1] - h * r1 * x[2] * x[0],
+                        x[2] - th[2] - h * r2 * x[0] * x[1]};
+    long double M[9] = {1, -h * r0 * x[2], -h * r0 * x[1], -h * r1 * x[2], 1, -h * r1 * x[0],
+                        -h * r2 * x[1], -h * r2 * x[0], 1};
+    long double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+                      M[2] * (M[3] * M[7] - M[4] * M[6]);
+    if (!(det > 1e-12L)) return 0; /* det M > 0 on the branch; near 0: a fold */
+    long double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
+                          M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
+                          M[3] * M[7] - M[4] * M[6], M[1] * M[6] - M[0] * M[7], M[0] * M[4] - M[1] * M[3]};
+    long double d2 = 0;
+    for (int i = 0; i < 3; i++) {
+      long double d = (inv[3 * i] * g[0] + inv[3 * i + 1] * g[1] + inv[3 * i + 2] * g[2]) / det;
+      x[i] -= d;
+      d2 += d * d;
+    }
+    if (d2 <= 1e-36L * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2])) return 1;
+  }
+  return 1;
+}
+
+static void branch_from_zero(void **state)
+{
+  (void)state;
+  const double bodies[][3] = {{0.3, 0.6, 0.9}, {1.0, 2.0, 2.9}, {0.2, 1.0, 1.1},
+                              {1e-2, 0.7, 0.705}, {0.5, 0.8, 1.2}, {0.61, 1.0, 1.6}};
+  const double hws[] = {2.5, 3.0, 3.5, 4.0, 6.0};
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(r, 7);
+  long n = 0, folds = 0, wrong_g = 0, wrong_e = 0, errors = 0, off = 0;
+  double worst = 0.0;
+  for (size_t b = 0; b < sizeof bodies / sizeof *bodies; b++)
+    for (size_t k = 0; k < sizeof hws / sizeof *hws; k++)
+      for (int trial = 0; trial < 120; trial++) {
+        double th[3], h = hws[k];
+        gsl_ran_dir_3d(r, th, th + 1, th + 2);
+        long double x[3] = {th[0], th[1], th[2]};
+        int ok = 1;
+        for (int s = 1; s <= 400 && ok; s++) ok = ref_newton(bodies[b], th, h * s / 400.0, x);
+        if (!ok) { folds++; continue; }
+        const double xr[3] = {(double)x[0], (double)x[1], (double)x[2]};
+        double Og[3], Oe[3];
+        rl_omega_info gi, ei;
+        errors += rl_omega_guarded(bodies[b], th, h, 0.0, Og, &gi) != RL_OK;
+        errors += rl_omega_exact(bodies[b], th, h, Oe, &ei) != RL_OK;
+        const double dg = max_abs_diff(Og, xr, 3) / norm3d(xr), de = max_abs_diff(Oe, xr, 3) / norm3d(xr);
+        wrong_g += dg > 1e-8;
+        wrong_e += de > 1e-8;
+        if (dg <= 1e-8) worst = fmax(worst, dg);
+        off += gi.off_branch;
+        n++;
+      }
+  gsl_rng_free(r);
+  printf("info  %ld solves at h|theta| = 2.5-6 (%ld reference folds skipped): %ld fast roots off the "
+         "branch, replaced\n", n, folds, off);
+  CHECK_LE("branch from h = 0: guarded solves on another root", wrong_g, 0);
+  CHECK_LE("branch from h = 0: exact solves on another root", wrong_e, 0);
+  CHECK_LE("branch from h = 0: solves returning an error", errors, 0);
+  CHECK_LE("branch from h = 0: max relative distance to the reference", worst, 1e-12);
+  CHECK_LE("branch from h = 0: reference folds (the test needs the branch)", folds, 0);
+  printf("check %-58s %ld > 0 %s\n", "branch from h = 0: off-branch fast roots met", off, off > 0 ? "ok" : "FAIL");
+  assert_true(off > 0);
+}
+
+/* The spherical-top path is the paper's A(t+h) = A(t) exp[phi W(omega)/omega] with the Cayley
+ * angle phi = 2 atan(h omega/2) (section III.D; the paper's arcsin form), not the exact free
+ * rotation by h omega: a free spherical top turns about its fixed axis at the rate phi/h, which
+ * lags omega by (h omega)^2/12 relatively (phi = h omega - (h omega)^3/12 + ...).  Through the
+ * integrator, 1000 steps at h omega = 0.1, 0.5 and 1 must equal the rotation by 1000 phi, and the
+ * exact rotation by 1000 h omega must be the distance that lag predicts away. */
+static int no_forces(void *ctx, const rl_system *sys, rl_forces *out)
+{
+  (void)ctx; (void)sys; (void)out;
+  return RL_OK;
+}
+
+static void spherical_top_angle(void **state)
+{
+  (void)state;
+  const double hw[3] = {0.1, 0.5, 1.0}, h = 0.01, J = 1.3, u[3] = {0.48, -0.6, 0.64};
+  const int n = 1000;
+  double worst = 0.0;
+  for (int k = 0; k < 3; k++) {
+    const double w = hw[k] / h, l[3] = {J * w * u[0], J * w * u[1], J * w * u[2]};
+    rl_system *sys = rl_system_alloc(RL_UNITS_LJ);
+    rl_species_desc d = {.name = "ball", .kind = RL_KIND_SPHERICAL, .mass = 1.0, .inertia = {J, J, J}};
+    assert_int_equal(rl_system_add_species(sys, &d, 1, NULL), RL_OK);
+    rl_system_set_removed_dof(sys, 0);
+    assert_int_equal(rl_system_set_angmom(sys, 0, l), RL_OK);
+    rl_integrator_params p;
+    rl_integrator_params_default(&p);
+    p.h = h;
+    rl_integrator *in = rl_integrator_alloc(sys, &p, (rl_force_provider){no_forces, NULL});
+    assert_int_equal(rl_integrator_init(in), RL_OK);
+    for (int s = 0; s < n; s++) assert_int_equal(rl_integrator_step(in, NULL), RL_OK);
+    const double phi = 2.0 * atan(0.5 * hw[k]);
+    double A[9], Rc[9], Rx[9];
+    rl_system_get_orientation(sys, 0, A);
+    rodrigues(u, fmod(n * phi, 2.0 * M_PI), Rc);
+    rodrigues(u, fmod(n * hw[k], 2.0 * M_PI), Rx);
+    worst = fmax(worst, max_abs_diff(A, Rc, 9));
+    /* the lag after n steps, n (h omega - phi), seen as the distance to the exact rotation:
+     * |R(a) - R(b)| elementwise is at most 2 |sin((a - b)/2)|, reached for some element */
+    const double lag = n * (hw[k] - phi), dist = max_abs_diff(A, Rx, 9);
+    printf("info  spherical top, h omega = %.1f: phi = %.6f per step, h omega - phi = %.3e "
+           "((h omega)^3/12 = %.3e, %.2f %% of h omega); after %d steps %.4f rad behind the exact "
+           "rotation, max |A - A_exact| = %.4f\n", hw[k], phi, hw[k] - phi, pow(hw[k], 3) / 12.0,
+           100.0 * (hw[k] - phi) / hw[k], n, lag, dist);
+    assert_true(dist > 0.5 * fabs(sin(0.5 * lag)) && dist <= 2.0 * fabs(sin(0.5 * lag)) + 1e-12);
+    rl_integrator_free(in);
+    rl_system_free(sys);
+  }
+  CHECK_LE("spherical top, 1000 steps: |A - rotation by 1000 x 2 atan(h omega/2)|", worst, 1e-12);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(water_thermal),      cmocka_unit_test(extremes),
       cmocka_unit_test(cubic_root),         cmocka_unit_test(symmetric_and_linear),
       cmocka_unit_test(cayley_and_quaternions), cmocka_unit_test(quaternion_convention),
+      cmocka_unit_test(cayley_overflow),    cmocka_unit_test(branch_from_zero),
+      cmocka_unit_test(spherical_top_angle),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -81,7 +81,11 @@ const char *rl_rot_method_name(rl_rot_method m);
 
 typedef enum {
   RL_THERMO_NONE = 0,       /* NVE                                                          */
-  RL_THERMO_ISOKINETIC = 1, /* the paper's isokinetic scaling (eqs. 17-18, III.B)            */
+  RL_THERMO_ISOKINETIC = 1, /* the paper's isokinetic scaling (eqs. 17-18, III.B), as
+                               published: the on-step T is T0 exactly, but a start at
+                               T(0) = r0^2 T0 leaves an undamped period-2 mode, T alternating
+                               r0^2 T0, (2 - r0)^2 T0 for free bodies (docs/integrators.md,
+                               "The isokinetic scheme's period-2 mode"); start near T0      */
   RL_THERMO_BUSSI = 2,      /* canonical stochastic velocity rescaling, Bussi, Donadio &
                                Parrinello, J. Chem. Phys. 126, 014101 (2007): the on-step
                                mid-step v and l are rescaled after the kick by alpha, alpha^2
@@ -96,8 +100,10 @@ typedef enum {
                                sampled exactly at any stable h; librations in a field to 0.2 %
                                at h omega = 0.5 (tests/test_thermostat.c; docs/integrators.md,
                                "Langevin in the middle of the drift").  The noise moves the
-                               centre of mass, so init and resume set the system's removed dof
-                               to 0.  Not with the baseline rotation methods                  */
+                               centre of mass, so all 3N translational dof count
+                               (rl_integrator_dof); the system's removed dof is left as it is,
+                               for whatever thermostat continues from the state.  Not with the
+                               baseline rotation methods                                      */
 } rl_thermostat;
 
 /* Which degrees of freedom share one Bussi thermostat.  RL_THERMO_GROUPS_TRANS_ROT (the default):
@@ -158,13 +164,19 @@ typedef struct {
   double total;          /* ke_trans + ke_rot + potential                                   */
   double temperature;    /* 2 KE / (dof kB)                                                 */
   double t_trans, t_rot; /* translational / rotational temperatures                         */
-  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) that
-                            the thermostat acts on, before it acts: after the kick (l with
-                            A(t)) for NVE, isokinetic and Bussi; at the middle of the drift
-                            (l with the half-rotated A) for Langevin, where BAOAB makes them
-                            exactly canonical for harmonic modes.  At large h they differ
-                            from the on-step t_trans, t_rot by the leapfrog's O(h^2) shadow
-                            terms (1/(1 - h^2 omega^2/4) for a harmonic mode)              */
+  double t_trans_mid, t_rot_mid; /* temperatures of the mid-step v(t+h/2) and l(t+h/2) as the
+                            dynamics makes them, before any thermostat acts: the plain kick
+                            v(t-h/2) + h f/m, l(t-h/2) + h k (l with A(t)) for NVE, Bussi
+                            (before its rescaling) and isokinetic (not eqs. 17-18's
+                            (2 beta - 1) v(t) + h/2 f/m, which is what is carried forward);
+                            at the middle of the drift (l with the half-rotated A), before
+                            the Ornstein-Uhlenbeck step, for Langevin, where BAOAB makes
+                            them exactly canonical for harmonic modes.  At large h they
+                            differ from the on-step t_trans, t_rot by the leapfrog's O(h^2)
+                            shadow terms (1/(1 - h^2 omega^2/4) for a harmonic mode).  For
+                            free bodies under the isokinetic scheme they equal the on-step
+                            temperature before scaling, which alternates (docs/
+                            integrators.md, "The isokinetic scheme's period-2 mode")      */
   double beta;           /* thermostat scaling factor applied at t (1 for NVE): isokinetic
                             beta of eqs. 17-18; Bussi alpha applied to v(t+h/2) (and to
                             l(t+h/2) with RL_THERMO_GROUPS_ALL); Langevin: sqrt(K'/K) of the
@@ -177,7 +189,8 @@ typedef struct {
                             (the thermostat's work accounted; it drifts only by the
                             integration error); for the
                             isokinetic scheme the same sum with (1 - beta^2) KE(t), a
-                            diagnostic that is not conserved                                */
+                            diagnostic that is not conserved: the period-2 mode alone makes
+                            it climb by (r0 - 1)^2 g kB T0 / 2 per step                  */
   double max_h_omega;    /* max over bodies of h |Omega(t+h/2)|: > 1 means poorly resolved */
   long fallbacks;        /* guarded solves that needed Newton in this step                  */
   long quat_iterations;  /* quaternion iterations in this step (sum over bodies)            */
@@ -194,14 +207,24 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
                                    rl_force_provider provider);
 void rl_integrator_free(rl_integrator *in); /* accepts NULL */
 
-/* Forces at the current time, and v, l staggered back half a step. */
+/* Forces at the current time, and v, l staggered back half a step.  The centre of mass as the
+ * thermostat needs it: under every thermostat but Langevin the total momentum is conserved or
+ * scaled and carries no heat, so when the system's count removes it (rl_system_set_removed_dof,
+ * 3 by default) a total momentum above round-off (|P| > 1e-10 sum m|v|, as a Langevin run leaves
+ * it) is subtracted from the velocities; Langevin counts and keeps it (rl_integrator_dof). */
 int rl_integrator_init(rl_integrator *in);
 /* Continue from a state whose v and l are already the half-step values v(t-h/2), l(t-h/2) (as a
  * stepping integrator leaves them, and as a checkpoint stores them): forces at t are computed,
  * nothing is staggered or projected, and the step counter and time are set, so that a restart
- * continues bit for bit.  Restore the thermostat account and RNG state after this call. */
+ * continues bit for bit.  The centre of mass is treated as by init (a state from a Langevin run
+ * continued under another thermostat loses its total momentum; one at round-off is untouched).
+ * Restore the thermostat account and RNG state after this call. */
 int rl_integrator_resume(rl_integrator *in, long step, double t);
-/* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t. */
+/* t -> t + h.  info (may be NULL) receives the on-step values at the starting time t.
+ * RL_ENONFINITE if the on-step or mid-step kinetic energy or a new position or orientation is
+ * not finite (velocities or angular momenta beyond the range of doubles): a step never returns
+ * RL_OK with a NaN or Inf in the state or the report.  After such an error the state may be
+ * partly advanced and is not to be continued. */
 int rl_integrator_step(rl_integrator *in, rl_step_info *info);
 /* The on-step values at the current time, as the next rl_integrator_step would report them
  * (energies, on-step kinetic energies of eqs. 9/12, the conserved quantity, the mid-step
@@ -225,6 +248,11 @@ void rl_integrator_set_thermostat_work(rl_integrator *in, double w);
 size_t rl_integrator_rng_size(const rl_integrator *in);
 void *rl_integrator_rng_state(rl_integrator *in);
 
+/* Degrees of freedom of the temperatures the integrator reports (total; translational and
+ * rotational parts, either pointer may be NULL): rl_system_dof's count, except under Langevin,
+ * which counts all 3N translational ones. */
+int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational);
+
 /* Cumulative counters since init. */
 long rl_integrator_fallbacks(const rl_integrator *in);
 long rl_integrator_quat_iterations(const rl_integrator *in);
@@ -237,9 +265,12 @@ const rl_forces *rl_integrator_forces(const rl_integrator *in);
  * return the stored mid-step values v(t-h/2), l(t-h/2). */
 void rl_integrator_mid_velocity(const rl_integrator *in, int body, double v[3]);
 void rl_integrator_mid_angmom(const rl_integrator *in, int body, double l[3]);
-/* Quaternion of a matrix body under RL_ROT_QUATERNION, or, under the baselines, the q(t+h) the
- * last step produced (A = A(q); the periodic round-off polish of A does not update it); returns
- * RL_ESTATE for the other methods. */
+/* Quaternion of a matrix body (eq. 4: A = A(q)).  Under RL_ROT_QUATERNION: the iterated q of the
+ * general path, or, for the spherical and symmetric tops that keep their fast paths (which
+ * advance A), the q of their current A (chi >= 0).  Under the baselines: the q(t+h) the last step
+ * produced (the periodic round-off polish of A does not update it).  RL_ESTATE for the other
+ * methods and for bodies without an orientation matrix (points, point dipoles, linear
+ * molecules); RL_EINVAL for a body out of range. */
 int rl_integrator_quaternion(const rl_integrator *in, int body, double q[4]);
 
 #ifdef __cplusplus

@@ -21,7 +21,10 @@ enum {
   RL_OMEGA_PATH_LINEAR = 0, /* eq. 28 is linear (two equal moments): solved in closed form  */
   RL_OMEGA_PATH_CUBIC = 1,  /* quasi-analytic cubic root (eqs. 30-36) passed the residual check */
   RL_OMEGA_PATH_NEWTON = 2, /* cubic failed the check: polished by Newton on the exact eq. 28 */
-  RL_OMEGA_PATH_BRACKET = 3 /* Newton failed too: safeguarded bisection/Newton in a bracket  */
+  RL_OMEGA_PATH_BRACKET = 3, /* Newton failed too: safeguarded bisection/Newton in a bracket */
+  RL_OMEGA_PATH_CONTINUATION = 4 /* beyond the certified range (h max|rho| |theta| > ~0.42): the
+                                    root was checked against the branch continued in h from
+                                    h = 0, and replaced by it if it was another solution    */
 };
 
 typedef struct {
@@ -29,6 +32,8 @@ typedef struct {
   int iterations;    /* Newton / fixed-point iterations used (0 for the cubic)  */
   double residual;   /* |eq. 28 residual| / |Omega| of the returned solution     */
   int three_real;    /* 1 if the cubic had three real roots (negative discriminant) */
+  int off_branch;    /* 1 if the fast root was another solution of eq. 28, replaced by the
+                        branch (path RL_OMEGA_PATH_CONTINUATION)                    */
 } rl_omega_info;
 
 /* Default relative residual of eq. 28 above which the cubic root is polished (a fallback).
@@ -47,10 +52,16 @@ double rl_omega_residual(const double J[3], const double theta[3], double h,
  * in  theta[3]  J^-1 A(t) l(t+h/2)
  * in  h         time step (> 0)
  * in  guard_tol relative residual that triggers Newton polishing (<= 0: RL_OMEGA_GUARD_TOL)
- * out Omega[3]  mid-step principal angular velocity
+ * out Omega[3]  mid-step principal angular velocity: the solution of eq. 28 that continues from
+ *               Omega = theta at h = 0 (eq. 28 has up to five).  A contraction bound certifies
+ *               the fast root up to h max|rho| |theta| ~ 0.42 (h|theta| ~ 0.84 for water, where
+ *               max|rho| ~ 1/2); beyond, it is checked against that branch followed by
+ *               continuation in h, and replaced if it is another solution (Cardano's three real
+ *               roots and the Newton polish can pick one from h|theta| ~ 3 on)
  * out info      how it was found (may be NULL)
  * Never returns NaN or Inf for finite input.  Returns RL_OK, or RL_ENOCONV if even the bracketed
- * solve could not meet 1e-12 (not observed; reported rather than hidden). */
+ * solve could not meet 1e-12 (reported rather than hidden; seen only far beyond any usable step,
+ * where the reduced equation overflows: Omega is then theta, finite, and must not be used). */
 int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
                      double Omega[3], rl_omega_info *info);
 
@@ -60,8 +71,10 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
 double rl_cubic_small_root(double a0, double a1, double a2, double a3, int *three_real);
 
 /* Reference solve of eq. 28 by full 3-D Newton iteration from Omega = theta (damped), to
- * relative change <= 1e-15.  Independent of the cubic reduction (eq. 29); for checking.
- * Returns RL_ENOCONV if it does not converge in 100 iterations. */
+ * relative change <= 1e-15.  Independent of the cubic reduction (eq. 29); for checking.  Beyond
+ * the certified range (as rl_omega_guarded) its root is checked against the branch continued in h
+ * by 3-D Newton, and replaced by it if it is another solution or if Newton did not converge.
+ * Returns RL_ENOCONV if neither gives a solution. */
 int rl_omega_exact(const double J[3], const double theta[3], double h, double Omega[3],
                    rl_omega_info *info);
 
@@ -72,7 +85,10 @@ void rl_omega_symmetric(const double J[3], const double theta[3], double h, doub
 /* The Cayley / evolution matrix D of eq. 24 for the vector w (row-major 3x3):
  *   D = [I (1 - h^2 w^2/4) + h W(w) + h^2/2 w w^T] / (1 + h^2 w^2/4),
  * exactly orthogonal; it is the rotation exp[phi W(w)/|w|] with phi = 2 atan(h |w| / 2), which is
- * the paper's arcsin form for h|w| <= 2 and continues it beyond. */
+ * the paper's arcsin form for h|w| <= 2 and continues it beyond.  For h|w| > 2 it is evaluated
+ * divided through by h^2 w^2/4, so it stays finite and orthogonal for every finite h and w (it
+ * tends to the rotation by pi; the undivided form overflowed to NaN from h|w| ~ 1.3e154).  The
+ * same holds for rl_rotate_axis and rl_quat_rotate (tests/test_rotation.c, cayley_overflow). */
 void rl_cayley(const double w[3], double h, double D[9]);
 
 /* A <- D(Omega) A (eq. 24), A row-major 3x3. */

@@ -26,7 +26,10 @@ typedef enum {
   RL_KIND_POINT = 0,     /* no rotation                                                      */
   RL_KIND_DIPOLE = 1,    /* point dipole: rho only, spherical inertia I, omega = l / I       */
   RL_KIND_LINEAR = 2,    /* linear molecule: rho only, J_XX = J_YY, J_ZZ = 0                 */
-  RL_KIND_SPHERICAL = 3, /* J_XX = J_YY = J_ZZ: exact exponential map, no solve             */
+  RL_KIND_SPHERICAL = 3, /* J_XX = J_YY = J_ZZ: A exp[phi W(omega)/omega], omega = l/J, with
+                            the Cayley angle phi = 2 atan(h omega/2) (section III.D), not the
+                            exact rotation by h omega (phi is (h omega)^2/12 short, relatively);
+                            no solve                                                        */
   RL_KIND_SYMMETRIC = 4, /* two equal moments: Omega_Z = theta_Z, eq. 29 in closed form      */
   RL_KIND_ASYMMETRIC = 5 /* general: guarded quasi-analytic cubic (or exact / quaternion)    */
 } rl_kind;
@@ -81,7 +84,10 @@ rl_units rl_system_units(const rl_system *sys);
 double rl_system_kB(const rl_system *sys);
 
 /* Degrees of freedom: sum over bodies of 3 + rotational, minus `removed` constraints (default 3
- * for the conserved total momentum; set 0 for a single body in free space if wanted). */
+ * for the conserved total momentum; set 0 for a single body in free space if wanted).  With 3 or
+ * more removed, rl_integrator_init and rl_integrator_resume hold the total momentum at zero
+ * under every thermostat but Langevin, which counts all 3N translational dof instead and leaves
+ * this setting alone (rl_integrator_dof gives the integrator's count). */
 void rl_system_set_removed_dof(rl_system *sys, int removed);
 int rl_system_dof(const rl_system *sys);
 int rl_system_dof_translational(const rl_system *sys);
