@@ -204,13 +204,39 @@ static int deck_handler(void *user, const char *section, const char *name, const
   return 1;
 }
 
+/* 1 if the text from the start of `line` on is, from some point, a comment: the line starts
+ * with ; or # (after blanks), or has an inline comment (a ; after a blank, as inih takes it). */
+static int ends_in_comment(const char *line)
+{
+  const char *p = line + strspn(line, " \t");
+  if (*p == ';' || *p == '#') return 1;
+  for (; *p; p++)
+    if (*p == ';' && (p[-1] == ' ' || p[-1] == '\t')) return 1;
+  return 0;
+}
+
 /* fgets-like reader for ini_parse_stream that counts lines: inih calls the handler for a key
- * right after reading its line, so lineno is that key's line. */
+ * right after reading its line, so lineno is that key's line.  inih hands it a buffer of `size`
+ * bytes (INI_MAX_LINE: 200 in libinih's build) and would take the rest of a longer line for a
+ * line of its own, misparsing it and every line number after it.  Here a line is always read
+ * whole: one whose cut falls inside a comment is handed on cut there (which changes nothing);
+ * any other is reported once, at its own line, and handed on empty. */
 static char *counting_reader(char *buf, int size, void *stream)
 {
   raw_deck *r = ((void **)stream)[1];
-  char *s = fgets(buf, size, ((void **)stream)[0]);
-  if (s) r->lineno++;
+  FILE *f = ((void **)stream)[0];
+  char *s = fgets(buf, size, f);
+  if (!s) return NULL;
+  r->lineno++;
+  size_t n = strlen(buf);
+  if (n == 0 || buf[n - 1] == '\n') return s;
+  long rest = 0; /* characters past the buffer, up to the newline */
+  for (int c; (c = getc(f)) != EOF && c != '\n';) rest++;
+  if (rest > 0 && !ends_in_comment(buf)) {
+    problem(r, r->lineno, "this line has %ld characters, a deck line at most %d (only comments may be longer)",
+            (long)n + rest, size - 1);
+    buf[0] = '\0';
+  }
   return s;
 }
 
@@ -294,6 +320,17 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     fclose(f);
     problem(&r, 0, "is a directory, not a deck");
     return r.problems;
+  }
+  { /* a binary file (a DCD given by mistake) would be parsed into screens of garbage "keys" */
+    char head[8000];
+    const size_t got = fread(head, 1, sizeof head, f);
+    const char *nul = memchr(head, '\0', got);
+    if (nul) {
+      fclose(f);
+      problem(&r, 0, "is not a text file (a NUL byte at offset %ld): a deck is an INI text file", (long)(nul - head));
+      return r.problems;
+    }
+    rewind(f);
   }
   void *stream[2] = {f, &r};
   int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
@@ -521,7 +558,9 @@ void rl_deck_print_keys(FILE *f, int md)
                "A deck is an INI file. Numbers take a unit suffix in real units (`2 fs`, `0.9 nm`, "
                "`9 A`, `298 K`, `1 g/cm3`); a bare number is in the default unit shown. Reduced "
                "(lj) models take bare numbers only. `--set section.key=value` overrides any key; `--set section.key=` returns it to its default. "
-               "Model parameters go in `[model]` (see `rotleap models`).\n");
+               "Model parameters go in `[model]` (see `rotleap models`). A line may have at most 199 "
+               "characters (libinih's line buffer in its default build; a longer line is refused at "
+               "its line), except a comment, which may be of any length. A binary file is refused.\n");
   for (int k = 0; k < NKEYS; k++) {
     const key_def *K = &keys[k];
     if (strcmp(sec, K->section)) {
