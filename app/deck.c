@@ -35,7 +35,7 @@ enum {
 static const key_def keys[NKEYS] = {
     [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models); required"},
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required"},
-    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\" (give box or density)"},
+    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
@@ -112,15 +112,23 @@ int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], cha
   return n;
 }
 
+double rl_deck_max_temperature(const rl_deck *d, const char **key)
+{
+  const int thermo = d->thermostat_temperature > d->temperature;
+  if (key) *key = thermo ? " (run.temperature)" : "";
+  return thermo ? d->thermostat_temperature : d->temperature;
+}
+
 double rl_deck_thermal_omega(const rl_deck *d)
 {
   rl_molecule m;
-  if (!d->model || !(d->temperature > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
+  const double T = rl_deck_max_temperature(d, NULL);
+  if (!d->model || !(T > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
     return 0.0;
   double Jmin = INFINITY;
   for (int a = 0; a < 3; a++)
     if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
-  return sqrt(rl_units_kB(d->units) * d->temperature / Jmin);
+  return sqrt(rl_units_kB(d->units) * T / Jmin);
 }
 
 int rl_deck_integrator_lookup(const char *name)
@@ -306,6 +314,67 @@ static void require(raw_deck *r, int k)
   if (!r->val[k]) problem(r, 0, "%s.%s is required (%s)", keys[k].section, keys[k].name, keys[k].help);
 }
 
+/* 1 if the text of a number ("1.8", "1.8nm", "1.8 nm") has a unit after it; its start in *unit. */
+static int has_unit(const char *q, const char **unit)
+{
+  char *end;
+  (void)strtod(q, &end);
+  end += strspn(end, " \t");
+  *unit = end;
+  return *end != '\0';
+}
+
+/* system.box: one edge or three, each with its unit or bare: "1.8 nm 1.8 nm 2 nm", "1.8nm 1.8nm
+ * 2nm", or "1.8 1.8 2 nm" (the last edge's unit applies to the bare ones).  Every problem is
+ * reported once; box is left 0 on any. */
+static void box_edges(raw_deck *r, rl_units u, double box[3])
+{
+  char tmp[256], edge[3][96], *save;
+  int n = 0;
+  snprintf(tmp, sizeof tmp, "%s", r->val[K_BOX]);
+  for (char *tok = strtok_r(tmp, " \t", &save); tok; tok = strtok_r(NULL, " \t", &save)) {
+    char *end;
+    const char *unit;
+    (void)strtod(tok, &end);
+    if (end != tok) { /* a number (nan and inf too: refused below, by name) starts an edge */
+      if (n == 3) { problem(r, r->line[K_BOX], "system.box: more than three edges"); return; }
+      snprintf(edge[n++], sizeof edge[0], "%s", tok);
+    } else if (n > 0 && !has_unit(edge[n - 1], &unit)) { /* the unit of the number before it */
+      const size_t at = strlen(edge[n - 1]);
+      snprintf(edge[n - 1] + at, sizeof edge[0] - at, " %s", tok);
+    } else {
+      problem(r, r->line[K_BOX], "system.box: '%s' is not a number%s", tok,
+              n > 0 ? " (one unit per edge: \"1.8 nm 1.8 nm 2 nm\" or \"1.8 1.8 2 nm\")" : "");
+      return;
+    }
+  }
+  if (n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); return; }
+  const char *last;
+  const int shared = has_unit(edge[n - 1], &last);
+  double L[3];
+  int bad = 0;
+  for (int c = 0; c < n; c++) {
+    const char *unit;
+    char q[160], msg[256];
+    const int takes_last = shared && !has_unit(edge[c], &unit);
+    snprintf(q, sizeof q, "%.95s%s%.40s", edge[c], takes_last ? " " : "", takes_last ? last : "");
+    if (rl_parse_quantity(q, Q_LENGTH, u, 0, &L[c], msg, sizeof msg)) {
+      problem(r, r->line[K_BOX], "system.box: %s", msg);
+      bad = 1;
+    } else if (!(L[c] > 0)) {
+      problem(r, r->line[K_BOX], "system.box: %s%g must be positive", n == 1 ? "edge " : c == 0 ? "x edge "
+              : c == 1 ? "y edge " : "z edge ", L[c]);
+      bad = 1;
+    }
+  }
+  if (!bad && !(isfinite(L[0] * L[1 % n] * L[2 % n]) && L[0] * L[1 % n] * L[2 % n] > 0)) {
+    problem(r, r->line[K_BOX], "system.box: the volume of %s is out of range", r->val[K_BOX]);
+    bad = 1;
+  }
+  if (bad) return;
+  for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
+}
+
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
 {
   raw_deck r;
@@ -386,34 +455,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     if (r.line[K_BOX] >= 0) snprintf(at, sizeof at, "at line %d", r.line[K_BOX]);
     problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
   } else if (r.val[K_BOX]) {
-    char tmp[256], *save, *tok;
-    int n = 0;
-    snprintf(tmp, sizeof tmp, "%s", r.val[K_BOX]);
-    /* split on whitespace, keeping a unit suffix with its number: "1.8 nm 1.8 nm 2 nm" or "1.8 1.8 2 nm" */
-    double vals[3];
-    char unit[32] = "";
-    char *toks[8];
-    int nt = 0;
-    for (tok = strtok_r(tmp, " \t", &save); tok && nt < 8; tok = strtok_r(NULL, " \t", &save)) toks[nt++] = tok;
-    if (nt > 0 && !(toks[nt - 1][0] == '-' || toks[nt - 1][0] == '.' || (toks[nt - 1][0] >= '0' && toks[nt - 1][0] <= '9')))
-      snprintf(unit, sizeof unit, "%s", toks[--nt]);
-    for (int i = 0; i < nt && n < 4; i++) {
-      char q[96], msg[256];
-      snprintf(q, sizeof q, "%s %s", toks[i], unit);
-      if (n == 3 || rl_parse_quantity(q, Q_LENGTH, u, 0, &vals[n], msg, sizeof msg)) {
-        problem(&r, r.line[K_BOX], "system.box: %s", n == 3 ? "more than three edges" : msg);
-        n = -1;
-        break;
-      }
-      n++;
-    }
-    if (n == 1) vals[1] = vals[2] = vals[0];
-    if (n == 1 || n == 3) {
-      for (int c = 0; c < 3; c++) {
-        d->box[c] = vals[c];
-        if (!(vals[c] > 0)) problem(&r, r.line[K_BOX], "system.box: edge %g must be positive", vals[c]);
-      }
-    } else if (n >= 0) problem(&r, r.line[K_BOX], "system.box: give one edge or three");
+    box_edges(&r, u, d->box);
   } else if (r.val[K_DENSITY]) {
     double rho = number(&r, K_DENSITY, u, 0, 0.0);
     if (!(rho > 0)) {
@@ -422,6 +464,11 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     else if (d->model && !r.bad[K_COUNT]) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
       double V = u == RL_UNITS_LJ ? d->count / rho : d->count * mass / rho;
       d->box[0] = d->box[1] = d->box[2] = cbrt(V);
+      if (!(isfinite(d->box[0]) && d->box[0] > 0)) {
+        problem(&r, r.line[K_DENSITY], "system.density %s gives a box edge of %g %s for %d molecules: out of range",
+                val(&r, K_DENSITY), d->box[0], rl_dim_unit(Q_LENGTH, u), d->count);
+        d->box[0] = d->box[1] = d->box[2] = 0.0;
+      }
     }
   } else problem(&r, 0, "give system.box or system.density");
 
@@ -431,7 +478,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   require(&r, K_CUTOFF);
   d->ff.cutoff = number(&r, K_CUTOFF, u, 0, 0.0);
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
-  if (r.val[K_CUTOFF] && !(d->ff.cutoff > 0)) problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
+  if (r.val[K_CUTOFF] && !r.bad[K_CUTOFF] && !(d->ff.cutoff > 0)) problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
   else if (Lmin > 0 && d->ff.cutoff > 0.5 * Lmin)
     problem(&r, r.line[K_CUTOFF], "interactions.cutoff %g is larger than half the shortest box edge (%g)", d->ff.cutoff, 0.5 * Lmin);
   d->ff.scheme = choice(&r, K_SCHEME) ? RL_CUTOFF_MOLECULE : RL_CUTOFF_SITE;
@@ -440,7 +487,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     if (!r.val[K_SWITCH]) problem(&r, r.line[K_LJ], "interactions.lj = switched needs interactions.switch");
     else {
       d->ff.r_switch = number(&r, K_SWITCH, u, 0, 0.0);
-      if (!(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
+      if (!r.bad[K_SWITCH] && !r.bad[K_CUTOFF] && !(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
         problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
     }
   } else if (r.val[K_SWITCH]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
@@ -451,7 +498,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->ff.kernel = choice(&r, K_KERNEL) ? RL_KERNEL_GENERAL : RL_KERNEL_AUTO;
   if (r.val[K_SKIN]) {
     d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
-    if (!(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
+    if (!r.bad[K_SKIN] && !(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
   }
 
   /* [run] */
@@ -473,7 +520,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
   if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
-  else if (ens > 0 && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
+  else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
   if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
   if (r.val[K_TAU] && !stochastic) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
@@ -487,19 +534,22 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
     problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
+  if (!r.val[K_TEMP] && r.bad[K_TTEMP]) r.bad[K_TEMP] = 1; /* its default is reported there */
   if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
                  "sets the default neighbour-list skin and the kT of the blow-up checks (from a checkpoint, give "
                  "the first run's value: the same skin continues bit for bit)");
-  else if (!(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
+  else if (!r.bad[K_TEMP] && !(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
     problem(&r, r.line[K_TEMP], "system.temperature must be positive");
-  if (d->equilibrate_steps > 0 && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
-  /* an absurd step: no step can resolve a thermal rotation with h omega > 1 */
-  if (d->model && d->timestep > 0 && d->temperature > 0) {
-    double hw = d->timestep * rl_deck_thermal_omega(d);
+  if (d->equilibrate_steps > 0 && !r.bad[K_TEMP] && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
+  /* an absurd step: no step can resolve a thermal rotation with h omega > 1, at the start's
+   * temperature or at the thermostat's, whichever is higher */
+  if (d->model && d->timestep > 0) {
+    const char *tkey;
+    const double T = rl_deck_max_temperature(d, &tkey), hw = d->timestep * rl_deck_thermal_omega(d);
     if (hw > 1.0)
-      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s: h times the thermal "
+      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s%s: h times the thermal "
               "angular velocity is %.3g > 1, no step can follow the rotation", d->timestep,
-              rl_dim_unit(Q_TIME, u), d->model->name, d->temperature, rl_dim_unit(Q_TEMPERATURE, u), hw);
+              rl_dim_unit(Q_TIME, u), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, u), tkey, hw);
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);

@@ -55,7 +55,11 @@ extern const int rl_deck_nintegrators;
 /* Index into rl_deck_integrators, or -1. */
 int rl_deck_integrator_lookup(const char *name);
 
-/* The thermal angular velocity sqrt(kB T / J_min) of the deck's molecule at system.temperature
+/* The higher of system.temperature and run.temperature (the start's and the thermostat's); *key
+ * (if key is not NULL) is "" for system.temperature, " (run.temperature)" for the thermostat's,
+ * for messages. */
+double rl_deck_max_temperature(const rl_deck *d, const char **key);
+/* The thermal angular velocity sqrt(kB T / J_min) of the deck's molecule at that temperature
  * (0 for point particles): a step with h omega > 1 cannot follow the rotation. */
 double rl_deck_thermal_omega(const rl_deck *d);
 

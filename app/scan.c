@@ -246,6 +246,15 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   rl_system_free(sys);
 }
 
+/* The RDF distance as text: "n/a" where either run sampled no configuration (as the summary
+ * says for averages over no step), never "nan". */
+static const char *rdf_text(char *buf, size_t len, const char *fmt, double x)
+{
+  if (isnan(x)) snprintf(buf, len, "n/a");
+  else snprintf(buf, len, fmt, x);
+  return buf;
+}
+
 static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const scan_run *runs, int nruns,
                         const char *rdfname)
 {
@@ -265,10 +274,12 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
           "rdf", "iter", "ms/step", real ? "ns/day" : "", "status");
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
-    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f %8.4f %6.2f %9.3f %9.3g  %s\n",
+    char rdf[32];
+    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f %8s %6.2f %9.3f %9.3g  %s\n",
             rl_deck_integrators[r->integ].name, r->h * hs, r->done, r->calE, r->calU,
             r->calU > 0 ? 100.0 * r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->t_trans, r->t_rot,
-            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, r->rdf_dist, r->iterations, 1e3 * r->wall_per_step,
+            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, rdf_text(rdf, sizeof rdf, "%.4f", r->rdf_dist),
+            r->iterations, 1e3 * r->wall_per_step,
             r->ns_day, r->ok ? "ok" : r->error);
   }
   fprintf(f, "# largest time step with calE/calU <= %.3g%% (and no error):\n", 100.0 * o->tolerance);
@@ -312,10 +323,12 @@ static int write_outputs(const rl_deck *d, const scan_opts *o, const char *prefi
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
     int meets = r->ok && r->calU > 0 && r->calE <= o->tolerance * r->calU;
-    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%.6e,%.6e,%.6g,%s,",
+    char rdf[32];
+    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%s,%.6e,%.6g,%s,",
             rl_deck_integrators[r->integ].name, r->h * (real ? 1e3 : 1.0), r->steps, r->done, r->calE, r->calU,
             r->calU > 0 ? r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->iterations, r->max_h_omega,
-            r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, r->rdf_dist, r->wall_per_step,
+            r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0,
+            rdf_text(rdf, sizeof rdf, "%.6e", r->rdf_dist), r->wall_per_step,
             r->ns_day, meets ? "yes" : "no");
     csv_text(af.fp, r->ok ? "ok" : r->error);
     fputc('\n', af.fp);
@@ -442,11 +455,13 @@ int rl_app_scan(int argc, char **argv)
   if (ts) bad |= parse_timesteps(ts, ts_unit, d.units, &o, err, sizeof err) != 0;
   else { o.h[0] = d.timestep; o.nh = 1; }
   double w = rl_deck_thermal_omega(&d);
+  const char *tkey;
+  const double T = rl_deck_max_temperature(&d, &tkey);
   for (int j = 0; !bad && j < o.nh; j++)
     if (o.h[j] * w > 1.0) {
-      snprintf(err, sizeof err, "--timesteps: %g %s is too large for %s at %g %s: h times the thermal angular "
-               "velocity is %.3g > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
-               d.model->name, d.temperature, rl_dim_unit(Q_TEMPERATURE, d.units), o.h[j] * w);
+      snprintf(err, sizeof err, "--timesteps: %g %s is too large for %s at %g %s%s: h times the thermal "
+               "angular velocity is %.3g > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
+               d.model->name, T, rl_dim_unit(Q_TEMPERATURE, d.units), tkey, o.h[j] * w);
       bad = 1;
     }
   if (!bad && integ) bad |= parse_integrators(integ, &o, err, sizeof err) != 0;

@@ -32,5 +32,30 @@ head -c 3000 /dev/urandom | tr -d "\n" > bin.ini; printf '\0\0\0\n[system]\n' >>
 "$rotleap" run bin.ini >out.txt 2>err.txt; code=$?
 check "a binary file given as the deck is refused in one line" '[ $code -eq 2 ] && grep -q "bin.ini: is not a text file" err.txt && [ "$(wc -l < err.txt)" -eq 2 ]'
 
+# --- deck messages: each problem once, by its key, without a second, wrong one
+box_total() { "$rotleap" energy "$water" --set system.density= --set "system.box=$1" 2>/dev/null | grep "^total," ; }
+check "box = 2 nm 2 nm 2 nm (a unit per edge) is the box 2 2 2 nm" '[ -n "$(box_total "2 2 2 nm")" ] && [ "$(box_total "2 nm 2 nm 2 nm")" = "$(box_total "2 2 2 nm")" ] && [ "$(box_total "20A 20A 2nm")" = "$(box_total "2 2 2 nm")" ]'
+one_problem() { # one_problem NAME MESSAGE ARGS...: exit 2, the message, and no other problem
+  local name=$1 msg=$2; shift 2
+  "$rotleap" run "$@" --set output.prefix="$work/msg" >out.txt 2>err.txt; code=$?
+  check "$name" '[ $code -eq 2 ] && grep -q -- "$msg" err.txt && grep -q "^rotleap run: 1 problem in" err.txt'
+}
+one_problem "box = nan is named as not finite" "system.box: 'nan' is not a finite number" "$water" --set system.density= --set system.box=nan
+one_problem "box = abc is named as not a number" "system.box: 'abc' is not a number" "$water" --set system.density= --set system.box=abc
+one_problem "box = 0 is reported once" "system.box: edge 0 must be positive" "$water" --set system.density= --set system.box=0
+one_problem "a bad temperature unit is not also called non-positive" "system.temperature: unit 'C' is not a temperature unit" "$water" --set "system.temperature=300 C"
+one_problem "a bad run.temperature unit is reported once (not again through system.temperature)" "run.temperature: unit 'C' is not a temperature unit" \
+  "$water" --set system.temperature= --set run.ensemble=nvt-bussi --set "run.temperature=300 C"
+one_problem "a bad cutoff unit is not also called non-positive" "interactions.cutoff: unit 'pc' is not a length unit" "$water" --set "interactions.cutoff=0.6 pc"
+one_problem "a bad skin unit is not also called negative" "interactions.skin: unit 'pc' is not a length unit" "$water" --set "interactions.skin=0.1 pc"
+one_problem "density = 1e308 is out of range, by its key" "system.density: '1e308' is out of range" "$water" --set system.density=1e308
+one_problem "a density that gives no box is named" "system.density 1e-306 gives a box edge of inf nm for 1000000 molecules" \
+  "$water" --set system.count=1000000 --set system.density=1e-306
+one_problem "h omega is checked at run.temperature too" "run.timestep 0.001 ps is too large for tip4p at 1e+100 K (run.temperature)" \
+  "$water" --set run.ensemble=nvt-bussi --set "run.temperature=1e100 K"
+"$rotleap" scan "$water" --no-plot --steps 5 --set run.equilibrate=0 --set output.sample_every=0 --set output.prefix="$work/na" >out.txt 2>err.txt; code=$?
+check "scan with nothing sampled writes n/a for the RDF distance, never nan" \
+  '[ $code -eq 0 ] && ! grep -qi nan "$work/na.scan.csv" "$work/na.scan.txt" out.txt && grep -q ",n/a," "$work/na.scan.csv" && grep -q " n/a " "$work/na.scan.txt"'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
