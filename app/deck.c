@@ -434,6 +434,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       else if (end == r.model_val[i] || *end || !isfinite(x) || x < 0)
         problem(&r, r.model_line[i], "[model] %s: '%s' must be a number >= 0 (in %s)", r.model_key[i],
                 r.model_val[i], d->model->param_units[k]);
+      else if (!isfinite(x * x)) /* mu = 1e155: mu^2 is inf, and the dipoles silently dropped out */
+        problem(&r, r.model_line[i], "[model] %s: %s %s is out of range: its square, which the energies "
+                "use, overflows", r.model_key[i], r.model_val[i], d->model->param_units[k]);
       else d->params[k] = x;
     }
   }
@@ -626,5 +629,6 @@ void rl_deck_print_keys(FILE *f, int md)
   }
   if (md)
     fprintf(f, "\n## [model]\n\nAdjustable parameters of reduced models, by name, for example "
-               "`mu = 1.5` for `stockmayer` (see `rotleap models`).\n");
+               "`mu = 1.5` for `stockmayer` (see `rotleap models`). A parameter must be a number >= 0 "
+               "whose square is a finite double (the energies use it: `mu = 1e155` is refused).\n");
 }

@@ -47,6 +47,21 @@ int rl_app_energy(const rl_deck *d, int json)
     ke += 0.5 * s.mol.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   double P = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &F, ke));
+  /* a NaN is an error naming its term, as in a run, never a number printed with exit 0 */
+  st = scene_check_finite(d, &e, F.virial, P);
+  for (int i = 0; !st && i < n; i++) {
+    const int ri = rl_system_rot_index(s.sys, i);
+    for (int c = 0; c < 3; c++)
+      if (!isfinite(F.f[i][c]) || (ri >= 0 && !isfinite(F.k[ri][c]))) {
+        st = rl_error(RL_ENONFINITE, "the force or torque on molecule %d is not finite", i);
+        break;
+      }
+  }
+  if (st) {
+    fprintf(stderr, "rotleap energy: %s\n", rl_last_error());
+    free(F.f); free(F.k); scene_free(&s);
+    return 1;
+  }
   const char *L = d->units == RL_UNITS_REAL ? "nm" : "reduced";
   if (json) {
     printf("{\"units\": {\"energy\": \"%s\", \"length\": \"%s\", \"force\": \"%s/%s\", \"torque\": \"%s\", "
@@ -424,6 +439,23 @@ static int thermo_keep_rows(const char *path, FILE *out, long first, int aside)
   return err;
 }
 
+/* The library's message for a failed step; for a non-finite potential energy, also the term
+ * that is not finite. */
+static void step_error(const rl_deck *d, const scene *s, int st)
+{
+  char msg[1024];
+  snprintf(msg, sizeof msg, "%s", rl_last_error());
+  rl_ff_energies e;
+  if (st == RL_ENONFINITE && s->ff) {
+    rl_forcefield_energies(s->ff, &e);
+    if (scene_check_finite(d, &e, NULL, 0.0)) {
+      fprintf(stderr, "rotleap run: %s: %s\n", msg, rl_last_error());
+      return;
+    }
+  }
+  fprintf(stderr, "rotleap run: %s\n", msg);
+}
+
 int rl_app_run(const rl_deck *d)
 {
   scene s;
@@ -485,7 +517,7 @@ int rl_app_run(const rl_deck *d)
   }
   if (!st) {
     st = !in ? RL_EINVAL : s.restart ? RL_OK : rl_integrator_init(in);
-    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    if (st) step_error(d, &s, st);
   }
   fputs(THERMO_HEADER, thermo);
   running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
@@ -585,7 +617,7 @@ int rl_app_run(const rl_deck *d)
     rl_step_info info;
     st = rl_integrator_step(in, &info);
     if (st) { /* the library's message names the step and the cause */
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+      step_error(d, &s, st);
       break;
     }
     if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
@@ -602,6 +634,10 @@ int rl_app_run(const rl_deck *d)
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, virial, sizeof virial);
       pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+      if ((st = scene_check_finite(d, &e, virial, pr))) {
+        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
+        break;
+      }
       analysis_step(an, &info, pr, fsnap, s.sys);
       run_add(&E, info.total);
       run_add(&U, info.potential);
@@ -646,7 +682,9 @@ int rl_app_run(const rl_deck *d)
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, rl_integrator_forces(in)->virial, sizeof Ft.virial);
       const double pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
-      thermo_row(thermo, first + done, &info, &e, pr, &E);
+      if ((st = scene_check_finite(d, &e, Ft.virial, pr)))
+        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", first + done, info.t, rl_last_error());
+      else thermo_row(thermo, first + done, &info, &e, pr, &E);
     }
   }
   if (in) fallbacks = rl_integrator_fallbacks(in);

@@ -211,6 +211,27 @@ double scene_rigidity_error(const rl_system *s)
   return worst;
 }
 
+int scene_check_finite(const rl_deck *d, const rl_ff_energies *e, const double *virial, double pressure)
+{
+  char disp[96];
+  snprintf(disp, sizeof disp, "interactions.dispersion_correction at interactions.cutoff = %g", d->ff.cutoff);
+  const struct { const char *name, *from; double x; } terms[] = {
+      {"Lennard-Jones energy", "the model's LJ sites, interactions.lj", e->lj},
+      {"Coulomb energy", "the model's charges, interactions.eps_rf", e->coulomb},
+      {"dipolar energy", "the model's dipoles", e->dipolar},
+      {"quadrupolar energy", "the model's quadrupoles", e->quadrupolar},
+      {"dispersion correction", disp, e->dispersion},
+      {"total energy", "the sum of the terms", e->total},
+      {"pressure", "the virial", pressure}};
+  for (size_t k = 0; k < sizeof terms / sizeof terms[0]; k++)
+    if (!isfinite(terms[k].x))
+      return rl_error(RL_ENONFINITE, "the %s is %g, not finite (%s)", terms[k].name, terms[k].x, terms[k].from);
+  for (int k = 0; virial && k < 9; k++)
+    if (!isfinite(virial[k]))
+      return rl_error(RL_ENONFINITE, "virial element %d%d is %g: not finite", k / 3 + 1, k % 3 + 1, virial[k]);
+  return RL_OK;
+}
+
 double scene_pressure_out(const rl_deck *d, double p)
 {
   return d->units == RL_UNITS_REAL ? p * 16.605390671738467 : p; /* kJ/mol/nm^3 -> bar: 1e3/N_A/1e-27/1e5 */

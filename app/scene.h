@@ -58,6 +58,10 @@ void scene_watch_init(scene_watch *w);
  * step. */
 int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long step,
                      long every, double h, const char *dt_name);
+/* RL_OK if every energy term, the nine virial elements (virial may be NULL) and the pressure
+ * are finite; else RL_ENONFINITE with a message naming the first that is not ("the dispersion
+ * energy is -nan") and the interactions that produce it. */
+int scene_check_finite(const rl_deck *d, const rl_ff_energies *e, const double *virial, double pressure);
 /* Pressure from kJ/mol/nm^3 to the deck's output unit (bar for real units). */
 double scene_pressure_out(const rl_deck *d, double p);
 /* A checkpoint stores the half-step v(t - h/2), l(t - h/2) of the run that wrote it; for a new

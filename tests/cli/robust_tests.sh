@@ -57,5 +57,21 @@ one_problem "h omega is checked at run.temperature too" "run.timestep 0.001 ps i
 check "scan with nothing sampled writes n/a for the RDF distance, never nan" \
   '[ $code -eq 0 ] && ! grep -qi nan "$work/na.scan.csv" "$work/na.scan.txt" out.txt && grep -q ",n/a," "$work/na.scan.csv" && grep -q " n/a " "$work/na.scan.txt"'
 
+# --- non-finite energies are errors naming the term; absurd parameters are refused
+"$rotleap" energy "$water" --set interactions.dispersion_correction=yes --set interactions.cutoff=1e-300 >out.txt 2>err.txt; code=$?
+check "energy: a non-finite dispersion correction is an error naming it, and no NaN is printed" \
+  '[ $code -eq 1 ] && grep -q "the dispersion correction is -\?nan, not finite" err.txt && ! grep -qi nan out.txt'
+"$rotleap" energy "$water" --json --set interactions.dispersion_correction=yes --set interactions.cutoff=1e-300 >out.txt 2>err.txt; code=$?
+check "energy --json: the same error, and no invalid JSON on stdout" '[ $code -eq 1 ] && [ ! -s out.txt ]'
+"$rotleap" energy "$sm" --set model.mu=1e154 >out.txt 2>err.txt; code=$?
+check "energy: a dipolar energy that overflows is an error naming it" '[ $code -eq 1 ] && grep -qE "the dipolar energy is -?(nan|inf), not finite" err.txt && ! grep -qi nan out.txt'
+"$rotleap" run "$sm" --set model.mu=1e154 --set output.prefix="$work/mu154" >out.txt 2>err.txt; code=$?
+check "run: the same, with the term named" '[ $code -eq 1 ] && grep -q "non-finite potential energy at step 0 (t = 0): the dipolar energy is" err.txt'
+for cmd in energy run; do
+  "$rotleap" $cmd "$sm" --set model.mu=1e155 --set output.prefix="$work/mu155" >out.txt 2>err.txt; code=$?
+  check "$cmd: mu = 1e155 (mu^2 overflows; the dipoles silently vanished) is refused" \
+    '[ $code -eq 2 ] && grep -q "\[model\] mu: 1e155 sqrt(eps sigma^3) is out of range" err.txt && [ ! -e "$work/mu155.summary.txt" ]'
+done
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
