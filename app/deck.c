@@ -10,9 +10,11 @@
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 typedef enum { K_STRING, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type;
 
@@ -34,7 +36,7 @@ enum {
 
 static const key_def keys[NKEYS] = {
     [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models); required"},
-    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required"},
+    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream)"},
@@ -62,12 +64,12 @@ static const key_def keys[NKEYS] = {
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi or Langevin thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
-    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops; 0: OMP_NUM_THREADS if set, else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
+    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
     [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
-    [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none): PREFIX.dcd + PREFIX.pdb for site models, PREFIX.xyz (with orientations) for dipoles, linear molecules and atoms"},
+    [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none; at most 2147483647, DCD's 32-bit interval): PREFIX.dcd + PREFIX.pdb for models with several sites (water, CO2, 2CLJ, ...), whose DCD also limits run.steps to 2147483647; PREFIX.xyz (with orientations) for point dipoles and atoms"},
     [K_SAMPLE] = {"output", "sample_every", K_INT, Q_NONE, "10", NULL, "steps between configurations sampled for RDFs, correlation functions, diffusion and the dielectric constant (0: none)"},
     [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites)"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
@@ -314,6 +316,28 @@ static void require(raw_deck *r, int k)
   if (!r->val[k]) problem(r, 0, "%s.%s is required (%s)", keys[k].section, keys[k].name, keys[k].help);
 }
 
+int rl_deck_site_model(const rl_molecule *m)
+{
+  return m->kind != RL_KIND_POINT && m->kind != RL_KIND_DIPOLE && m->nsites > 1;
+}
+
+/* system.count against what the machine can hold, before anything is allocated: a run needs at
+ * least 160 bytes per molecule and 130 per site (half of what 32,000 and 128,000 TIP4P and
+ * Stockmayer molecules took in rotleap energy: 1.4 and 0.6 kB), and the library counts sites
+ * with an int. */
+static void count_fits(raw_deck *r, int count, const rl_molecule *m)
+{
+  const int ns = m->nsites > 0 ? m->nsites : 1;
+  const double need = (double)count * (160.0 + 130.0 * ns);
+  const double have = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+  if ((double)count * ns > INT_MAX)
+    problem(r, r->line[K_COUNT], "system.count = %d: %.3g sites (%d per molecule of %s), more than the %d the "
+            "library counts", count, (double)count * ns, ns, m->name, INT_MAX);
+  else if (have > 0 && need > have)
+    problem(r, r->line[K_COUNT], "system.count = %d needs at least %.3g GB of memory (%.0f bytes per molecule of %s), "
+            "more than this machine's %.3g GB", count, need * 1e-9, need / count, m->name, have * 1e-9);
+}
+
 /* 1 if the text of a number ("1.8", "1.8nm", "1.8 nm") has a unit after it; its start in *unit. */
 static int has_unit(const char *q, const char **unit)
 {
@@ -451,7 +475,10 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (d->model) {
     rl_molecule m;
     if (rl_model_build(d->model, d->params, 0, &m)) problem(&r, 0, "model %s: %s", d->model->name, rl_last_error());
-    else mass = m.mass;
+    else {
+      mass = m.mass;
+      if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);
+    }
   }
   if (r.val[K_BOX] && r.val[K_DENSITY]) {
     char at[32] = "from --set";
@@ -556,7 +583,16 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
-  d->ff.threads = (int)integer_in(&r, K_THREADS, 0, 4096, 0);
+  d->ff.threads = (int)integer_in(&r, K_THREADS, 0, RL_DECK_MAX_THREADS, 0);
+  const char *omp = getenv("OMP_NUM_THREADS"); /* what run.threads = 0 takes: the same cap */
+  if (d->ff.threads == 0 && !r.bad[K_THREADS] && omp && *omp) {
+    char *end;
+    errno = 0;
+    const long t = strtol(omp, &end, 10);
+    if (end != omp && (errno == ERANGE || t > RL_DECK_MAX_THREADS))
+      problem(&r, r.line[K_THREADS], "OMP_NUM_THREADS = %s (taken by run.threads = 0) is above the maximum %d threads",
+              omp, RL_DECK_MAX_THREADS);
+  }
   /* [output] */
   if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
   else {
@@ -571,7 +607,13 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
             "output.thermo_every = %ld must be a multiple of output.energy_every = %ld (a thermo row "
             "needs the energies)", d->thermo_every, d->energy_every);
   d->checkpoint_every = integer(&r, K_CHECKPOINT, 0, 0);
-  d->trajectory_every = integer(&r, K_TRAJ, 0, 0);
+  d->trajectory_every = integer_in(&r, K_TRAJ, 0, INT32_MAX, 0);
+  if (d->trajectory_every > 0 && d->steps > INT32_MAX && d->model) { /* DCD's ISTART, NSTEP: int32 */
+    rl_molecule m;
+    if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_site_model(&m))
+      problem(&r, r.line[K_STEPS], "run.steps = %ld: the DCD trajectory of %s (output.trajectory_every) numbers steps "
+              "with 32-bit integers, at most %ld", d->steps, d->model->name, (long)INT32_MAX);
+  }
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
   snprintf(d->rdf, sizeof d->rdf, "%s", val(&r, K_RDF));
   if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */

@@ -44,6 +44,13 @@ typedef struct {
   char path[512];
 } rl_deck;
 
+/* The largest thread count: run.threads, and OMP_NUM_THREADS where run.threads = 0 takes it. */
+#define RL_DECK_MAX_THREADS 4096
+
+/* 1 if the molecule's trajectory is a DCD of its sites (+ a PDB topology), 0 if an extended XYZ
+ * of centres and orientations (point dipoles, atoms). */
+int rl_deck_site_model(const rl_molecule *m);
+
 /* The integrators by name: run.integrator and `rotleap scan --integrators`. */
 typedef struct {
   const char *name;

@@ -164,7 +164,6 @@ typedef struct {
   char path[600], part[640], pdb[600], pdb_part[640];
 } traj;
 
-static int site_model(const scene *s) { return s->mol.kind != RL_KIND_POINT && s->mol.kind != RL_KIND_DIPOLE && s->mol.nsites > 1; }
 
 /* Keep the frames of an extended XYZ file up to step `last` (by their Step= key) and truncate
  * after them: a killed run's frames past its checkpoint go. */
@@ -217,7 +216,7 @@ static int dcd_keep(const char *path, long every, long first, long *keep)
 static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int same_prefix)
 {
   t->every = d->trajectory_every;
-  const int site = site_model(s);
+  const int site = rl_deck_site_model(&s->mol);
   snprintf(t->path, sizeof t->path, "%s.%s", d->prefix, site ? "dcd" : "xyz");
   snprintf(t->part, sizeof t->part, "%s.part", t->path);
   /* a continuation of this prefix appends; where there is no trajectory yet (the first run

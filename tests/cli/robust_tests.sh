@@ -73,5 +73,31 @@ for cmd in energy run; do
     '[ $code -eq 2 ] && grep -q "\[model\] mu: 1e155 sqrt(eps sigma^3) is out of range" err.txt && [ ! -e "$work/mu155.summary.txt" ]'
 done
 
+# --- step counts and resources bounded by what the files and the machine hold, before running
+one_problem "trajectory_every beyond DCD's 32-bit interval is refused" "output.trajectory_every: 4294967296 is above the maximum 2147483647" \
+  "$water" --set output.trajectory_every=4294967296
+"$rotleap" run "$water" --set run.equilibrate=0 --set run.steps=5 --set output.trajectory_every=2147483647 --set output.prefix="$work/te" >/dev/null 2>err.txt && \
+"$rotleap" run "$water" --set run.steps=10 --set output.trajectory_every=2147483647 --set system.start="$work/te.chk" --set output.prefix="$work/te" >/dev/null 2>>err.txt; code=$?
+check "trajectory_every = 2147483647 is written whole in the DCD, and its continuation accepted" \
+  '[ $code -eq 0 ] && [ ! -s err.txt ] && [ "$(/usr/bin/python3 -c "import struct; print(struct.unpack(\"<i\", open(\"$work/te.dcd\", \"rb\").read(20)[16:20])[0])")" = 2147483647 ]'
+# (energy: the deck is checked as for run, and a build without the check does not start the run)
+"$rotleap" energy "$water" --set run.steps=3000000000 --set output.trajectory_every=1000 >out.txt 2>err.txt; code=$?
+check "run.steps beyond DCD's 32-bit step numbers is refused with a DCD trajectory" \
+  '[ $code -eq 2 ] && grep -q "run.steps = 3000000000: the DCD trajectory of tip4p" err.txt'
+"$rotleap" energy "$water" --set run.steps=3000000000 >out.txt 2>err.txt; code=$?
+check "run.steps beyond 32 bits without a trajectory is fine" '[ $code -eq 0 ]'
+OMP_NUM_THREADS=100000 "$rotleap" energy "$water" >out.txt 2>err.txt; code=$?
+check "OMP_NUM_THREADS above run.threads' maximum is refused, not a crash in libgomp" \
+  '[ $code -eq 2 ] && grep -q "OMP_NUM_THREADS = 100000 (taken by run.threads = 0) is above the maximum 4096 threads" err.txt'
+OMP_NUM_THREADS=100000 "$rotleap" energy "$water" --set run.threads=1 >out.txt 2>err.txt; code=$?
+check "OMP_NUM_THREADS is not looked at when run.threads is given" '[ $code -eq 0 ]'
+# (energy under a 4 GB address-space limit: a build without the check fails to allocate, quickly)
+(ulimit -v 4000000; "$rotleap" energy "$water" --set system.count=2147483647 >out.txt 2>err.txt); code=$?
+check "a count with more sites than an int is refused before allocating" \
+  '[ $code -eq 2 ] && grep -q "system.count = 2147483647: 8.59e+09 sites (4 per molecule of tip4p)" err.txt'
+(ulimit -v 4000000; "$rotleap" energy "$sm" --set system.count=2147483647 >out.txt 2>err.txt); code=$?
+check "a count beyond the machine's memory is refused before allocating" '[ $code -eq 2 ] && grep -q \
+  "system.count = 2147483647 needs at least [0-9.]* GB of memory (290 bytes per molecule of stockmayer), more than this machine" err.txt'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
