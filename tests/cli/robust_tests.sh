@@ -99,5 +99,21 @@ check "a count with more sites than an int is refused before allocating" \
 check "a count beyond the machine's memory is refused before allocating" '[ $code -eq 2 ] && grep -q \
   "system.count = 2147483647 needs at least [0-9.]* GB of memory (290 bytes per molecule of stockmayer), more than this machine" err.txt'
 
+# --- rotleap scan: run lengths bounded before anything runs; the calE curve grows with the run
+scan_refused() { # scan_refused NAME MESSAGE ARGS...
+  local name=$1 msg=$2; shift 2
+  timeout 120 "$rotleap" scan "$water" --no-plot --timesteps "2 fs" "$@" --set output.prefix="$work/sc" >out.txt 2>err.txt; code=$?
+  check "$name" '[ $code -eq 2 ] && grep -qF -- "$msg" err.txt && [ ! -e "$work/sc.scan.csv" ]'
+}
+scan_refused "scan --time 1e10 ps (5e12 steps) is refused, not an abort or an empty error" \
+  "rotleap scan: --time 1e10 ps is 5e+12 steps at h = 2 fs: a scan run takes at most 1000000000" --time "1e10 ps"
+scan_refused "scan --time 1e308 ps is refused, not 2 steps" "--time 1e308 ps is inf steps at h = 2 fs" --time "1e308 ps"
+scan_refused "scan --time shorter than 2 steps is refused, not run as 2" "--time 0.001 fs is 0.0005 steps at h = 2 fs: a run needs at least 2" --time "0.001 fs"
+scan_refused "scan --steps above the limit is refused" "--steps 2000000000 is 2e+09 steps" --steps 2000000000
+"$rotleap" scan "$water" --no-plot --timesteps "1 fs" --steps 5000 --set run.equilibrate=0 --set output.thermo_every=1 \
+  --set output.prefix="$work/curve" >out.txt 2>err.txt; code=$?
+check "scan: a calE curve longer than its first allocation (5000 points) is complete" \
+  '[ $code -eq 0 ] && [ "$(grep -c "^rl,1," "$work/curve.scan_calE.csv")" -eq 5000 ] && grep -q "^rl,1,4999," "$work/curve.scan_calE.csv"'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
