@@ -34,10 +34,24 @@ int scene_build(const rl_deck *d, scene *s)
     double rms;
     if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
   } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
-  for (int c = 0; c < 3; c++)
-    if (box[0] > 0 && fabs(box[c] - d->box[c]) > 1e-6 * d->box[c])
-      return rl_error(RL_EINVAL, "the box of %s (%g %g %g) differs from the deck's (%g %g %g)", d->start,
-                      box[0], box[1], box[2], d->box[0], d->box[1], d->box[2]);
+  /* the start's box must be the deck's, to the precision its file holds: a PDB's CRYST1 has
+   * 0.001 file units (A, or sigma in reduced units; GROMACS and OpenMM write it so too), so the
+   * box a deck with a density writes to PDB (1.24172 nm as 12.417 A) starts that deck again.  A
+   * checkpoint and rotleap's XYZ (%.10f) hold the box to 1e-6 relative and better.  The run uses
+   * the deck's box. */
+  const int pdb = !strcmp(ext, ".pdb");
+  const double file_unit = d->units == RL_UNITS_REAL ? 0.1 : 1.0; /* A or sigma, in nm or sigma */
+  for (int c = 0; c < 3; c++) {
+    const double tol = pdb ? 1e-3 * file_unit * (1.0 + 1e-9) : 1e-6 * d->box[c];
+    if (box[0] > 0 && !(fabs(box[c] - d->box[c]) <= tol)) {
+      const char *lu = rl_dim_unit(Q_LENGTH, d->units);
+      return rl_error(RL_EINVAL, "the box of %s (%g %g %g %s) differs from the deck's (%g %g %g %s) by more than %s",
+                      d->start, box[0], box[1], box[2], lu, d->box[0], d->box[1], d->box[2], lu,
+                      pdb ? (d->units == RL_UNITS_REAL ? "0.001 A, the resolution of its CRYST1 record"
+                                                       : "0.001 sigma, the resolution of its CRYST1 record")
+                          : "1e-6 relative");
+    }
+  }
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
   s->ff = scene_forcefield(d, &s->mol, s->sys);
   return s->ff ? 0 : 1;

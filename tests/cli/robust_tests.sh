@@ -115,5 +115,13 @@ scan_refused "scan --steps above the limit is refused" "--steps 2000000000 is 2e
 check "scan: a calE curve longer than its first allocation (5000 points) is complete" \
   '[ $code -eq 0 ] && [ "$(grep -c "^rl,1," "$work/curve.scan_calE.csv")" -eq 5000 ] && grep -q "^rl,1,4999," "$work/curve.scan_calE.csv"'
 
+# --- a PDB that rotleap wrote starts the deck that wrote it: the box to CRYST1's 0.001 A
+"$rotleap" run "$water" --set run.equilibrate=0 --set run.steps=2 --set output.trajectory_every=2 --set output.prefix="$work/g" >/dev/null 2>&1
+"$rotleap" energy "$water" --set system.start="$work/g.pdb" >out.txt 2>err.txt; code=$?
+check "a PDB written by a density deck (box 1.24172 nm, CRYST1 12.417 A) starts that deck" '[ $code -eq 0 ] && grep -q "CRYST1   12.417" "$work/g.pdb"'
+"$rotleap" energy "$water" --set system.start="$work/g.pdb" --set "system.density=1.001 g/cm3" >out.txt 2>err.txt; code=$?
+check "a box beyond CRYST1's resolution is refused, saying so" \
+  '[ $code -eq 1 ] && grep -q "differs from the deck.s (1.24131 1.24131 1.24131 nm) by more than 0.001 A, the resolution of its CRYST1 record" err.txt'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
