@@ -465,6 +465,29 @@ int rl_app_run(const rl_deck *d)
   char chk_path[600], oldpart[720];
   snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
   snprintf(oldpart, sizeof oldpart, "%s.old", part);
+  { /* no output may overwrite the deck or the start (PREFIX.pdb = water.pdb, say), checked
+     * before anything is written */
+    static const char *const ext[] = {".thermo.csv", ".thermo.csv.part", ".thermo.csv.part.old", ".summary.txt",
+                                      ".chk", ".results.txt", ".rdf.csv", ".tcf.csv", ".dcd", ".dcd.part",
+                                      ".pdb", ".pdb.part", ".xyz", ".xyz.part"};
+    enum { NOUT = sizeof ext / sizeof ext[0], NTRAJ = 6 }; /* the last NTRAJ: trajectory files */
+    char out[NOUT][640];
+    const char *outs[NOUT];
+    rl_molecule m;
+    const int site = !rl_model_build(d->model, d->params, d->force_general, &m) && rl_deck_site_model(&m);
+    int n = 0;
+    for (int k = 0; k < NOUT; k++) {
+      const int traj = k >= NOUT - NTRAJ, xyz = k >= NOUT - 2;
+      if (traj && (d->trajectory_every == 0 || xyz == site)) continue;
+      snprintf(out[n], sizeof out[n], "%s%s", d->prefix, ext[k]);
+      outs[n] = out[n];
+      n++;
+    }
+    if (scene_check_outputs(d, outs, n)) {
+      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+      return 1;
+    }
+  }
   /* a continuation of this prefix's run: its rows are kept.  If that run was killed (no
    * signal it could catch), they are only in its .part: moved aside, not truncated */
   const int same_prefix = d->start[0] && same_file(d->start, chk_path);

@@ -535,6 +535,19 @@ int rl_app_scan(int argc, char **argv)
     if (*end || !(o.tolerance > 0)) { snprintf(err, sizeof err, "--tolerance: '%s' is not a positive fraction or percentage", tol); bad = 1; }
   }
   if (bad) { fprintf(stderr, "rotleap scan: %s\n", err); return 2; }
+  { /* none of the scan's files may overwrite the deck or the start */
+    static const char *const ext[] = {".scan.csv", ".scan_calE.csv", ".scan.txt", ".scan_calE.png", ".scan_pareto.png"};
+    char out[5][640];
+    const char *outs[5];
+    for (int k = 0; k < 5; k++) {
+      snprintf(out[k], sizeof out[k], "%s%s", d.prefix, ext[k]);
+      outs[k] = out[k];
+    }
+    if (scene_check_outputs(&d, outs, 5)) {
+      fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
+      return 1;
+    }
+  }
 
   scene s;
   if (scene_build(&d, &s) || scene_relax(&d, &s) || scene_onstep(&d, &s)) {

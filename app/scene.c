@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int scene_build(const rl_deck *d, scene *s)
 {
@@ -55,6 +56,28 @@ int scene_build(const rl_deck *d, scene *s)
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
   s->ff = scene_forcefield(d, &s->mol, s->sys);
   return s->ff ? 0 : 1;
+}
+
+static int ends_with(const char *s, const char *tail)
+{
+  const size_t n = strlen(s), m = strlen(tail);
+  return n >= m && !strcmp(s + n - m, tail);
+}
+
+int scene_check_outputs(const rl_deck *d, const char *const *paths, int n)
+{
+  struct stat sd, ss, so;
+  const int deck = stat(d->path, &sd) == 0, start = d->start[0] && stat(d->start, &ss) == 0;
+  for (int i = 0; i < n; i++) {
+    if (stat(paths[i], &so)) continue; /* not there: it cannot be either */
+    if (deck && so.st_dev == sd.st_dev && so.st_ino == sd.st_ino)
+      return rl_error(RL_EINVAL, "the output %s would overwrite the deck %s: give another output.prefix (now %s)",
+                      paths[i], d->path, d->prefix);
+    if (start && so.st_dev == ss.st_dev && so.st_ino == ss.st_ino && !(ends_with(paths[i], ".chk") && ends_with(d->start, ".chk")))
+      return rl_error(RL_EINVAL, "the output %s would overwrite system.start = %s: give another output.prefix (now %s)",
+                      paths[i], d->start, d->prefix);
+  }
+  return RL_OK;
 }
 
 double scene_skin(const rl_deck *d, const rl_molecule *mol)

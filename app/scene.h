@@ -21,6 +21,10 @@ typedef struct {
  * restarting) and force field.  1 with rl_last_error() set; call scene_free either way. */
 int scene_build(const rl_deck *d, scene *s);
 void scene_free(scene *s);
+/* RL_OK unless one of the n output paths is the deck or system.start (the same file: device and
+ * inode); then an error naming both, for the caller to stop before anything is written.  A .chk
+ * output may be a .chk start: that is a continuation. */
+int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
 /* A force field for `sys` with the deck's interactions (and the model's geometric mixing), or
  * NULL with a message. */
 /* The Verlet skin: interactions.skin, or if not given 0.1 cutoff, the fastest in the scans at

@@ -123,5 +123,23 @@ check "a PDB written by a density deck (box 1.24172 nm, CRYST1 12.417 A) starts 
 check "a box beyond CRYST1's resolution is refused, saying so" \
   '[ $code -eq 1 ] && grep -q "differs from the deck.s (1.24131 1.24131 1.24131 nm) by more than 0.001 A, the resolution of its CRYST1 record" err.txt'
 
+# --- no output overwrites the start file or the deck; refused before anything is written
+mkdir -p d2 && cp "$work/g.pdb" d2/w.pdb && echo "REMARK   2 my own structure, keep me" >> d2/w.pdb && cp d2/w.pdb d2/w.pdb.orig
+"$rotleap" run "$water" --set run.equilibrate=0 --set run.steps=4 --set system.start="$work/d2/w.pdb" \
+  --set output.trajectory_every=2 --set output.prefix="$work/d2/w" >out.txt 2>err.txt; code=$?
+check "a trajectory topology that is system.start (PREFIX.pdb) is refused, naming both, and nothing is written" \
+  '[ $code -eq 1 ] && grep -q "the output $work/d2/w.pdb would overwrite system.start = $work/d2/w.pdb" err.txt && cmp -s d2/w.pdb d2/w.pdb.orig && [ "$(ls d2)" = "$(printf "w.pdb\nw.pdb.orig")" ]'
+"$rotleap" run "$water" --set run.equilibrate=0 --set run.steps=4 --set system.start="$work/d2/w.pdb" --set output.prefix="$work/d2/w" >out.txt 2>err.txt; code=$?
+check "the same start without a trajectory runs" '[ $code -eq 0 ] && cmp -s d2/w.pdb d2/w.pdb.orig'
+"$rotleap" run "$sm" --set run.steps=2 --set output.trajectory_every=2 --set output.prefix="$work/d2/s" >/dev/null 2>&1 && cp d2/s.xyz d2/s.xyz.orig
+"$rotleap" run "$sm" --set run.steps=4 --set system.start="$work/d2/s.xyz" --set output.trajectory_every=2 --set output.prefix="$work/d2/s" >out.txt 2>err.txt; code=$?
+check "an XYZ trajectory that is system.start is refused too" '[ $code -eq 1 ] && grep -q "the output $work/d2/s.xyz would overwrite system.start" err.txt && cmp -s d2/s.xyz d2/s.xyz.orig'
+cp "$sm" d2/z.summary.txt && cp "$sm" d2/deck.orig
+"$rotleap" run d2/z.summary.txt --set output.prefix=d2/z >out.txt 2>err.txt; code=$?
+check "an output that is the deck is refused" '[ $code -eq 1 ] && grep -q "the output d2/z.summary.txt would overwrite the deck d2/z.summary.txt" err.txt && cmp -s d2/z.summary.txt d2/deck.orig'
+cp "$sm" d2/y.scan.txt
+"$rotleap" scan d2/y.scan.txt --no-plot --steps 2 --set output.prefix=d2/y >out.txt 2>err.txt; code=$?
+check "rotleap scan refuses an output that is the deck too" '[ $code -eq 1 ] && grep -q "the output d2/y.scan.txt would overwrite the deck" err.txt && cmp -s d2/y.scan.txt "$sm"'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
