@@ -237,13 +237,19 @@ static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int same_p
   t->fresh = !(s->restart && same_prefix && access(t->path, F_OK) == 0);
   const char *out = t->fresh ? t->part : t->path;
   if (site) {
-    long keep = 0;
-    if (!t->fresh && dcd_keep(out, t->every, first, &keep)) return 1;
+    /* a new trajectory's PDB is its first state, under the .part name; a continuation keeps the
+     * PDB of the run it continues (its topology and first state, as an uninterrupted run's), and
+     * writes one only if there is none, after its DCD has been opened: a continuation that
+     * fails leaves the PDB as it was */
     const rl_molecule *mols[1] = {&s->mol};
-    if (rl_pdb_write(t->fresh ? t->pdb_part : t->pdb, s->sys, mols, d->box)) return 1;
-    t->dcd = t->fresh ? rl_dcd_create(out, s->sys, first + t->every, t->every, d->timestep, "rotleap")
-                      : rl_dcd_append(out, s->sys, keep);
-    return t->dcd ? 0 : 1;
+    if (t->fresh) {
+      if (rl_pdb_write(t->pdb_part, s->sys, mols, d->box)) return 1;
+      t->dcd = rl_dcd_create(out, s->sys, first + t->every, t->every, d->timestep, "rotleap");
+      return t->dcd ? 0 : 1;
+    }
+    long keep = 0;
+    if (dcd_keep(out, t->every, first, &keep) || !(t->dcd = rl_dcd_append(out, s->sys, keep))) return 1;
+    return access(t->pdb, F_OK) == 0 ? 0 : rl_pdb_write(t->pdb, s->sys, mols, d->box);
   }
   if (!t->fresh && xyz_keep_frames(out, first)) return 1;
   t->xyz = fopen(out, t->fresh ? "w" : "a");

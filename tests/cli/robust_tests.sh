@@ -141,5 +141,17 @@ cp "$sm" d2/y.scan.txt
 "$rotleap" scan d2/y.scan.txt --no-plot --steps 2 --set output.prefix=d2/y >out.txt 2>err.txt; code=$?
 check "rotleap scan refuses an output that is the deck too" '[ $code -eq 1 ] && grep -q "the output d2/y.scan.txt would overwrite the deck" err.txt && cmp -s d2/y.scan.txt "$sm"'
 
+# --- a continuation keeps the PDB of the run it continues; a failed one changes nothing
+wr=(--set run.equilibrate=0 --set output.trajectory_every=5)
+"$rotleap" run "$water" "${wr[@]}" --set run.steps=40 --set output.prefix="$work/pa" >/dev/null 2>&1
+"$rotleap" run "$water" "${wr[@]}" --set run.steps=20 --set output.prefix="$work/pb" >/dev/null 2>&1
+cp "$work/pb.pdb" pb.pdb.orig; cp "$work/pb.dcd" pb.dcd.orig; head -c 3000 pb.dcd.orig > "$work/pb.dcd"
+"$rotleap" run "$water" "${wr[@]}" --set run.steps=40 --set system.start="$work/pb.chk" --set output.prefix="$work/pb" >out.txt 2>err.txt; code=$?
+check "a continuation whose DCD is damaged fails and leaves PREFIX.pdb as it was" \
+  '[ $code -eq 1 ] && grep -q "DCD holds 0 complete frames" err.txt && cmp -s pb.pdb.orig "$work/pb.pdb"'
+cp pb.dcd.orig "$work/pb.dcd"
+"$rotleap" run "$water" "${wr[@]}" --set run.steps=40 --set system.start="$work/pb.chk" --set output.prefix="$work/pb" >out.txt 2>err.txt; code=$?
+check "a continuation's PDB and DCD are an uninterrupted run's" '[ $code -eq 0 ] && cmp -s "$work/pa.pdb" "$work/pb.pdb" && cmp -s "$work/pa.dcd" "$work/pb.dcd"'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
