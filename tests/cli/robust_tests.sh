@@ -153,5 +153,47 @@ cp pb.dcd.orig "$work/pb.dcd"
 "$rotleap" run "$water" "${wr[@]}" --set run.steps=40 --set system.start="$work/pb.chk" --set output.prefix="$work/pb" >out.txt 2>err.txt; code=$?
 check "a continuation's PDB and DCD are an uninterrupted run's" '[ $code -eq 0 ] && cmp -s "$work/pa.pdb" "$work/pb.pdb" && cmp -s "$work/pa.dcd" "$work/pb.dcd"'
 
+# --- continuations take rows and frames only from the run that wrote their checkpoint
+sk=(--set output.thermo_every=5 --set output.trajectory_every=5)
+relax_forever=(--set run.equilibrate=100000000 --set run.equilibrate_timestep=0.0001)
+# a fresh run of the prefix stopped during its relaxation (SIGTERM: the default action) writes nothing
+"$rotleap" run "$sm" "${sk[@]}" --set run.steps=20 --set output.prefix="$work/k1" >/dev/null 2>&1
+(cd "$work" && md5sum k1.thermo.csv k1.chk k1.summary.txt k1.xyz) > k1.md5
+"$rotleap" run "$sm" "${sk[@]}" "${relax_forever[@]}" --set output.prefix="$work/k1" >/dev/null 2>&1 &
+pid=$!; sleep 1; kill -TERM $pid; wait $pid 2>/dev/null
+check "a run stopped while relaxing leaves the prefix as it was (no empty .part)" \
+  '(cd "$work" && md5sum -c --quiet "$OLDPWD/k1.md5") && ! ls "$work"/k1.*part* >/dev/null 2>&1'
+"$rotleap" run "$sm" "${sk[@]}" --set run.steps=40 --set system.start="$work/k1.chk" --set output.prefix="$work/k1" >/dev/null 2>&1; code=$?
+check "its continuation keeps every earlier row (0 .. 40 once each)" \
+  '[ $code -eq 0 ] && [ "$(tail -n +2 "$work/k1.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 5 40) " ]'
+# a fresh run of the prefix (another seed) killed in its loop before any checkpoint: its .part
+# and trajectory .part are not the checkpoint's run's, and a continuation takes neither
+"$rotleap" run "$sm" "${sk[@]}" --set run.steps=20 --set output.prefix="$work/k2" >/dev/null 2>&1
+awk -F, 'NR > 1 && $1 < 20' "$work/k2.thermo.csv" > k2.rows; cp "$work/k2.xyz" k2.xyz.orig
+"$rotleap" run "$sm" "${sk[@]}" --set system.seed=99 --set run.steps=100000000 --set output.prefix="$work/k2" >/dev/null 2>&1 &
+pid=$!
+for i in $(seq 200); do [ "$(wc -l < "$work/k2.thermo.csv.part" 2>/dev/null || echo 0)" -ge 10 ] && [ -s "$work/k2.xyz.part" ] && break; sleep 0.1; done
+kill -KILL $pid; wait $pid 2>/dev/null
+"$rotleap" run "$sm" "${sk[@]}" --set run.steps=40 --set system.start="$work/k2.chk" --set output.prefix="$work/k2" >/dev/null 2>err.txt; code=$?
+check "a killed run's .part that is not the checkpoint's run's is not spliced in (rows before 20 are the first run's)" \
+  '[ $code -eq 0 ] && diff k2.rows <(awk -F, "NR > 1 && \$1 < 20" "$work/k2.thermo.csv") >/dev/null && [ "$(tail -n +2 "$work/k2.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 5 40) " ]'
+check "nor its trajectory .part (frames 5 .. 20 are the first run's, then 25 .. 40)" \
+  'cmp -s k2.xyz.orig <(head -n $((4 * 66)) "$work/k2.xyz") && [ "$(grep -o "Step=[0-9]*" "$work/k2.xyz" | tr "\n" " ")" = "$(seq -f "Step=%g" -s " " 5 5 40) " ]'
+# a run killed after a checkpoint (SIGKILL: rows only in its .part), then a fresh run of the prefix
+# stopped while relaxing: the .part is untouched, and the continuation keeps all its rows
+"$rotleap" run "$sm" --set run.steps=100000000 --set output.checkpoint_every=50 --set output.prefix="$work/k3" >/dev/null 2>&1 &
+pid=$!
+for i in $(seq 200); do [ -e "$work/k3.chk" ] && [ "$(wc -l < "$work/k3.thermo.csv.part")" -ge 30 ] && break; sleep 0.1; done
+kill -KILL $pid; wait $pid 2>/dev/null
+md5sum "$work/k3.thermo.csv.part" > k3.md5
+"$rotleap" run "$sm" "${relax_forever[@]}" --set output.prefix="$work/k3" >/dev/null 2>&1 &
+pid=$!; sleep 1; kill -TERM $pid; wait $pid 2>/dev/null
+check "a run stopped while relaxing leaves a killed run's .part as it was" 'md5sum -c --quiet k3.md5'
+last=$(grep -c . "$work/k3.thermo.csv.part"); to=$(( (last + 20) * 10 ))
+"$rotleap" run "$sm" --set run.steps=$to --set output.checkpoint_every=50 --set system.start="$work/k3.chk" \
+  --set output.prefix="$work/k3" >/dev/null 2>&1; code=$?
+check "and the continuation keeps the killed run's rows (0 .. $to, no gap)" \
+  '[ $code -eq 0 ] && [ "$(tail -n +2 "$work/k3.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 10 $to) " ] && ! ls "$work"/k3.*part* >/dev/null 2>&1'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
