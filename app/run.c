@@ -841,6 +841,7 @@ int rl_app_run(const rl_deck *d)
   /* relative fluctuations (0 with fewer than two steps; n/a where a mean is 0) */
   const double calE = E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, calU = U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0;
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
+  const int mode = scene_drift_mode(d, watch.alt_at_max); /* the isokinetic scheme's, not the step's */
   snprintf(text, sizeof text,
            "# rotleap %s summary of %s\n"
            "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
@@ -863,11 +864,19 @@ int rl_app_run(const rl_deck *d)
            rel_fluct_text(cEU, sizeof cEU, calU > 0 ? calE / calU : U.n > 1 ? NAN : 0.0),
            scene_rigidity_error(s.sys), watch.max_rate, tunit, SCENE_WINDOW, tunit,
            watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window",
-           fabs(watch.max_rate) > SCENE_DRIFT_WARN
-               ? "warning = the conserved energy drifts: integration error is heating or cooling the system; "
-                 "a smaller time step will change the results\n"
-               : "");
-  if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
+           fabs(watch.max_rate) <= SCENE_DRIFT_WARN ? ""
+           : mode ? "warning = the conserved energy drifts: the isokinetic thermostat's undamped step-to-step "
+                    "alternation of the kinetic energy (a start out of equilibrium at run.temperature), not the time step; "
+                    "relax the start at run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n"
+                  : "warning = the conserved energy drifts: integration error is heating or cooling the system; "
+                    "a smaller time step will change the results\n");
+  if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st && mode)
+    fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the kinetic "
+                    "energy alternates from step to step by +-%.2g %% of run.temperature, the isokinetic scheme's "
+                    "undamped mode (a start out of equilibrium at run.temperature), not the time step: relax the start at "
+                    "run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n", watch.max_rate, tunit,
+            100.0 * watch.alt_at_max);
+  else if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
     fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
                     "step %g is too large for accurate dynamics\n", watch.max_rate, tunit,
             d->timestep);

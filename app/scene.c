@@ -152,7 +152,12 @@ int scene_relax(const rl_deck *d, scene *s)
 void scene_watch_init(scene_watch *w)
 {
   memset(w, 0, sizeof *w);
-  w->prevE = NAN;
+  w->prevE = w->T1 = w->T2 = NAN;
+}
+
+int scene_drift_mode(const rl_deck *d, double alt)
+{
+  return d->thermostat == RL_THERMO_ISOKINETIC && alt > SCENE_ALT_MODE;
 }
 
 /* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
@@ -203,19 +208,45 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
                       "box edge %.3g: the run blew up; reduce %s (now %g)%s", k, info->t, tu, i,
                       step, Lmin, dt_name, h, hint);
   }
-  if (!ev || w->relax) return RL_OK;
+  if (w->relax) return RL_OK;
+  /* the step-to-step alternation of the temperature, on every step: the isokinetic scheme's
+   * period-2 mode (scene_drift_mode) */
+  if (isfinite(w->T2)) {
+    w->alt_sum += 0.25 * fabs(info->temperature - 2.0 * w->T1 + w->T2);
+    w->alt_n++;
+  }
+  w->T2 = w->T1;
+  w->T1 = info->temperature;
+  if (!ev) return RL_OK;
   if (!w->open) {
     w->open = 1;
     w->step0 = k;
     w->t0 = info->t;
     w->c0 = info->conserved;
+    w->alt_sum = 0.0;
+    w->alt_n = 0;
   } else if (k - w->step0 >= 50 && info->t - w->t0 >= SCENE_WINDOW) {
     double rate = (info->conserved - w->c0) / (d->count * kT * (info->t - w->t0));
-    if (fabs(rate) > fabs(w->max_rate)) w->max_rate = rate;
+    const double T0 = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
+    const double alt = w->alt_n > 0 && T0 > 0 ? w->alt_sum / w->alt_n / T0 : 0.0;
+    if (fabs(rate) > fabs(w->max_rate)) {
+      w->max_rate = rate;
+      w->alt_at_max = alt;
+    }
     w->open = 0;
     /* the isokinetic scheme's sum is not an exact invariant (integrator.h), but a sound run keeps
      * it flat (rl at 10 fs); Fincham's isokinetic run at 4 fs drifted 7 kT per molecule per ps
-     * while T_trans fell to 231 K and T_rot rose to 468 K (bench/paper): it stops too */
+     * while T_trans fell to 231 K and T_rot rose to 468 K (bench/paper): it stops too.  A start far
+     * from run.temperature drifts at any step: then the message says so (scene_drift_mode) */
+    if (fabs(rate) > SCENE_DRIFT_ERROR && scene_drift_mode(d, alt))
+      return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
+                      "%s over the last %g %s (more than %g): this is the isokinetic thermostat, not the time step: "
+                      "eqs. 17-18 (run.ensemble = nvt-isokinetic) hold only the on-step temperature at "
+                      "run.temperature, and the kinetic energy alternates from step to step by +-%.2g %% of it, a "
+                      "mode the scheme never damps, excited by a start out of equilibrium at run.temperature; reducing %s "
+                      "does not remove it.  Relax the start at run.temperature first (run.equilibrate, with "
+                      "system.temperature = run.temperature or not given), or use run.ensemble = nvt-bussi", k, info->t, tu, rate, tu, info->t - w->t0, tu, SCENE_DRIFT_ERROR,
+                      100.0 * alt, dt_name);
     if (fabs(rate) > SCENE_DRIFT_ERROR)
       return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
                       "%s over the last %g %s (more than %g): integration error is %s the system; reduce %s "
