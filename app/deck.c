@@ -148,6 +148,7 @@ typedef struct {
   int model_line[RL_MODEL_MAX_PARAMS], nmodel;
   const char *path;
   int lineno, problems;
+  int binary;                       /* a NUL byte was read: the parse stopped                 */
   FILE *err;
 } raw_deck;
 
@@ -230,24 +231,35 @@ static int ends_in_comment(const char *line)
  * bytes (INI_MAX_LINE: 200 in libinih's build) and would take the rest of a longer line for a
  * line of its own, misparsing it and every line number after it.  Here a line is always read
  * whole: one whose cut falls inside a comment is handed on cut there (which changes nothing);
- * any other is reported once, at its own line, and handed on empty. */
+ * any other is reported once, at its own line, and handed on empty.  A NUL byte ends the parse:
+ * the file is binary (a DCD given by mistake), and its "keys" would fill screens. */
 static char *counting_reader(char *buf, int size, void *stream)
 {
   raw_deck *r = ((void **)stream)[1];
   FILE *f = ((void **)stream)[0];
-  char *s = fgets(buf, size, f);
-  if (!s) return NULL;
-  r->lineno++;
-  size_t n = strlen(buf);
-  if (n == 0 || buf[n - 1] == '\n') return s;
+  size_t n = 0;
   long rest = 0; /* characters past the buffer, up to the newline */
-  for (int c; (c = getc(f)) != EOF && c != '\n';) rest++;
+  int c = EOF, nul = 0;
+  while (!r->binary && (c = getc(f)) != EOF) {
+    nul |= c == '\0';
+    if (n + 1 < (size_t)size) buf[n++] = (char)c;
+    else if (c != '\n') rest++;
+    if (c == '\n') break;
+  }
+  if (r->binary || (n == 0 && c == EOF)) return NULL;
+  buf[n] = '\0';
+  r->lineno++;
+  if (nul) {
+    problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno);
+    r->binary = 1;
+    return NULL;
+  }
   if (rest > 0 && !ends_in_comment(buf)) {
     problem(r, r->lineno, "this line has %ld characters, a deck line at most %d (only comments may be longer)",
             (long)n + rest, size - 1);
     buf[0] = '\0';
   }
-  return s;
+  return buf;
 }
 
 static const char *val(const raw_deck *r, int k) { return r->val[k] ? r->val[k] : keys[k].def; }
@@ -414,20 +426,10 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     problem(&r, 0, "is a directory, not a deck");
     return r.problems;
   }
-  { /* a binary file (a DCD given by mistake) would be parsed into screens of garbage "keys" */
-    char head[8000];
-    const size_t got = fread(head, 1, sizeof head, f);
-    const char *nul = memchr(head, '\0', got);
-    if (nul) {
-      fclose(f);
-      problem(&r, 0, "is not a text file (a NUL byte at offset %ld): a deck is an INI text file", (long)(nul - head));
-      return r.problems;
-    }
-    rewind(f);
-  }
   void *stream[2] = {f, &r};
   int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
   fclose(f);
+  if (r.binary) return r.problems;
   if (st > 0) problem(&r, st, "not a valid INI line (expected [section] or key = value)");
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');

@@ -28,9 +28,13 @@ check "after a long comment an error keeps its own line number ($want)" \
 "$rotleap" run longkey.ini >out.txt 2>err.txt; code=$?
 check "a long key line is refused once, at its line, with the limit" \
   '[ $code -eq 2 ] && grep -q "longkey.ini:6: this line has [0-9]* characters, a deck line at most 199" err.txt && grep -q "^rotleap run: 1 problem in" err.txt'
-head -c 3000 /dev/urandom | tr -d "\n" > bin.ini; printf '\0\0\0\n[system]\n' >> bin.ini
+{ cat "$sm"; printf 'T\0\0\0CORD\0\0\n'; head -c 3000 /dev/zero; printf '\n[system]\nmodel = tip4p\n'; } > bin.ini
 "$rotleap" run bin.ini >out.txt 2>err.txt; code=$?
-check "a binary file given as the deck is refused in one line" '[ $code -eq 2 ] && grep -q "bin.ini: is not a text file" err.txt && [ "$(wc -l < err.txt)" -eq 2 ]'
+check "a binary file given as the deck is refused in one line" \
+  '[ $code -eq 2 ] && grep -q "bin.ini: is not a text file (a NUL byte on line 19)" err.txt && [ "$(wc -l < err.txt)" -eq 2 ]'
+cat "$sm" | "$rotleap" energy /dev/stdin >out.txt 2>err.txt; code=$?
+check "a deck read from a pipe is read whole" '[ $code -eq 0 ] && grep -q "^total," out.txt'
+
 
 # --- deck messages: each problem once, by its key, without a second, wrong one
 box_total() { "$rotleap" energy "$water" --set system.density= --set "system.box=$1" 2>/dev/null | grep "^total," ; }
