@@ -10,9 +10,11 @@
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 typedef enum { K_STRING, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type;
 
@@ -34,8 +36,8 @@ enum {
 
 static const key_def keys[NKEYS] = {
     [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models); required"},
-    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required"},
-    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\" (give box or density)"},
+    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
+    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
@@ -55,19 +57,19 @@ static const key_def keys[NKEYS] = {
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
     [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion|rl-hybrid|fincham|no-squish", "revised leapfrog: guarded cubic (rl), exact solve, quaternion variant; baselines (matrix bodies only): the paper's hybrid, Fincham's implicit quaternion leapfrog, NO_SQUISH (docs/integrators.md)"},
-    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi|nvt-langevin", "NVE, the paper's isokinetic NVT, Bussi stochastic rescaling, or Langevin in the middle of the drift (BAOAB; docs/integrators.md)"},
+    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi|nvt-langevin", "NVE, the paper's isokinetic NVT, Bussi stochastic rescaling, or Langevin in the middle of the drift (BAOAB; docs/integrators.md). nvt-isokinetic (eqs. 17-18) holds only the on-step temperature: from a start out of equilibrium at run.temperature (a lattice, another temperature) the kinetic energy alternates from step to step without damping and the conserved sum drifts at any time step, so relax first (run.equilibrate at run.temperature) or use nvt-bussi"},
     [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
     [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi: relaxation time of the kinetic energy; Langevin: friction time 1/gamma; default 100 h"},
     [K_TGROUPS] = {"run", "thermostat_groups", K_CHOICE, Q_NONE, "trans-rot", "trans-rot|all", "Bussi: one thermostat for translation and one for rotation, or one for both (docs/integrators.md)"},
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi or Langevin thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
-    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops; 0: OMP_NUM_THREADS if set, else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
-    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini"},
+    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
+    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
-    [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none): PREFIX.dcd + PREFIX.pdb for site models, PREFIX.xyz (with orientations) for dipoles, linear molecules and atoms"},
+    [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none; at most 2147483647, DCD's 32-bit interval): PREFIX.dcd + PREFIX.pdb for models with several sites (water, CO2, 2CLJ, ...), whose DCD also limits run.steps to 2147483647; PREFIX.xyz (with orientations) for point dipoles and atoms"},
     [K_SAMPLE] = {"output", "sample_every", K_INT, Q_NONE, "10", NULL, "steps between configurations sampled for RDFs, correlation functions, diffusion and the dielectric constant (0: none)"},
     [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites)"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
@@ -112,15 +114,23 @@ int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], cha
   return n;
 }
 
+double rl_deck_max_temperature(const rl_deck *d, const char **key)
+{
+  const int thermo = d->thermostat_temperature > d->temperature;
+  if (key) *key = thermo ? " (run.temperature)" : "";
+  return thermo ? d->thermostat_temperature : d->temperature;
+}
+
 double rl_deck_thermal_omega(const rl_deck *d)
 {
   rl_molecule m;
-  if (!d->model || !(d->temperature > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
+  const double T = rl_deck_max_temperature(d, NULL);
+  if (!d->model || !(T > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
     return 0.0;
   double Jmin = INFINITY;
   for (int a = 0; a < 3; a++)
     if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
-  return sqrt(rl_units_kB(d->units) * d->temperature / Jmin);
+  return sqrt(rl_units_kB(d->units) * T / Jmin);
 }
 
 int rl_deck_integrator_lookup(const char *name)
@@ -138,6 +148,7 @@ typedef struct {
   int model_line[RL_MODEL_MAX_PARAMS], nmodel;
   const char *path;
   int lineno, problems;
+  int binary;                       /* a NUL byte was read: the parse stopped                 */
   FILE *err;
 } raw_deck;
 
@@ -204,14 +215,51 @@ static int deck_handler(void *user, const char *section, const char *name, const
   return 1;
 }
 
+/* 1 if the text from the start of `line` on is, from some point, a comment: the line starts
+ * with ; or # (after blanks), or has an inline comment (a ; after a blank, as inih takes it). */
+static int ends_in_comment(const char *line)
+{
+  const char *p = line + strspn(line, " \t");
+  if (*p == ';' || *p == '#') return 1;
+  for (; *p; p++)
+    if (*p == ';' && (p[-1] == ' ' || p[-1] == '\t')) return 1;
+  return 0;
+}
+
 /* fgets-like reader for ini_parse_stream that counts lines: inih calls the handler for a key
- * right after reading its line, so lineno is that key's line. */
+ * right after reading its line, so lineno is that key's line.  inih hands it a buffer of `size`
+ * bytes (INI_MAX_LINE: 200 in libinih's build) and would take the rest of a longer line for a
+ * line of its own, misparsing it and every line number after it.  Here a line is always read
+ * whole: one whose cut falls inside a comment is handed on cut there (which changes nothing);
+ * any other is reported once, at its own line, and handed on empty.  A NUL byte ends the parse:
+ * the file is binary (a DCD given by mistake), and its "keys" would fill screens. */
 static char *counting_reader(char *buf, int size, void *stream)
 {
   raw_deck *r = ((void **)stream)[1];
-  char *s = fgets(buf, size, ((void **)stream)[0]);
-  if (s) r->lineno++;
-  return s;
+  FILE *f = ((void **)stream)[0];
+  size_t n = 0;
+  long rest = 0; /* characters past the buffer, up to the newline */
+  int c = EOF, nul = 0;
+  while (!r->binary && (c = getc(f)) != EOF) {
+    nul |= c == '\0';
+    if (n + 1 < (size_t)size) buf[n++] = (char)c;
+    else if (c != '\n') rest++;
+    if (c == '\n') break;
+  }
+  if (r->binary || (n == 0 && c == EOF)) return NULL;
+  buf[n] = '\0';
+  r->lineno++;
+  if (nul) {
+    problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno);
+    r->binary = 1;
+    return NULL;
+  }
+  if (rest > 0 && !ends_in_comment(buf)) {
+    problem(r, r->lineno, "this line has %ld characters, a deck line at most %d (only comments may be longer)",
+            (long)n + rest, size - 1);
+    buf[0] = '\0';
+  }
+  return buf;
 }
 
 static const char *val(const raw_deck *r, int k) { return r->val[k] ? r->val[k] : keys[k].def; }
@@ -280,6 +328,89 @@ static void require(raw_deck *r, int k)
   if (!r->val[k]) problem(r, 0, "%s.%s is required (%s)", keys[k].section, keys[k].name, keys[k].help);
 }
 
+int rl_deck_site_model(const rl_molecule *m)
+{
+  return m->kind != RL_KIND_POINT && m->kind != RL_KIND_DIPOLE && m->nsites > 1;
+}
+
+/* system.count against what the machine can hold, before anything is allocated: a run needs at
+ * least 160 bytes per molecule and 130 per site (half of what 32,000 and 128,000 TIP4P and
+ * Stockmayer molecules took in rotleap energy: 1.4 and 0.6 kB), and the library counts sites
+ * with an int. */
+static void count_fits(raw_deck *r, int count, const rl_molecule *m)
+{
+  const int ns = m->nsites > 0 ? m->nsites : 1;
+  const double need = (double)count * (160.0 + 130.0 * ns);
+  const double have = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+  if ((double)count * ns > INT_MAX)
+    problem(r, r->line[K_COUNT], "system.count = %d: %.3g sites (%d per molecule of %s), more than the %d the "
+            "library counts", count, (double)count * ns, ns, m->name, INT_MAX);
+  else if (have > 0 && need > have)
+    problem(r, r->line[K_COUNT], "system.count = %d needs at least %.3g GB of memory (%.0f bytes per molecule of %s), "
+            "more than this machine's %.3g GB", count, need * 1e-9, need / count, m->name, have * 1e-9);
+}
+
+/* 1 if the text of a number ("1.8", "1.8nm", "1.8 nm") has a unit after it; its start in *unit. */
+static int has_unit(const char *q, const char **unit)
+{
+  char *end;
+  (void)strtod(q, &end);
+  end += strspn(end, " \t");
+  *unit = end;
+  return *end != '\0';
+}
+
+/* system.box: one edge or three, each with its unit or bare: "1.8 nm 1.8 nm 2 nm", "1.8nm 1.8nm
+ * 2nm", or "1.8 1.8 2 nm" (the last edge's unit applies to the bare ones).  Every problem is
+ * reported once; box is left 0 on any. */
+static void box_edges(raw_deck *r, rl_units u, double box[3])
+{
+  char tmp[256], edge[3][96], *save;
+  int n = 0;
+  snprintf(tmp, sizeof tmp, "%s", r->val[K_BOX]);
+  for (char *tok = strtok_r(tmp, " \t", &save); tok; tok = strtok_r(NULL, " \t", &save)) {
+    char *end;
+    const char *unit;
+    (void)strtod(tok, &end);
+    if (end != tok) { /* a number (nan and inf too: refused below, by name) starts an edge */
+      if (n == 3) { problem(r, r->line[K_BOX], "system.box: more than three edges"); return; }
+      snprintf(edge[n++], sizeof edge[0], "%s", tok);
+    } else if (n > 0 && !has_unit(edge[n - 1], &unit)) { /* the unit of the number before it */
+      const size_t at = strlen(edge[n - 1]);
+      snprintf(edge[n - 1] + at, sizeof edge[0] - at, " %s", tok);
+    } else {
+      problem(r, r->line[K_BOX], "system.box: '%s' is not a number%s", tok,
+              n > 0 ? " (one unit per edge: \"1.8 nm 1.8 nm 2 nm\" or \"1.8 1.8 2 nm\")" : "");
+      return;
+    }
+  }
+  if (n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); return; }
+  const char *last;
+  const int shared = has_unit(edge[n - 1], &last);
+  double L[3];
+  int bad = 0;
+  for (int c = 0; c < n; c++) {
+    const char *unit;
+    char q[160], msg[256];
+    const int takes_last = shared && !has_unit(edge[c], &unit);
+    snprintf(q, sizeof q, "%.95s%s%.40s", edge[c], takes_last ? " " : "", takes_last ? last : "");
+    if (rl_parse_quantity(q, Q_LENGTH, u, 0, &L[c], msg, sizeof msg)) {
+      problem(r, r->line[K_BOX], "system.box: %s", msg);
+      bad = 1;
+    } else if (!(L[c] > 0)) {
+      problem(r, r->line[K_BOX], "system.box: %s%g must be positive", n == 1 ? "edge " : c == 0 ? "x edge "
+              : c == 1 ? "y edge " : "z edge ", L[c]);
+      bad = 1;
+    }
+  }
+  if (!bad && !(isfinite(L[0] * L[1 % n] * L[2 % n]) && L[0] * L[1 % n] * L[2 % n] > 0)) {
+    problem(r, r->line[K_BOX], "system.box: the volume of %s is out of range", r->val[K_BOX]);
+    bad = 1;
+  }
+  if (bad) return;
+  for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
+}
+
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
 {
   raw_deck r;
@@ -298,6 +429,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   void *stream[2] = {f, &r};
   int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
   fclose(f);
+  if (r.binary) return r.problems;
   if (st > 0) problem(&r, st, "not a valid INI line (expected [section] or key = value)");
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
@@ -328,6 +460,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       else if (end == r.model_val[i] || *end || !isfinite(x) || x < 0)
         problem(&r, r.model_line[i], "[model] %s: '%s' must be a number >= 0 (in %s)", r.model_key[i],
                 r.model_val[i], d->model->param_units[k]);
+      else if (!isfinite(x * x)) /* mu = 1e155: mu^2 is inf, and the dipoles silently dropped out */
+        problem(&r, r.model_line[i], "[model] %s: %s %s is out of range: its square, which the energies "
+                "use, overflows", r.model_key[i], r.model_val[i], d->model->param_units[k]);
       else d->params[k] = x;
     }
   }
@@ -342,41 +477,17 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (d->model) {
     rl_molecule m;
     if (rl_model_build(d->model, d->params, 0, &m)) problem(&r, 0, "model %s: %s", d->model->name, rl_last_error());
-    else mass = m.mass;
+    else {
+      mass = m.mass;
+      if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);
+    }
   }
   if (r.val[K_BOX] && r.val[K_DENSITY]) {
     char at[32] = "from --set";
     if (r.line[K_BOX] >= 0) snprintf(at, sizeof at, "at line %d", r.line[K_BOX]);
     problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
   } else if (r.val[K_BOX]) {
-    char tmp[256], *save, *tok;
-    int n = 0;
-    snprintf(tmp, sizeof tmp, "%s", r.val[K_BOX]);
-    /* split on whitespace, keeping a unit suffix with its number: "1.8 nm 1.8 nm 2 nm" or "1.8 1.8 2 nm" */
-    double vals[3];
-    char unit[32] = "";
-    char *toks[8];
-    int nt = 0;
-    for (tok = strtok_r(tmp, " \t", &save); tok && nt < 8; tok = strtok_r(NULL, " \t", &save)) toks[nt++] = tok;
-    if (nt > 0 && !(toks[nt - 1][0] == '-' || toks[nt - 1][0] == '.' || (toks[nt - 1][0] >= '0' && toks[nt - 1][0] <= '9')))
-      snprintf(unit, sizeof unit, "%s", toks[--nt]);
-    for (int i = 0; i < nt && n < 4; i++) {
-      char q[96], msg[256];
-      snprintf(q, sizeof q, "%s %s", toks[i], unit);
-      if (n == 3 || rl_parse_quantity(q, Q_LENGTH, u, 0, &vals[n], msg, sizeof msg)) {
-        problem(&r, r.line[K_BOX], "system.box: %s", n == 3 ? "more than three edges" : msg);
-        n = -1;
-        break;
-      }
-      n++;
-    }
-    if (n == 1) vals[1] = vals[2] = vals[0];
-    if (n == 1 || n == 3) {
-      for (int c = 0; c < 3; c++) {
-        d->box[c] = vals[c];
-        if (!(vals[c] > 0)) problem(&r, r.line[K_BOX], "system.box: edge %g must be positive", vals[c]);
-      }
-    } else if (n >= 0) problem(&r, r.line[K_BOX], "system.box: give one edge or three");
+    box_edges(&r, u, d->box);
   } else if (r.val[K_DENSITY]) {
     double rho = number(&r, K_DENSITY, u, 0, 0.0);
     if (!(rho > 0)) {
@@ -385,6 +496,11 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     else if (d->model && !r.bad[K_COUNT]) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
       double V = u == RL_UNITS_LJ ? d->count / rho : d->count * mass / rho;
       d->box[0] = d->box[1] = d->box[2] = cbrt(V);
+      if (!(isfinite(d->box[0]) && d->box[0] > 0)) {
+        problem(&r, r.line[K_DENSITY], "system.density %s gives a box edge of %g %s for %d molecules: out of range",
+                val(&r, K_DENSITY), d->box[0], rl_dim_unit(Q_LENGTH, u), d->count);
+        d->box[0] = d->box[1] = d->box[2] = 0.0;
+      }
     }
   } else problem(&r, 0, "give system.box or system.density");
 
@@ -394,7 +510,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   require(&r, K_CUTOFF);
   d->ff.cutoff = number(&r, K_CUTOFF, u, 0, 0.0);
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
-  if (r.val[K_CUTOFF] && !(d->ff.cutoff > 0)) problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
+  if (r.val[K_CUTOFF] && !r.bad[K_CUTOFF] && !(d->ff.cutoff > 0)) problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
   else if (Lmin > 0 && d->ff.cutoff > 0.5 * Lmin)
     problem(&r, r.line[K_CUTOFF], "interactions.cutoff %g is larger than half the shortest box edge (%g)", d->ff.cutoff, 0.5 * Lmin);
   d->ff.scheme = choice(&r, K_SCHEME) ? RL_CUTOFF_MOLECULE : RL_CUTOFF_SITE;
@@ -403,7 +519,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     if (!r.val[K_SWITCH]) problem(&r, r.line[K_LJ], "interactions.lj = switched needs interactions.switch");
     else {
       d->ff.r_switch = number(&r, K_SWITCH, u, 0, 0.0);
-      if (!(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
+      if (!r.bad[K_SWITCH] && !r.bad[K_CUTOFF] && !(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
         problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
     }
   } else if (r.val[K_SWITCH]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
@@ -414,7 +530,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->ff.kernel = choice(&r, K_KERNEL) ? RL_KERNEL_GENERAL : RL_KERNEL_AUTO;
   if (r.val[K_SKIN]) {
     d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
-    if (!(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
+    if (!r.bad[K_SKIN] && !(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
   }
 
   /* [run] */
@@ -436,7 +552,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
   if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
-  else if (ens > 0 && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
+  else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
   if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
   if (r.val[K_TAU] && !stochastic) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
@@ -450,23 +566,35 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
     problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
+  if (!r.val[K_TEMP] && r.bad[K_TTEMP]) r.bad[K_TEMP] = 1; /* its default is reported there */
   if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
                  "sets the default neighbour-list skin and the kT of the blow-up checks (from a checkpoint, give "
                  "the first run's value: the same skin continues bit for bit)");
-  else if (!(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
+  else if (!r.bad[K_TEMP] && !(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
     problem(&r, r.line[K_TEMP], "system.temperature must be positive");
-  if (d->equilibrate_steps > 0 && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
-  /* an absurd step: no step can resolve a thermal rotation with h omega > 1 */
-  if (d->model && d->timestep > 0 && d->temperature > 0) {
-    double hw = d->timestep * rl_deck_thermal_omega(d);
+  if (d->equilibrate_steps > 0 && !r.bad[K_TEMP] && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
+  /* an absurd step: no step can resolve a thermal rotation with h omega > 1, at the start's
+   * temperature or at the thermostat's, whichever is higher */
+  if (d->model && d->timestep > 0) {
+    const char *tkey;
+    const double T = rl_deck_max_temperature(d, &tkey), hw = d->timestep * rl_deck_thermal_omega(d);
     if (hw > 1.0)
-      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s: h times the thermal "
+      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s%s: h times the thermal "
               "angular velocity is %.3g > 1, no step can follow the rotation", d->timestep,
-              rl_dim_unit(Q_TIME, u), d->model->name, d->temperature, rl_dim_unit(Q_TEMPERATURE, u), hw);
+              rl_dim_unit(Q_TIME, u), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, u), tkey, hw);
   }
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
-  d->ff.threads = (int)integer_in(&r, K_THREADS, 0, 4096, 0);
+  d->ff.threads = (int)integer_in(&r, K_THREADS, 0, RL_DECK_MAX_THREADS, 0);
+  const char *omp = getenv("OMP_NUM_THREADS"); /* what run.threads = 0 takes: the same cap */
+  if (d->ff.threads == 0 && !r.bad[K_THREADS] && omp && *omp) {
+    char *end;
+    errno = 0;
+    const long t = strtol(omp, &end, 10);
+    if (end != omp && (errno == ERANGE || t > RL_DECK_MAX_THREADS))
+      problem(&r, r.line[K_THREADS], "OMP_NUM_THREADS = %s (taken by run.threads = 0) is above the maximum %d threads",
+              omp, RL_DECK_MAX_THREADS);
+  }
   /* [output] */
   if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
   else {
@@ -481,7 +609,13 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
             "output.thermo_every = %ld must be a multiple of output.energy_every = %ld (a thermo row "
             "needs the energies)", d->thermo_every, d->energy_every);
   d->checkpoint_every = integer(&r, K_CHECKPOINT, 0, 0);
-  d->trajectory_every = integer(&r, K_TRAJ, 0, 0);
+  d->trajectory_every = integer_in(&r, K_TRAJ, 0, INT32_MAX, 0);
+  if (d->trajectory_every > 0 && d->steps > INT32_MAX && d->model) { /* DCD's ISTART, NSTEP: int32 */
+    rl_molecule m;
+    if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_site_model(&m))
+      problem(&r, r.line[K_STEPS], "run.steps = %ld: the DCD trajectory of %s (output.trajectory_every) numbers steps "
+              "with 32-bit integers, at most %ld", d->steps, d->model->name, (long)INT32_MAX);
+  }
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
   snprintf(d->rdf, sizeof d->rdf, "%s", val(&r, K_RDF));
   if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
@@ -521,7 +655,9 @@ void rl_deck_print_keys(FILE *f, int md)
                "A deck is an INI file. Numbers take a unit suffix in real units (`2 fs`, `0.9 nm`, "
                "`9 A`, `298 K`, `1 g/cm3`); a bare number is in the default unit shown. Reduced "
                "(lj) models take bare numbers only. `--set section.key=value` overrides any key; `--set section.key=` returns it to its default. "
-               "Model parameters go in `[model]` (see `rotleap models`).\n");
+               "Model parameters go in `[model]` (see `rotleap models`). A line may have at most 199 "
+               "characters (libinih's line buffer in its default build; a longer line is refused at "
+               "its line), except a comment, which may be of any length. A binary file is refused.\n");
   for (int k = 0; k < NKEYS; k++) {
     const key_def *K = &keys[k];
     if (strcmp(sec, K->section)) {
@@ -537,5 +673,6 @@ void rl_deck_print_keys(FILE *f, int md)
   }
   if (md)
     fprintf(f, "\n## [model]\n\nAdjustable parameters of reduced models, by name, for example "
-               "`mu = 1.5` for `stockmayer` (see `rotleap models`).\n");
+               "`mu = 1.5` for `stockmayer` (see `rotleap models`). A parameter must be a number >= 0 "
+               "whose square is a finite double (the energies use it: `mu = 1e155` is refused).\n");
 }

@@ -44,6 +44,13 @@ typedef struct {
   char path[512];
 } rl_deck;
 
+/* The largest thread count: run.threads, and OMP_NUM_THREADS where run.threads = 0 takes it. */
+#define RL_DECK_MAX_THREADS 4096
+
+/* 1 if the molecule's trajectory is a DCD of its sites (+ a PDB topology), 0 if an extended XYZ
+ * of centres and orientations (point dipoles, atoms). */
+int rl_deck_site_model(const rl_molecule *m);
+
 /* The integrators by name: run.integrator and `rotleap scan --integrators`. */
 typedef struct {
   const char *name;
@@ -55,7 +62,11 @@ extern const int rl_deck_nintegrators;
 /* Index into rl_deck_integrators, or -1. */
 int rl_deck_integrator_lookup(const char *name);
 
-/* The thermal angular velocity sqrt(kB T / J_min) of the deck's molecule at system.temperature
+/* The higher of system.temperature and run.temperature (the start's and the thermostat's); *key
+ * (if key is not NULL) is "" for system.temperature, " (run.temperature)" for the thermostat's,
+ * for messages. */
+double rl_deck_max_temperature(const rl_deck *d, const char **key);
+/* The thermal angular velocity sqrt(kB T / J_min) of the deck's molecule at that temperature
  * (0 for point particles): a step with h omega > 1 cannot follow the rotation. */
 double rl_deck_thermal_omega(const rl_deck *d);
 

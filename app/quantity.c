@@ -91,6 +91,10 @@ int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, d
       return -1;
     }
   }
+  if ((x != 0 && x * factor == 0) || (isfinite(x) && !isfinite(x * factor))) { /* 1e308 g/cm3 */
+    snprintf(err, errlen, "'%s' is out of range", text);
+    return -1;
+  }
   *out = x * factor;
   return 0;
 }

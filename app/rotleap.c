@@ -89,7 +89,8 @@ static int deck_command(const char *name, int argc, char **argv, int allow_json)
                "virial and pressure, and the force and torque on every molecule (CSV, or one JSON\n"
                "object with --json), in the deck's units.  The pressure's kinetic part uses the\n"
                "start's velocities; from a checkpoint (half a step behind), completed to on-step\n"
-               "with run.timestep, as the run's thermo row for that state.\n");
+               "with run.timestep, as the run's thermo row for that state.  A term, virial element,\n"
+               "pressure, force or torque that is not finite is an error naming it (exit 1).\n");
       else
         printf("Runs the simulation described by DECK.  Writes PREFIX.thermo.csv (a row every\n"
                "output.thermo_every steps) and PREFIX.summary.txt; problems in the deck are all\n"

@@ -6,7 +6,9 @@
 #include "scene.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <stdint.h>
 #include <sys/stat.h>
 #include <stddef.h>
 #include <math.h>
@@ -47,6 +49,21 @@ int rl_app_energy(const rl_deck *d, int json)
     ke += 0.5 * s.mol.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   double P = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &F, ke));
+  /* a NaN is an error naming its term, as in a run, never a number printed with exit 0 */
+  st = scene_check_finite(d, &e, F.virial, P);
+  for (int i = 0; !st && i < n; i++) {
+    const int ri = rl_system_rot_index(s.sys, i);
+    for (int c = 0; c < 3; c++)
+      if (!isfinite(F.f[i][c]) || (ri >= 0 && !isfinite(F.k[ri][c]))) {
+        st = rl_error(RL_ENONFINITE, "the force or torque on molecule %d is not finite", i);
+        break;
+      }
+  }
+  if (st) {
+    fprintf(stderr, "rotleap energy: %s\n", rl_last_error());
+    free(F.f); free(F.k); scene_free(&s);
+    return 1;
+  }
   const char *L = d->units == RL_UNITS_REAL ? "nm" : "reduced";
   if (json) {
     printf("{\"units\": {\"energy\": \"%s\", \"length\": \"%s\", \"force\": \"%s/%s\", \"torque\": \"%s\", "
@@ -100,14 +117,27 @@ static void run_add(running *r, double x)
 }
 static double run_sd(const running *r) { return r->n > 1 ? sqrt(r->m2 / (r->n - 1)) : 0.0; }
 
-/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k. */
-static void thermo_row(FILE *f, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
-                       const running *E)
+/* FNV-1a (64 bits) of a text: the fingerprint of a thermo row, by which a continuation recognises
+ * the file of the run that wrote its checkpoint (run_blob's row_hash). */
+static uint64_t fnv1a(const char *text)
 {
-  fprintf(f, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n",
-          k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
-          info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
-          E->n > 1 ? run_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid);
+  uint64_t h = 14695981039346656037ULL;
+  for (; *text; text++) h = (h ^ (unsigned char)*text) * 1099511628211ULL;
+  return h;
+}
+
+/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k.
+ * Returns its fingerprint. */
+static uint64_t thermo_row(FILE *f, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
+                           const running *E)
+{
+  char row[1024];
+  snprintf(row, sizeof row, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n",
+           k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
+           info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
+           E->n > 1 ? run_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid);
+  fputs(row, f);
+  return fnv1a(row);
 }
 
 /* Write `text` to path atomically (rl_atomic_*: temporary file, fsync, rename). */
@@ -140,7 +170,10 @@ static int newer_or_only(const char *a, const char *b)
  * trajectory is written under a temporary name (path.part) and renamed over any earlier one
  * when the run ends with frames (or without error), so that a run which fails before its first
  * step leaves an earlier run's trajectory as it was.  A continuation of this prefix's run
- * (system.start = prefix.chk) appends in place, after the frames up to its checkpoint. */
+ * (system.start = prefix.chk) appends in place, after the frames up to its checkpoint, to the
+ * trajectory of the run whose thermo rows it keeps (TRAJ_APPEND: the complete one; TRAJ_PART: a
+ * killed run's .part, if newer); a continuation that keeps no rows of that run writes a new one. */
+enum { TRAJ_NEW, TRAJ_APPEND, TRAJ_PART };
 typedef struct {
   long every;
   rl_dcd *dcd;
@@ -149,7 +182,6 @@ typedef struct {
   char path[600], part[640], pdb[600], pdb_part[640];
 } traj;
 
-static int site_model(const scene *s) { return s->mol.kind != RL_KIND_POINT && s->mol.kind != RL_KIND_DIPOLE && s->mol.nsites > 1; }
 
 /* Keep the frames of an extended XYZ file up to step `last` (by their Step= key) and truncate
  * after them: a killed run's frames past its checkpoint go. */
@@ -199,10 +231,10 @@ static int dcd_keep(const char *path, long every, long first, long *keep)
   return 0;
 }
 
-static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int same_prefix)
+static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int mode)
 {
   t->every = d->trajectory_every;
-  const int site = site_model(s);
+  const int site = rl_deck_site_model(&s->mol);
   snprintf(t->path, sizeof t->path, "%s.%s", d->prefix, site ? "dcd" : "xyz");
   snprintf(t->part, sizeof t->part, "%s.part", t->path);
   /* a continuation of this prefix appends; where there is no trajectory yet (the first run
@@ -213,23 +245,29 @@ static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int same_p
     snprintf(t->pdb_part, sizeof t->pdb_part, "%s.part", t->pdb);
   }
   /* a run of this prefix killed without a signal it could catch left its trajectory under the
-   * .part name: a continuation takes that one, if newer than the last complete one */
-  if (s->restart && same_prefix && access(t->part, F_OK) == 0 && newer_or_only(t->part, t->path)) {
+   * .part name: a continuation of that run takes that one, if newer than the last complete one */
+  if (mode == TRAJ_PART && access(t->part, F_OK) == 0 && newer_or_only(t->part, t->path)) {
     if (rename(t->part, t->path))
       return rl_error(RL_EINVAL, "cannot move %s to %s: %s", t->part, t->path, strerror(errno));
     if (site && access(t->pdb_part, F_OK) == 0 && rename(t->pdb_part, t->pdb))
       return rl_error(RL_EINVAL, "cannot move %s to %s: %s", t->pdb_part, t->pdb, strerror(errno));
   }
-  t->fresh = !(s->restart && same_prefix && access(t->path, F_OK) == 0);
+  t->fresh = mode == TRAJ_NEW || access(t->path, F_OK) != 0;
   const char *out = t->fresh ? t->part : t->path;
   if (site) {
-    long keep = 0;
-    if (!t->fresh && dcd_keep(out, t->every, first, &keep)) return 1;
+    /* a new trajectory's PDB is its first state, under the .part name; a continuation keeps the
+     * PDB of the run it continues (its topology and first state, as an uninterrupted run's), and
+     * writes one only if there is none, after its DCD has been opened: a continuation that
+     * fails leaves the PDB as it was */
     const rl_molecule *mols[1] = {&s->mol};
-    if (rl_pdb_write(t->fresh ? t->pdb_part : t->pdb, s->sys, mols, d->box)) return 1;
-    t->dcd = t->fresh ? rl_dcd_create(out, s->sys, first + t->every, t->every, d->timestep, "rotleap")
-                      : rl_dcd_append(out, s->sys, keep);
-    return t->dcd ? 0 : 1;
+    if (t->fresh) {
+      if (rl_pdb_write(t->pdb_part, s->sys, mols, d->box)) return 1;
+      t->dcd = rl_dcd_create(out, s->sys, first + t->every, t->every, d->timestep, "rotleap");
+      return t->dcd ? 0 : 1;
+    }
+    long keep = 0;
+    if (dcd_keep(out, t->every, first, &keep) || !(t->dcd = rl_dcd_append(out, s->sys, keep))) return 1;
+    return access(t->pdb, F_OK) == 0 ? 0 : rl_pdb_write(t->pdb, s->sys, mols, d->box);
   }
   if (!t->fresh && xyz_keep_frames(out, first)) return 1;
   t->xyz = fopen(out, t->fresh ? "w" : "a");
@@ -270,9 +308,12 @@ static int traj_close(traj *t, int keep)
  * from version 3 the neighbour list's origin (rl_forcefield_list_origin: the centres at its last
  * build, which fix the list and the order of the pair sums; without them a restart rebuilds the
  * list from its own centres and continues to round-off only, once the box has a cell grid or the
- * pair loop has threads).  Layout: run_blob, the random state (rng_size bytes), then (version 3)
- * a long count (0 or the number of bodies) and count x 3 doubles. */
-#define RUN_BLOB_MAGIC "rotleap-run-3"
+ * pair loop has threads).  From version 4 it also names the last thermo row its run wrote before
+ * the checkpoint's step (step and FNV-1a hash of the text), so that a continuation takes its
+ * earlier rows from that run's file and no other.  Layout: run_blob, the random state (rng_size
+ * bytes), then (version 3) a long count (0 or the number of bodies) and count x 3 doubles. */
+#define RUN_BLOB_MAGIC "rotleap-run-4"
+#define RUN_BLOB_MAGIC_V3 "rotleap-run-3" /* before the last thermo row */
 #define RUN_BLOB_MAGIC_V2 "rotleap-run-2" /* before the list origin */
 #define RUN_BLOB_MAGIC_V1 "rotleap-run-1" /* before the thermostat and the seed were recorded */
 typedef struct {
@@ -284,30 +325,30 @@ typedef struct {
   /* version 2 */
   long thermostat;    /* rl_thermostat of the run that wrote it; -1: not recorded (version 1) */
   unsigned long seed; /* run.seed its random stream started from */
+  /* version 4 */
+  long row_step;      /* the last row of the run's thermo file before the checkpoint's step; -1:
+                         the file has none; -2: not recorded (versions 1-3) */
+  uint64_t row_hash;  /* fnv1a of that row's text */
 } run_blob;
 #define RUN_BLOB_V1_SIZE offsetof(run_blob, thermostat)
+#define RUN_BLOB_V3_SIZE offsetof(run_blob, row_step)
 
-/* The run record of a checkpoint into *b, the random state following it at blob + *hdr: 3, 2
+/* The run record of a checkpoint into *b, the random state following it at blob + *hdr: 4, 3, 2
  * or 1 (its version), 0 if the checkpoint has none. */
 static int read_blob(const scene *s, run_blob *b, size_t *hdr)
 {
+  static const struct { const char *magic; size_t size; int version; } known[] = {
+      {RUN_BLOB_MAGIC, sizeof(run_blob), 4}, {RUN_BLOB_MAGIC_V3, RUN_BLOB_V3_SIZE, 3},
+      {RUN_BLOB_MAGIC_V2, RUN_BLOB_V3_SIZE, 2}, {RUN_BLOB_MAGIC_V1, RUN_BLOB_V1_SIZE, 1}};
   memset(b, 0, sizeof *b);
-  if (s->blob_size >= sizeof *b && !memcmp(s->blob, RUN_BLOB_MAGIC, sizeof RUN_BLOB_MAGIC)) {
-    memcpy(b, s->blob, sizeof *b);
-    *hdr = sizeof *b;
-    return 3;
-  }
-  if (s->blob_size >= sizeof *b && !memcmp(s->blob, RUN_BLOB_MAGIC_V2, sizeof RUN_BLOB_MAGIC_V2)) {
-    memcpy(b, s->blob, sizeof *b);
-    *hdr = sizeof *b;
-    return 2;
-  }
-  if (s->blob_size >= RUN_BLOB_V1_SIZE && !memcmp(s->blob, RUN_BLOB_MAGIC_V1, sizeof RUN_BLOB_MAGIC_V1)) {
-    memcpy(b, s->blob, RUN_BLOB_V1_SIZE);
-    b->thermostat = -1;
-    *hdr = RUN_BLOB_V1_SIZE;
-    return 1;
-  }
+  b->row_step = -2;
+  for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
+    if (s->blob_size >= known[k].size && !memcmp(s->blob, known[k].magic, strlen(known[k].magic) + 1)) {
+      memcpy(b, s->blob, known[k].size);
+      if (known[k].version == 1) b->thermostat = -1;
+      *hdr = known[k].size;
+      return known[k].version;
+    }
   return 0;
 }
 
@@ -341,10 +382,11 @@ static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const
 /* SIGINT and SIGTERM during the production loop: the step in progress ends, and the run stops
  * as if run.steps had been reached there (checkpoint, thermo rows, summary with status =
  * interrupted), exit status 128 + the signal.  A second signal acts at once (the handler
- * restores the default action).  The handlers stay until the outputs are written; a signal
- * after the last step changes nothing.  Before the loop the default actions apply; a run killed
- * there, or by SIGKILL, leaves its rows in PREFIX.thermo.csv.part, which a continuation of the
- * same prefix reads. */
+ * restores the default action).  The handlers are installed before the thermo file is opened
+ * and stay until the outputs are written; a signal after the last step changes nothing.  Before
+ * that (building, relaxing) the default actions apply, and a run killed there has written
+ * nothing.  A run killed by SIGKILL leaves its rows in PREFIX.thermo.csv.part, which a
+ * continuation of its checkpoint reads. */
 static volatile sig_atomic_t got_signal;
 
 static void on_signal(int sig)
@@ -385,43 +427,76 @@ static int thermo_row_complete(const char *line)
   return commas == 18 && c > line && c[-1] == '\n';
 }
 
-/* A continuation's thermo file: the complete rows before step first of the file at path (the
- * run being continued, same prefix) are copied to out, after its header, so that renaming out
- * over the thermo file loses none of them (rows from first on are the continuation's to write
- * again).  A file with other columns is moved aside to path.prev instead (aside = 1; else left
- * alone), with a note.  Returns 0, or 1 on a read or write error (reported). */
-static int thermo_keep_rows(const char *path, FILE *out, long first, int aside)
+/* The complete rows before step `first` of the thermo file at path: their number in *nrows and
+ * the last of them (its step and fnv1a, or -1 and 0 if none) in *last_step, *last_hash; with
+ * copy_to, they are also copied there.  Returns 1 for a file with THERMO_HEADER's columns, 0 for
+ * one with other columns, -1 if there is no file to read, -2 on a read or write error (reported). */
+static int thermo_scan(const char *path, long first, long *nrows, long *last_step, uint64_t *last_hash, FILE *copy_to)
 {
+  *nrows = 0;
+  *last_step = -1;
+  *last_hash = 0;
   FILE *in = fopen(path, "r");
-  if (!in) return 0; /* no earlier rows under this prefix */
+  if (!in) return -1;
   char *line = NULL;
   size_t cap = 0;
-  int err = 0;
-  if (getline(&line, &cap, in) < 0 || strcmp(line, THERMO_HEADER) != 0) {
-    char prev[760];
-    snprintf(prev, sizeof prev, "%s.prev", path);
-    fclose(in);
-    free(line);
-    if (!aside) return 0;
-    if (rename(path, prev)) {
-      fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", path, prev, strerror(errno));
-      return 1;
-    }
-    fprintf(stderr, "rotleap run: %s has other columns than this run writes; it is kept as %s\n", path, prev);
-    return 0;
-  }
-  while (getline(&line, &cap, in) > 0) {
+  int st = getline(&line, &cap, in) >= 0 && !strcmp(line, THERMO_HEADER);
+  while (st == 1 && getline(&line, &cap, in) > 0) {
     char *end;
-    long step = strtol(line, &end, 10);
-    if (end == line || !thermo_row_complete(line)) continue;
+    const long step = strtol(line, &end, 10);
+    if (end == line || !thermo_row_complete(line)) continue; /* a row torn by a kill */
     if (step >= first) break;
-    if (fputs(line, out) < 0) { err = 1; break; }
+    (*nrows)++;
+    *last_step = step;
+    *last_hash = fnv1a(line);
+    if (copy_to && fputs(line, copy_to) < 0) st = -2;
   }
-  if (ferror(in)) err = 1;
+  if (ferror(in)) st = -2;
   fclose(in);
   free(line);
-  if (err) fprintf(stderr, "rotleap run: cannot copy the earlier rows of %s: %s\n", path, strerror(errno));
-  return err;
+  if (st == -2) fprintf(stderr, "rotleap run: cannot copy the earlier rows of %s: %s\n", path, strerror(errno));
+  return st;
+}
+
+/* Which file holds the rows before step `first` of the run that wrote the checkpoint a
+ * continuation of this prefix starts from (rec): a killed run's .part (a run killed without a
+ * signal it could catch leaves its rows there), the .part.old an earlier run moved aside, or the
+ * thermo file itself.  A file holds them if its last complete row before `first` is the one the
+ * checkpoint names (version 4; none, if it names none), so that no other run's rows are ever
+ * spliced in.  A checkpoint of version 3 or older names no row: a killed run's .part that has
+ * rows is taken if it is newer than the thermo file, else the thermo file. */
+enum { ROWS_NONE, ROWS_PART, ROWS_OLD, ROWS_FILE };
+static int rows_source(const char *part, const char *oldpart, const char *thermo_path, long first,
+                       const run_blob *rec)
+{
+  long nrows, step;
+  uint64_t hash;
+  if (rec->row_step < -1)
+    return thermo_scan(part, first, &nrows, &step, &hash, NULL) == 1 && nrows > 0 && newer_or_only(part, thermo_path)
+               ? ROWS_PART : ROWS_FILE;
+  const char *file[3] = {part, oldpart, thermo_path};
+  for (int k = 0; k < 3; k++)
+    if (thermo_scan(file[k], first, &nrows, &step, &hash, NULL) == 1 && step == rec->row_step &&
+        (step < 0 || hash == rec->row_hash))
+      return k + 1; /* ROWS_PART, ROWS_OLD, ROWS_FILE */
+  return ROWS_NONE;
+}
+
+/* The library's message for a failed step; for a non-finite potential energy, also the term
+ * that is not finite. */
+static void step_error(const rl_deck *d, const scene *s, int st)
+{
+  char msg[1024];
+  snprintf(msg, sizeof msg, "%s", rl_last_error());
+  rl_ff_energies e;
+  if (st == RL_ENONFINITE && s->ff) {
+    rl_forcefield_energies(s->ff, &e);
+    if (scene_check_finite(d, &e, NULL, 0.0)) {
+      fprintf(stderr, "rotleap run: %s: %s\n", msg, rl_last_error());
+      return;
+    }
+  }
+  fprintf(stderr, "rotleap run: %s\n", msg);
 }
 
 int rl_app_run(const rl_deck *d)
@@ -434,21 +509,46 @@ int rl_app_run(const rl_deck *d)
   char chk_path[600], oldpart[720];
   snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
   snprintf(oldpart, sizeof oldpart, "%s.old", part);
-  /* a continuation of this prefix's run: its rows are kept.  If that run was killed (no
-   * signal it could catch), they are only in its .part: moved aside, not truncated */
-  const int same_prefix = d->start[0] && same_file(d->start, chk_path);
-  if (same_prefix && access(part, F_OK) == 0 && rename(part, oldpart)) {
-    fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", part, oldpart, strerror(errno));
-    return 1;
+  { /* no output may overwrite the deck or the start (PREFIX.pdb = water.pdb, say), checked
+     * before anything is written */
+    static const char *const ext[] = {".thermo.csv", ".thermo.csv.part", ".thermo.csv.part.old", ".summary.txt",
+                                      ".chk", ".results.txt", ".rdf.csv", ".tcf.csv", ".dcd", ".dcd.part",
+                                      ".pdb", ".pdb.part", ".xyz", ".xyz.part"};
+    enum { NOUT = sizeof ext / sizeof ext[0], NTRAJ = 6 }; /* the last NTRAJ: trajectory files */
+    char out[NOUT][640];
+    const char *outs[NOUT];
+    rl_molecule m;
+    const int site = !rl_model_build(d->model, d->params, d->force_general, &m) && rl_deck_site_model(&m);
+    int n = 0;
+    for (int k = 0; k < NOUT; k++) {
+      const int traj = k >= NOUT - NTRAJ, xyz = k >= NOUT - 2;
+      if (traj && (d->trajectory_every == 0 || xyz == site)) continue;
+      snprintf(out[n], sizeof out[n], "%s%s", d->prefix, ext[k]);
+      outs[n] = out[n];
+      n++;
+    }
+    if (scene_check_outputs(d, outs, n)) {
+      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+      return 1;
+    }
   }
-  FILE *thermo = fopen(part, "w");
-  if (!thermo) {
-    fprintf(stderr, "rotleap run: cannot write %s: %s (output.prefix = %s)\n", part, strerror(errno), d->prefix);
-    return 1;
+  /* a continuation of this prefix's run (its rows are kept) */
+  const int same_prefix = d->start[0] && same_file(d->start, chk_path);
+  { /* an unwritable prefix is an error before the scene is built and relaxed; the thermo file
+     * itself is opened only when the run is about to step (below) */
+    char probe[740];
+    snprintf(probe, sizeof probe, "%s.probe.%ld", part, (long)getpid());
+    const int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd < 0) {
+      fprintf(stderr, "rotleap run: cannot write %s: %s (output.prefix = %s)\n", part, strerror(errno), d->prefix);
+      return 1;
+    }
+    close(fd);
+    unlink(probe);
   }
   if (scene_build(d, &s)) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-    fclose(thermo); remove(part); scene_free(&s);
+    scene_free(&s);
     return 1;
   }
   int progress = d->progress < 0 ? isatty(fileno(stderr)) : d->progress;
@@ -485,18 +585,17 @@ int rl_app_run(const rl_deck *d)
   }
   if (!st) {
     st = !in ? RL_EINVAL : s.restart ? RL_OK : rl_integrator_init(in);
-    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    if (st) step_error(d, &s, st);
   }
-  fputs(THERMO_HEADER, thermo);
   running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
   long first = 0;
   if (!st && s.restart) { /* continue: forces at t, no re-staggering, bookkeeping restored */
     if (!ver) {
       st = rl_error(RL_EINVAL, "%s was not written by rotleap run (no run record)", d->start);
     } else {
-      const size_t rest = ver == 3 ? s.blob_size - hdr - rec.rng_size : 0; /* the list's origin */
+      const size_t rest = ver >= 3 ? s.blob_size - hdr - rec.rng_size : 0; /* the list's origin */
       long count = -1;
-      if (ver == 3 && s.blob_size >= hdr + rec.rng_size + sizeof count)
+      if (ver >= 3 && s.blob_size >= hdr + rec.rng_size + sizeof count)
         memcpy(&count, (unsigned char *)s.blob + hdr + rec.rng_size, sizeof count);
       const int list_ok = ver < 3 || ((count == 0 || count == n) &&
                                       rest == sizeof count + sizeof(double[3]) * (size_t)(count > 0 ? count : 0));
@@ -536,19 +635,57 @@ int rl_app_run(const rl_deck *d)
     }
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
-  /* a continuation of this prefix keeps the rows before its first step: from the thermo file,
-   * or from a killed run's .part if that is newer */
-  const int from_old = same_prefix && newer_or_only(oldpart, thermo_path);
-  if (!st && s.restart && same_prefix &&
-      thermo_keep_rows(from_old ? oldpart : thermo_path, thermo, first, !from_old))
-    st = RL_EINVAL;
+  /* Signals are caught from here on: a run stopped before this point has written nothing. */
+  got_signal = 0;
+  catch_signals(1);
+  /* The thermo file, opened now that the run is about to step.  A continuation of this prefix
+   * starts it with the rows before its first step of the run that wrote its checkpoint
+   * (rows_source), and appends to that run's trajectory.  A killed run's .part that is not read
+   * is moved aside to .part.old, and back if this run fails before its first step. */
+  FILE *thermo = NULL;
+  int rows = ROWS_NONE, moved_part = 0, aside = 0, traj_mode = TRAJ_NEW;
+  long row_step = -1, nrows = 0; /* the last row written before the step at hand, for checkpoints */
+  uint64_t row_hash = 0;
+  if (!st) {
+    const int cont = s.restart && same_prefix;
+    if (cont) rows = rows_source(part, oldpart, thermo_path, first, &rec);
+    if (cont && rows == ROWS_NONE && access(thermo_path, F_OK) == 0) {
+      fprintf(stderr, "rotleap run: warning: neither %s nor a killed run's %s holds the rows of the run that wrote %s "
+                      "(its last row before step %ld): this run writes its own rows from step %ld and a new "
+                      "trajectory; %s is kept as %s.prev\n", thermo_path, part, d->start, first, first, thermo_path,
+              thermo_path);
+      aside = 1;
+    }
+    traj_mode = !cont || rows == ROWS_NONE || rows == ROWS_OLD ? TRAJ_NEW : rows == ROWS_PART ? TRAJ_PART : TRAJ_APPEND;
+    if (rows != ROWS_OLD && access(part, F_OK) == 0) {
+      if (rename(part, oldpart))
+        st = rl_error(RL_EINVAL, "cannot move %s aside to %s: %s", part, oldpart, strerror(errno));
+      else moved_part = 1;
+    }
+    if (!st && !(thermo = fopen(part, "w"))) {
+      st = rl_error(RL_EINVAL, "cannot write %s: %s (output.prefix = %s)", part, strerror(errno), d->prefix);
+      if (moved_part) rename(oldpart, part);
+    }
+    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    else {
+      fputs(THERMO_HEADER, thermo);
+      const int got = rows == ROWS_NONE ? -1 : thermo_scan(rows == ROWS_FILE ? thermo_path : oldpart, first, &nrows,
+                                                           &row_step, &row_hash, thermo);
+      if (got == -2) st = RL_EINVAL;
+      else if (got == 0) { /* the thermo file of an older rotleap (a version 3 checkpoint) */
+        fprintf(stderr, "rotleap run: %s has other columns than this run writes; it is kept as %s.prev\n",
+                thermo_path, thermo_path);
+        aside = 1;
+      }
+    }
+  }
   double t0 = now(), last_progress = 0.0;
   long done = 0, fallbacks = 0;
   int nrot = rl_system_nrot(s.sys);
   rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}, 0};
   rl_forces *fsnap = &fsnap_store;
   traj tr = {0};
-  if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first, same_prefix)) {
+  if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first, traj_mode)) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
@@ -559,9 +696,7 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
-  got_signal = 0;
-  catch_signals(1);
-  int stopped = 0; /* the signal that ended the loop */
+  int stopped = 0, wrote_chk = 0; /* the signal that ended the loop; a checkpoint was written */
   for (long k = first; !st && k < d->steps; k++) {
     if (got_signal) {
       stopped = got_signal;
@@ -585,7 +720,7 @@ int rl_app_run(const rl_deck *d)
     rl_step_info info;
     st = rl_integrator_step(in, &info);
     if (st) { /* the library's message names the step and the cause */
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+      step_error(d, &s, st);
       break;
     }
     if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
@@ -602,6 +737,10 @@ int rl_app_run(const rl_deck *d)
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, virial, sizeof virial);
       pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+      if ((st = scene_check_finite(d, &e, virial, pr))) {
+        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
+        break;
+      }
       analysis_step(an, &info, pr, fsnap, s.sys);
       run_add(&E, info.total);
       run_add(&U, info.potential);
@@ -619,15 +758,18 @@ int rl_app_run(const rl_deck *d)
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
       st = RL_EINVAL;
     }
+    if (k % d->thermo_every == 0) {
+      row_hash = thermo_row(thermo, k, &info, &e, pr, &E);
+      row_step = k;
+    }
     if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps) {
-      fflush(thermo); /* the rows up to the checkpoint reach the .part file before it does */
-      run_blob b = {"", 0, E, U, T, Tt, Tr, P, k + 1, 0, 0, 0};
+      fflush(thermo); /* every row before the checkpoint's step reaches the .part file before it */
+      run_blob b = {"", 0, E, U, T, Tt, Tr, P, k + 1, 0, 0, 0, row_step, row_hash};
       if (write_checkpoint(d, &s, in, &b, chk_path)) {
         fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
         st = RL_EINVAL;
-      }
+      } else wrote_chk = 1;
     }
-    if (k % d->thermo_every == 0) thermo_row(thermo, k, &info, &e, pr, &E);
     if (progress && now() - last_progress > 0.5) {
       double el = now() - t0, frac = (double)(k + 1) / d->steps;
       double nsday = d->units == RL_UNITS_REAL ? (k + 1) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
@@ -646,7 +788,9 @@ int rl_app_run(const rl_deck *d)
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, rl_integrator_forces(in)->virial, sizeof Ft.virial);
       const double pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
-      thermo_row(thermo, first + done, &info, &e, pr, &E);
+      if ((st = scene_check_finite(d, &e, Ft.virial, pr)))
+        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", first + done, info.t, rl_last_error());
+      else thermo_row(thermo, first + done, &info, &e, pr, &E);
     }
   }
   if (in) fallbacks = rl_integrator_fallbacks(in);
@@ -661,21 +805,30 @@ int rl_app_run(const rl_deck *d)
   free(fsnap_store.f);
   free(fsnap_store.k);
   if (!st && in) { /* the final state, for a continuation */
-    run_blob b = {"", 0, E, U, T, Tt, Tr, P, first + done, 0, 0, 0};
+    run_blob b = {"", 0, E, U, T, Tt, Tr, P, first + done, 0, 0, 0, row_step, row_hash};
+    fflush(thermo);
     if (write_checkpoint(d, &s, in, &b, chk_path)) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       st = RL_EINVAL;
-    }
+    } else wrote_chk = 1;
   }
   if (progress) fputc('\n', stderr);
   double wall = now() - t0;
   /* the rows already written are kept whatever happened: close and rename; a run that failed
    * before its first step has none, and leaves the thermo file of an earlier run as it was */
-  int io_ok = fclose(thermo) == 0;
-  if (st && done == 0) remove(part);
-  else {
+  int io_ok = !thermo || fclose(thermo) == 0;
+  if (!thermo) { /* nothing was written */
+  } else if (st && done == 0) {
+    remove(part);
+    if (moved_part) rename(oldpart, part);
+  } else {
+    char prev[760];
+    snprintf(prev, sizeof prev, "%s.prev", thermo_path);
+    if (aside && access(thermo_path, F_OK) == 0 && rename(thermo_path, prev))
+      fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", thermo_path, prev, strerror(errno));
     io_ok = io_ok && rename(part, thermo_path) == 0;
-    if (io_ok && same_prefix) remove(oldpart); /* its rows are in the new file (or superseded) */
+    /* a killed run's rows moved aside are superseded once this run has a checkpoint */
+    if (io_ok && wrote_chk) remove(oldpart);
   }
   if (!io_ok) fprintf(stderr, "rotleap run: cannot write %s: %s\n", thermo_path, strerror(errno));
   /* the averages over this run's steps with energies (none: n/a, not zeros) */
@@ -690,6 +843,7 @@ int rl_app_run(const rl_deck *d)
   /* relative fluctuations (0 with fewer than two steps; n/a where a mean is 0) */
   const double calE = E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, calU = U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0;
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
+  const int mode = scene_drift_mode(d, watch.alt_at_max); /* the isokinetic scheme's, not the step's */
   snprintf(text, sizeof text,
            "# rotleap %s summary of %s\n"
            "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
@@ -712,11 +866,19 @@ int rl_app_run(const rl_deck *d)
            rel_fluct_text(cEU, sizeof cEU, calU > 0 ? calE / calU : U.n > 1 ? NAN : 0.0),
            scene_rigidity_error(s.sys), watch.max_rate, tunit, SCENE_WINDOW, tunit,
            watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window",
-           fabs(watch.max_rate) > SCENE_DRIFT_WARN
-               ? "warning = the conserved energy drifts: integration error is heating or cooling the system; "
-                 "a smaller time step will change the results\n"
-               : "");
-  if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
+           fabs(watch.max_rate) <= SCENE_DRIFT_WARN ? ""
+           : mode ? "warning = the conserved energy drifts: the isokinetic thermostat's undamped step-to-step "
+                    "alternation of the kinetic energy (a start out of equilibrium at run.temperature), not the time step; "
+                    "relax the start at run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n"
+                  : "warning = the conserved energy drifts: integration error is heating or cooling the system; "
+                    "a smaller time step will change the results\n");
+  if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st && mode)
+    fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the kinetic "
+                    "energy alternates from step to step by +-%.2g %% of run.temperature, the isokinetic scheme's "
+                    "undamped mode (a start out of equilibrium at run.temperature), not the time step: relax the start at "
+                    "run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n", watch.max_rate, tunit,
+            100.0 * watch.alt_at_max);
+  else if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
     fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
                     "step %g is too large for accurate dynamics\n", watch.max_rate, tunit,
             d->timestep);

@@ -16,6 +16,7 @@
 #include "scene.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +25,9 @@
 #include <unistd.h>
 
 #define SCAN_MAX 64 /* time steps and integrators each */
+/* Steps of one run at most: a scan compares many runs, and 1e9 steps is already days for 64
+ * molecules; it keeps every count of the run (calE curve points) in an int. */
+#define SCAN_MAX_STEPS 1000000000L
 
 typedef struct {
   int integ;          /* index into rl_deck_integrators */
@@ -128,17 +132,28 @@ static int rdf_pair(const rl_deck *d, const rl_molecule *m, int site[2], char *n
   return 0;
 }
 
+/* The steps of a run at time step h: --steps, or --time / h, or run.steps (unchecked). */
+static double run_steps_exact(const rl_deck *d, const scan_opts *o, double h)
+{
+  return o->time > 0 ? o->time / h : (double)(o->steps > 0 ? o->steps : d->steps);
+}
+static long run_steps(const rl_deck *d, const scan_opts *o, double h)
+{
+  const double x = run_steps_exact(d, o, h);
+  return x < 2.0 ? 2 : x > (double)SCAN_MAX_STEPS ? SCAN_MAX_STEPS : lround(x);
+}
+
 /* One run from a clone of `start`.  Fills r (ok = 0 with the error on failure). */
 static void one_run(const rl_deck *d, const scene *base, const rl_system *start, const scan_opts *o,
                     const int site[2], scan_run *r)
 {
   const int n = d->count;
   const long thermo = d->thermo_every > 0 ? d->thermo_every : 100;
-  r->steps = o->time > 0 ? lround(o->time / r->h) : (o->steps > 0 ? o->steps : d->steps);
-  if (r->steps < 2) r->steps = 2;
+  r->steps = run_steps(d, o, r->h); /* 2 .. SCAN_MAX_STEPS: checked before the scan */
   long sample = 0;
-  if (d->sample_every > 0) {
-    sample = lround(d->sample_every * d->timestep / r->h);
+  if (d->sample_every > 0) { /* the deck's sampling interval in time; beyond the run: none */
+    const double x = d->sample_every * d->timestep / r->h;
+    sample = x > (double)r->steps ? r->steps + 1 : lround(x);
     if (sample < 1) sample = 1;
   }
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
@@ -146,14 +161,16 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   rl_forcefield *ff = sys ? scene_forcefield(d, &base->mol, sys) : NULL;
   rl_series *E = rl_series_alloc(), *U = rl_series_alloc();
   r->rdf = sample ? rl_rdf_alloc(0.5 * Lmin, 200) : NULL;
-  r->curve = malloc(sizeof *r->curve * (size_t)(r->steps / thermo + 2));
+  int cap = (int)(r->steps / thermo + 2 < 4096 ? r->steps / thermo + 2 : 4096); /* grows with the run */
+  r->curve = malloc(sizeof *r->curve * (size_t)cap);
   rl_integrator *in = NULL;
   analysis *an = o->analysis && sys ? analysis_alloc(d, &base->mol, sys) : NULL;
   int nrot = sys ? rl_system_nrot(sys) : 0;
   rl_forces snap = {o->analysis ? calloc((size_t)n, sizeof(double[3])) : NULL,
                     o->analysis ? calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])) : NULL, 0.0, {0}, 0};
-  int st = !sys || !ff || !E || !U || !r->curve || (sample && !r->rdf) ||
-           (o->analysis && (!an || !snap.f || !snap.k)) ? RL_EINVAL : RL_OK;
+  int st = !sys || !ff || (o->analysis && !an) ? RL_EINVAL : RL_OK; /* these say why */
+  if (!st && (!E || !U || !r->curve || (sample && !r->rdf) || (o->analysis && (!snap.f || !snap.k))))
+    st = rl_error(RL_ENOMEM, "out of memory for the run's accumulators (%d molecules)", n);
   if (!st) {
     rl_integrator_params p;
     rl_integrator_params_default(&p);
@@ -194,6 +211,15 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     r->max_h_omega = fmax(r->max_h_omega, info.max_h_omega);
     done++;
     if (k % thermo == 0 || k + 1 == r->steps) {
+      if (r->ncurve == cap) {
+        void *grown = cap < INT_MAX / 2 ? realloc(r->curve, sizeof *r->curve * (size_t)cap * 2) : NULL;
+        if (!grown) {
+          st = rl_error(RL_ENOMEM, "step %ld: out of memory for the calE curve (%d points)", k, cap);
+          break;
+        }
+        r->curve = grown;
+        cap *= 2;
+      }
       double *c = r->curve[r->ncurve++];
       c[0] = (double)k; c[1] = info.t; c[2] = done > 1 ? rl_series_rel_fluct(E) : 0.0;
     }
@@ -246,6 +272,15 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   rl_system_free(sys);
 }
 
+/* The RDF distance as text: "n/a" where either run sampled no configuration (as the summary
+ * says for averages over no step), never "nan". */
+static const char *rdf_text(char *buf, size_t len, const char *fmt, double x)
+{
+  if (isnan(x)) snprintf(buf, len, "n/a");
+  else snprintf(buf, len, fmt, x);
+  return buf;
+}
+
 static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const scan_run *runs, int nruns,
                         const char *rdfname)
 {
@@ -265,10 +300,12 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
           "rdf", "iter", "ms/step", real ? "ns/day" : "", "status");
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
-    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f %8.4f %6.2f %9.3f %9.3g  %s\n",
+    char rdf[32];
+    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f %8s %6.2f %9.3f %9.3g  %s\n",
             rl_deck_integrators[r->integ].name, r->h * hs, r->done, r->calE, r->calU,
             r->calU > 0 ? 100.0 * r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->t_trans, r->t_rot,
-            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, r->rdf_dist, r->iterations, 1e3 * r->wall_per_step,
+            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, rdf_text(rdf, sizeof rdf, "%.4f", r->rdf_dist),
+            r->iterations, 1e3 * r->wall_per_step,
             r->ns_day, r->ok ? "ok" : r->error);
   }
   fprintf(f, "# largest time step with calE/calU <= %.3g%% (and no error):\n", 100.0 * o->tolerance);
@@ -312,10 +349,12 @@ static int write_outputs(const rl_deck *d, const scan_opts *o, const char *prefi
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
     int meets = r->ok && r->calU > 0 && r->calE <= o->tolerance * r->calU;
-    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%.6e,%.6e,%.6g,%s,",
+    char rdf[32];
+    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%s,%.6e,%.6g,%s,",
             rl_deck_integrators[r->integ].name, r->h * (real ? 1e3 : 1.0), r->steps, r->done, r->calE, r->calU,
             r->calU > 0 ? r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->iterations, r->max_h_omega,
-            r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, r->rdf_dist, r->wall_per_step,
+            r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0,
+            rdf_text(rdf, sizeof rdf, "%.6e", r->rdf_dist), r->wall_per_step,
             r->ns_day, meets ? "yes" : "no");
     csv_text(af.fp, r->ok ? "ok" : r->error);
     fputc('\n', af.fp);
@@ -384,7 +423,8 @@ static void usage(FILE *f)
   for (int i = 0; i < rl_deck_nintegrators; i++) fprintf(f, " %s", rl_deck_integrators[i].name);
   fprintf(f,
           "\n  --steps N          steps per run (default run.steps): the same number for every step size\n"
-          "  --time T           instead, the same simulated time per run, e.g. \"10 ps\"\n"
+          "  --time T           instead, the same simulated time per run, e.g. \"10 ps\"; a run has 2 to\n"
+          "                     1e9 steps (refused otherwise, before anything runs)\n"
           "  --tolerance X      calE/calU tolerance, \"5%%\" or 0.05 (default 5%%)\n"
           "  --no-plot          skip PREFIX.scan_calE.png and PREFIX.scan_pareto.png\n"
           "  --analysis         also write each run's analysis, as rotleap run does (output.rdf,\n"
@@ -442,11 +482,13 @@ int rl_app_scan(int argc, char **argv)
   if (ts) bad |= parse_timesteps(ts, ts_unit, d.units, &o, err, sizeof err) != 0;
   else { o.h[0] = d.timestep; o.nh = 1; }
   double w = rl_deck_thermal_omega(&d);
+  const char *tkey;
+  const double T = rl_deck_max_temperature(&d, &tkey);
   for (int j = 0; !bad && j < o.nh; j++)
     if (o.h[j] * w > 1.0) {
-      snprintf(err, sizeof err, "--timesteps: %g %s is too large for %s at %g %s: h times the thermal angular "
-               "velocity is %.3g > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
-               d.model->name, d.temperature, rl_dim_unit(Q_TEMPERATURE, d.units), o.h[j] * w);
+      snprintf(err, sizeof err, "--timesteps: %g %s is too large for %s at %g %s%s: h times the thermal "
+               "angular velocity is %.3g > 1, no step can follow the rotation", o.h[j], rl_dim_unit(Q_TIME, d.units),
+               d.model->name, T, rl_dim_unit(Q_TEMPERATURE, d.units), tkey, o.h[j] * w);
       bad = 1;
     }
   if (!bad && integ) bad |= parse_integrators(integ, &o, err, sizeof err) != 0;
@@ -466,6 +508,26 @@ int rl_app_scan(int argc, char **argv)
     bad = 1;
   }
   if (!bad && steps && time) { snprintf(err, sizeof err, "give --steps or --time, not both"); bad = 1; }
+  /* every run between 2 and SCAN_MAX_STEPS steps (the time steps are sorted) */
+  if (!bad && o.nh > 0) {
+    const char *what = time ? "--time" : steps ? "--steps" : "run.steps";
+    const double most = run_steps_exact(&d, &o, o.h[0]), least = run_steps_exact(&d, &o, o.h[o.nh - 1]);
+    const double hs = d.units == RL_UNITS_REAL ? 1e3 : 1.0;
+    const char *hu = d.units == RL_UNITS_REAL ? " fs" : "";
+    char given[64];
+    snprintf(given, sizeof given, "%.40s", time ? time : steps ? steps : "");
+    if (!time && !steps) snprintf(given, sizeof given, "= %ld", d.steps);
+    if (!(most <= (double)SCAN_MAX_STEPS)) {
+      snprintf(err, sizeof err, "%s %s is %.3g steps at h = %g%s: a scan run takes at most %ld (give %s)",
+               what, given, most, o.h[0] * hs, hu, SCAN_MAX_STEPS,
+               time ? "a shorter --time" : steps ? "fewer --steps" : "--steps or --time");
+      bad = 1;
+    } else if (time && !(lround(least) >= 2)) {
+      snprintf(err, sizeof err, "--time %s is %.3g steps at h = %g%s: a run needs at least 2", given, least,
+               o.h[o.nh - 1] * hs, hu);
+      bad = 1;
+    }
+  }
   if (!bad && tol) {
     char *end;
     o.tolerance = strtod(tol, &end);
@@ -473,6 +535,19 @@ int rl_app_scan(int argc, char **argv)
     if (*end || !(o.tolerance > 0)) { snprintf(err, sizeof err, "--tolerance: '%s' is not a positive fraction or percentage", tol); bad = 1; }
   }
   if (bad) { fprintf(stderr, "rotleap scan: %s\n", err); return 2; }
+  { /* none of the scan's files may overwrite the deck or the start */
+    static const char *const ext[] = {".scan.csv", ".scan_calE.csv", ".scan.txt", ".scan_calE.png", ".scan_pareto.png"};
+    char out[5][640];
+    const char *outs[5];
+    for (int k = 0; k < 5; k++) {
+      snprintf(out[k], sizeof out[k], "%s%s", d.prefix, ext[k]);
+      outs[k] = out[k];
+    }
+    if (scene_check_outputs(&d, outs, 5)) {
+      fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
+      return 1;
+    }
+  }
 
   scene s;
   if (scene_build(&d, &s) || scene_relax(&d, &s) || scene_onstep(&d, &s)) {

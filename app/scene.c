@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int scene_build(const rl_deck *d, scene *s)
 {
@@ -34,13 +35,49 @@ int scene_build(const rl_deck *d, scene *s)
     double rms;
     if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
   } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
-  for (int c = 0; c < 3; c++)
-    if (box[0] > 0 && fabs(box[c] - d->box[c]) > 1e-6 * d->box[c])
-      return rl_error(RL_EINVAL, "the box of %s (%g %g %g) differs from the deck's (%g %g %g)", d->start,
-                      box[0], box[1], box[2], d->box[0], d->box[1], d->box[2]);
+  /* the start's box must be the deck's, to the precision its file holds: a PDB's CRYST1 has
+   * 0.001 file units (A, or sigma in reduced units; GROMACS and OpenMM write it so too), so the
+   * box a deck with a density writes to PDB (1.24172 nm as 12.417 A) starts that deck again.  A
+   * checkpoint and rotleap's XYZ (%.10f) hold the box to 1e-6 relative and better.  The run uses
+   * the deck's box. */
+  const int pdb = !strcmp(ext, ".pdb");
+  const double file_unit = d->units == RL_UNITS_REAL ? 0.1 : 1.0; /* A or sigma, in nm or sigma */
+  for (int c = 0; c < 3; c++) {
+    const double tol = pdb ? 1e-3 * file_unit * (1.0 + 1e-9) : 1e-6 * d->box[c];
+    if (box[0] > 0 && !(fabs(box[c] - d->box[c]) <= tol)) {
+      const char *lu = rl_dim_unit(Q_LENGTH, d->units);
+      return rl_error(RL_EINVAL, "the box of %s (%g %g %g %s) differs from the deck's (%g %g %g %s) by more than %s",
+                      d->start, box[0], box[1], box[2], lu, d->box[0], d->box[1], d->box[2], lu,
+                      pdb ? (d->units == RL_UNITS_REAL ? "0.001 A, the resolution of its CRYST1 record"
+                                                       : "0.001 sigma, the resolution of its CRYST1 record")
+                          : "1e-6 relative");
+    }
+  }
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
   s->ff = scene_forcefield(d, &s->mol, s->sys);
   return s->ff ? 0 : 1;
+}
+
+static int ends_with(const char *s, const char *tail)
+{
+  const size_t n = strlen(s), m = strlen(tail);
+  return n >= m && !strcmp(s + n - m, tail);
+}
+
+int scene_check_outputs(const rl_deck *d, const char *const *paths, int n)
+{
+  struct stat sd, ss, so;
+  const int deck = stat(d->path, &sd) == 0, start = d->start[0] && stat(d->start, &ss) == 0;
+  for (int i = 0; i < n; i++) {
+    if (stat(paths[i], &so)) continue; /* not there: it cannot be either */
+    if (deck && so.st_dev == sd.st_dev && so.st_ino == sd.st_ino)
+      return rl_error(RL_EINVAL, "the output %s would overwrite the deck %s: give another output.prefix (now %s)",
+                      paths[i], d->path, d->prefix);
+    if (start && so.st_dev == ss.st_dev && so.st_ino == ss.st_ino && !(ends_with(paths[i], ".chk") && ends_with(d->start, ".chk")))
+      return rl_error(RL_EINVAL, "the output %s would overwrite system.start = %s: give another output.prefix (now %s)",
+                      paths[i], d->start, d->prefix);
+  }
+  return RL_OK;
 }
 
 double scene_skin(const rl_deck *d, const rl_molecule *mol)
@@ -115,7 +152,12 @@ int scene_relax(const rl_deck *d, scene *s)
 void scene_watch_init(scene_watch *w)
 {
   memset(w, 0, sizeof *w);
-  w->prevE = NAN;
+  w->prevE = w->T1 = w->T2 = NAN;
+}
+
+int scene_drift_mode(const rl_deck *d, double alt)
+{
+  return d->thermostat == RL_THERMO_ISOKINETIC && alt > SCENE_ALT_MODE;
 }
 
 /* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
@@ -166,19 +208,45 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
                       "box edge %.3g: the run blew up; reduce %s (now %g)%s", k, info->t, tu, i,
                       step, Lmin, dt_name, h, hint);
   }
-  if (!ev || w->relax) return RL_OK;
+  if (w->relax) return RL_OK;
+  /* the step-to-step alternation of the temperature, on every step: the isokinetic scheme's
+   * period-2 mode (scene_drift_mode) */
+  if (isfinite(w->T2)) {
+    w->alt_sum += 0.25 * fabs(info->temperature - 2.0 * w->T1 + w->T2);
+    w->alt_n++;
+  }
+  w->T2 = w->T1;
+  w->T1 = info->temperature;
+  if (!ev) return RL_OK;
   if (!w->open) {
     w->open = 1;
     w->step0 = k;
     w->t0 = info->t;
     w->c0 = info->conserved;
+    w->alt_sum = 0.0;
+    w->alt_n = 0;
   } else if (k - w->step0 >= 50 && info->t - w->t0 >= SCENE_WINDOW) {
     double rate = (info->conserved - w->c0) / (d->count * kT * (info->t - w->t0));
-    if (fabs(rate) > fabs(w->max_rate)) w->max_rate = rate;
+    const double T0 = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
+    const double alt = w->alt_n > 0 && T0 > 0 ? w->alt_sum / w->alt_n / T0 : 0.0;
+    if (fabs(rate) > fabs(w->max_rate)) {
+      w->max_rate = rate;
+      w->alt_at_max = alt;
+    }
     w->open = 0;
     /* the isokinetic scheme's sum is not an exact invariant (integrator.h), but a sound run keeps
      * it flat (rl at 10 fs); Fincham's isokinetic run at 4 fs drifted 7 kT per molecule per ps
-     * while T_trans fell to 231 K and T_rot rose to 468 K (bench/paper): it stops too */
+     * while T_trans fell to 231 K and T_rot rose to 468 K (bench/paper): it stops too.  A start far
+     * from run.temperature drifts at any step: then the message says so (scene_drift_mode) */
+    if (fabs(rate) > SCENE_DRIFT_ERROR && scene_drift_mode(d, alt))
+      return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
+                      "%s over the last %g %s (more than %g): this is the isokinetic thermostat, not the time step: "
+                      "eqs. 17-18 (run.ensemble = nvt-isokinetic) hold only the on-step temperature at "
+                      "run.temperature, and the kinetic energy alternates from step to step by +-%.2g %% of it, a "
+                      "mode the scheme never damps, excited by a start out of equilibrium at run.temperature; reducing %s "
+                      "does not remove it.  Relax the start at run.temperature first (run.equilibrate, with "
+                      "system.temperature = run.temperature or not given), or use run.ensemble = nvt-bussi", k, info->t, tu, rate, tu, info->t - w->t0, tu, SCENE_DRIFT_ERROR,
+                      100.0 * alt, dt_name);
     if (fabs(rate) > SCENE_DRIFT_ERROR)
       return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
                       "%s over the last %g %s (more than %g): integration error is %s the system; reduce %s "
@@ -209,6 +277,27 @@ double scene_rigidity_error(const rl_system *s)
                                  (a == b)));
   }
   return worst;
+}
+
+int scene_check_finite(const rl_deck *d, const rl_ff_energies *e, const double *virial, double pressure)
+{
+  char disp[96];
+  snprintf(disp, sizeof disp, "interactions.dispersion_correction at interactions.cutoff = %g", d->ff.cutoff);
+  const struct { const char *name, *from; double x; } terms[] = {
+      {"Lennard-Jones energy", "the model's LJ sites, interactions.lj", e->lj},
+      {"Coulomb energy", "the model's charges, interactions.eps_rf", e->coulomb},
+      {"dipolar energy", "the model's dipoles", e->dipolar},
+      {"quadrupolar energy", "the model's quadrupoles", e->quadrupolar},
+      {"dispersion correction", disp, e->dispersion},
+      {"total energy", "the sum of the terms", e->total},
+      {"pressure", "the virial", pressure}};
+  for (size_t k = 0; k < sizeof terms / sizeof terms[0]; k++)
+    if (!isfinite(terms[k].x))
+      return rl_error(RL_ENONFINITE, "the %s is %g, not finite (%s)", terms[k].name, terms[k].x, terms[k].from);
+  for (int k = 0; virial && k < 9; k++)
+    if (!isfinite(virial[k]))
+      return rl_error(RL_ENONFINITE, "virial element %d%d is %g: not finite", k / 3 + 1, k % 3 + 1, virial[k]);
+  return RL_OK;
 }
 
 double scene_pressure_out(const rl_deck *d, double p)
