@@ -29,7 +29,7 @@ typedef struct {
 
 enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
-  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL,
+  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_PROGRESS, NKEYS
 };
@@ -54,6 +54,7 @@ static const key_def keys[NKEYS] = {
     [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles: reaction field or shifted force"},
     [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff, growing at large steps as sqrt(v h / 0.0015 cutoff) (v the thermal speed sqrt(3kT/m)) up to 0.25 cutoff: 0.1 cutoff for TIP4P up to 2 fs, 0.2 at 8 fs. The summary prints the skin used"},
     [K_KERNEL] = {"interactions", "kernel", K_CHOICE, Q_NONE, "auto", "auto|general", "auto: pair kernels specialised by site pattern (TIP4P, charges+LJ, Stockmayer), threaded; general: the serial reference routine (docs/interactions.md)"},
+    [K_PRECISION] = {"interactions", "precision", K_CHOICE, Q_NONE, "double", "double|mixed", "double: every pair term in double precision; mixed: the TIP4P kernel's terms in single precision on CPUs with AVX2 (sums, energies and virial double, as GROMACS's default build and OpenMM's CPU platform), about 1e-6 relative; other models and CPUs stay double. The summary prints the precision used (docs/interactions.md)"},
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
     [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion|rl-hybrid|fincham|no-squish", "revised leapfrog: guarded cubic (rl), exact solve, quaternion variant; baselines (matrix bodies only): the paper's hybrid, Fincham's implicit quaternion leapfrog, NO_SQUISH (docs/integrators.md)"},
@@ -528,6 +529,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!(d->ff.eps_rf >= 1.0)) problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
   d->ff.dipole_method = choice(&r, K_DIPOLE) ? RL_DIPOLE_SF : RL_DIPOLE_RF;
   d->ff.kernel = choice(&r, K_KERNEL) ? RL_KERNEL_GENERAL : RL_KERNEL_AUTO;
+  d->ff.precision = choice(&r, K_PRECISION) ? RL_PRECISION_MIXED : RL_PRECISION_DOUBLE;
   if (r.val[K_SKIN]) {
     d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
     if (!r.bad[K_SKIN] && !(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");

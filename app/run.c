@@ -849,7 +849,7 @@ int rl_app_run(const rl_deck *d)
            "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
            "timestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\n"
            "neighbour_list = skin %.4g %s, %ld builds in this invocation\n"
-           "pair_kernels = %s (%s rows, %d thread(s))\nwall_seconds = %.3f\nfallbacks = %ld\n"
+           "pair_kernels = %s (%s rows, %d thread(s), %s precision)\nwall_seconds = %.3f\nfallbacks = %ld\n"
            "U_per_molecule = %s\n"
            "temperature = %s\n"
            "pressure = %s\n"
@@ -860,7 +860,7 @@ int rl_app_run(const rl_deck *d)
            d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every,
            scene_skin(d, &s.mol), rl_dim_unit(Q_LENGTH, d->units), s.ff ? rl_forcefield_rebuilds(s.ff) : 0L,
            s.ff ? rl_forcefield_kernel(s.ff) : "none", s.ff ? rl_forcefield_rows(s.ff) : "no",
-           s.ff ? rl_forcefield_threads(s.ff) : 1, wall, fallbacks,
+           s.ff ? rl_forcefield_threads(s.ff) : 1, s.ff ? rl_forcefield_precision(s.ff) : "double", wall, fallbacks,
            au, at, ap,
            rel_fluct_text(cE, sizeof cE, calE), rel_fluct_text(cU, sizeof cU, calU),
            rel_fluct_text(cEU, sizeof cEU, calU > 0 ? calE / calU : U.n > 1 ? NAN : 0.0),

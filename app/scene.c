@@ -104,6 +104,11 @@ rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const 
           rl_forcefield_free(ff);
           return NULL;
         }
+  if (ff && p.precision == RL_PRECISION_MIXED && strcmp(rl_forcefield_precision(ff), "mixed") != 0)
+    fprintf(stderr, "rotleap: interactions.precision = mixed has no effect here: only the TIP4P "
+                    "kernel (model %s: kernel '%s') on a CPU with AVX2 (rows '%s') has single-precision "
+                    "terms; the pair terms run in double\n",
+            d->model->name, rl_forcefield_kernel(ff), rl_forcefield_rows(ff));
   return ff;
 }
 

@@ -304,6 +304,18 @@ check "a step count below long is called below the minimum" 'grep -q "is below t
 check "correlation functions stop at 1000 lags and say so" \
   'grep -q "^correlation_functions = from the first 2200 of 2200 samples, lags up to 1000" "$work/lags.results.txt" && [ "$(wc -l < "$work/lags.tcf.csv")" -eq 1002 ]'
 
+# interactions.precision = mixed: the TIP4P kernel's single-precision rows where the CPU has AVX2
+# (the summary says which precision ran); a model without such rows warns and runs in double
+"$rotleap" run "$src/tests/cli/water_scan.ini" --set interactions.precision=mixed --set run.steps=50 \
+  --set run.equilibrate=50 --set output.prefix="$work/wmix" >out.txt 2>err.txt; code=$?
+if grep -q avx2 /proc/cpuinfo 2>/dev/null && grep -q fma /proc/cpuinfo; then want=mixed; else want=double; fi
+check "precision = mixed runs TIP4P in $want precision and says so" \
+  '[ $code -eq 0 ] && grep -q "^pair_kernels = tip4p (.*, $want precision)" "$work/wmix.summary.txt"'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set interactions.precision=mixed --set run.steps=20 \
+  --set output.prefix="$work/smix" >out.txt 2>err.txt; code=$?
+check "precision = mixed for Stockmayer warns and runs in double" \
+  '[ $code -eq 0 ] && grep -q "interactions.precision = mixed has no effect here" err.txt && grep -q "double precision)" "$work/smix.summary.txt"'
+
 "$rotleap" deck-keys --markdown > deck.md
 check "docs/deck.md matches rotleap deck-keys --markdown" 'cmp -s deck.md "$src/docs/deck.md"'
 
