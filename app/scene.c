@@ -83,10 +83,8 @@ int scene_check_outputs(const rl_deck *d, const char *const *paths, int n)
 double scene_skin(const rl_deck *d, const rl_molecule *mol)
 {
   if (d->ff.skin >= 0.0) return d->ff.skin;
-  const double rc = d->ff.cutoff, T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
-  if (!(T > 0) || !(mol->mass > 0) || !(d->timestep > 0)) return 0.1 * rc;
-  const double x = sqrt(3.0 * rl_units_kB(d->units) * T / mol->mass) * d->timestep / (0.0015 * rc);
-  return fmin(0.25, 0.1 * sqrt(fmax(1.0, x))) * rc;
+  const double T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
+  return rl_ff_skin_for_step(d->ff.cutoff, rl_units_kB(d->units) * T, mol->mass, d->timestep);
 }
 
 rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)

@@ -14,6 +14,8 @@
  *       energy_every; the other steps compute forces only, as OpenMM's step() and LAMMPS
  *       between thermo steps do); U_per_molecule is computed again after the timed steps.
  *       --mixed: the force field in mixed precision (rl_ff_params.precision).
+ *       --skin auto: the Verlet skin `rotleap run` takes at the step --h (rl_ff_skin_for_step);
+ *       --skin S: S (nm or sigma); default the force field's, 0.1 rc.
  *   ffbench scaling MODEL THREADS [NMAX]
  *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
  *       side (alternating, best of 3), the log-log slope of the auto kernel, memory per molecule.
@@ -170,6 +172,16 @@ static void setup(bench_sys *b, const char *model, int n, int threads, rl_kernel
   setup_skin(b, model, n, threads, kernel, -1.0);
 }
 
+/* The skin `rotleap run` takes at the production step h (rl_ff_skin_for_step). */
+static double run_skin(const char *model, double h)
+{
+  const rl_model *md = rl_catalog_find(model);
+  rl_molecule m;
+  if (!md || rl_model_build(md, NULL, 0, &m)) die("model");
+  const int tip4p = strcmp(model, "tip4p") == 0;
+  return rl_ff_skin_for_step(tip4p ? 0.9 : 2.5, (tip4p ? 298.0 : 1.35) * rl_units_kB(md->units), m.mass, h);
+}
+
 /* Continue at the production step (NVE, Bussi, or Langevin if langevin) from the relaxed state. */
 static void restart_every(bench_sys *b, int nve, int langevin, long energy_every)
 {
@@ -244,14 +256,14 @@ static void dump(bench_sys *b, const char *path)
 
 static int cmd_time(int argc, char **argv)
 {
-  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E] [--h STEP] [--relax K] [--mixed]\n"); return 2; }
+  if (argc < 6) { fprintf(stderr, "usage: ffbench time MODEL N THREADS STEPS [auto|general] [--dump FILE] [--nve S] [--langevin] [--energy-every E] [--h STEP] [--relax K] [--mixed] [--skin auto|S]\n"); return 2; }
   const char *model = argv[2];
   int n = atoi(argv[3]), threads = atoi(argv[4]), steps = atoi(argv[5]), nve = 0, langevin = 0;
   long energy_every = 1;
   double h = 0.002; /* ps for tip4p, reduced for stockmayer */
   int relax = n >= 16384 ? 20 : 200; /* relaxation steps from the lattice (20: enough for timing 2 fs) */
   rl_kernel_choice kernel = RL_KERNEL_AUTO;
-  const char *dumpfile = NULL;
+  const char *dumpfile = NULL, *skin_arg = NULL;
   for (int k = 6; k < argc; k++) {
     if (!strcmp(argv[k], "general")) kernel = RL_KERNEL_GENERAL;
     else if (!strcmp(argv[k], "auto")) kernel = RL_KERNEL_AUTO;
@@ -262,6 +274,7 @@ static int cmd_time(int argc, char **argv)
     else if (!strcmp(argv[k], "--h") && k + 1 < argc) h = atof(argv[++k]); /* the production step */
     else if (!strcmp(argv[k], "--relax") && k + 1 < argc) relax = atoi(argv[++k]); /* steps of 0.5 fs */
     else if (!strcmp(argv[k], "--mixed")) bench_precision = RL_PRECISION_MIXED;
+    else if (!strcmp(argv[k], "--skin") && k + 1 < argc) skin_arg = argv[++k]; /* auto or nm */
     else { fprintf(stderr, "ffbench time: unknown argument %s\n", argv[k]); return 2; }
   }
   if (!(h > 0.0 && h < 1.0)) {
@@ -272,8 +285,13 @@ static int cmd_time(int argc, char **argv)
     fprintf(stderr, "ffbench time: --energy-every must be >= 1, and 1 with --nve (its energies)\n");
     return 2;
   }
+  double skin = -1.0; /* the force field's default, 0.1 rc */
+  if (skin_arg) {
+    skin = !strcmp(skin_arg, "auto") ? run_skin(model, h) : atof(skin_arg);
+    if (!(skin >= 0.0)) { fprintf(stderr, "ffbench time: --skin auto or a skin >= 0\n"); return 2; }
+  }
   bench_sys b;
-  setup(&b, model, n, threads, kernel);
+  setup_skin(&b, model, n, threads, kernel, skin);
   if (relax < 0) { fprintf(stderr, "ffbench time: --relax must be >= 0\n"); return 2; }
   run(&b, relax, NULL);
   b.h = h;
@@ -288,11 +306,11 @@ static int cmd_time(int argc, char **argv)
     free(F.f);
     free(F.k);
   }
-  printf("model=%s N=%d threads=%d kernel=%s rows=%s precision=%s thermostat=%s h=%g energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
+  printf("model=%s N=%d threads=%d kernel=%s rows=%s precision=%s thermostat=%s h=%g skin=%g energy_every=%ld ms_per_step=%.4f ff_share=%.4f integrator_share=%.4f "
          "mem_per_molecule=%.0f rebuilds=%ld U_per_molecule=%.6f\n",
          model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), rl_forcefield_rows(b.ff),
          rl_forcefield_precision(b.ff),
-         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", b.h, energy_every, 1e3 * t, share,
+         nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", b.h, skin >= 0.0 ? skin : 0.1 * (b.tip4p ? 0.9 : 2.5), energy_every, 1e3 * t, share,
          1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
   if (dumpfile) {
     /* the energy of exactly the dumped configuration */

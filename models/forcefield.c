@@ -33,6 +33,13 @@ void rl_ff_params_default(rl_ff_params *p)
   p->precision = RL_PRECISION_DOUBLE;
 }
 
+double rl_ff_skin_for_step(double cutoff, double kT, double mass, double h)
+{
+  if (!(kT > 0) || !(mass > 0) || !(h > 0)) return 0.1 * cutoff;
+  const double x = sqrt(3.0 * kT / mass) * h / (0.0015 * cutoff);
+  return fmin(0.25, 0.1 * sqrt(fmax(1.0, x))) * cutoff;
+}
+
 void rl_forcefield_free(rl_forcefield *ff)
 {
   if (!ff) return;

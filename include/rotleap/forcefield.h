@@ -122,6 +122,13 @@ typedef struct {
  * states the bounds it checks).  Other kernels, the reference path, and CPUs without AVX2 (or
  * with ROTLEAP_NO_AVX2 set) compute in double: rl_forcefield_precision says what is in use. */
 
+/* The Verlet skin `rotleap run` takes when none is given: 0.1 cutoff, and at large steps
+ * 0.1 sqrt(x) cutoff with x = v h / (0.0015 cutoff), v = sqrt(3 kT / mass) the thermal speed, up
+ * to 0.25 cutoff (the minimum of a cost linear in the skin plus one in v h / skin; README,
+ * "Skin").  kT in energy units, h in time units of the system; 0.1 cutoff if kT, mass or h is not
+ * positive. */
+double rl_ff_skin_for_step(double cutoff, double kT, double mass, double h);
+
 /* Energies of the last compute, split by term.  Sum = total = the energy added to rl_forces. */
 typedef struct {
   double lj;          /* Lennard-Jones (truncated as chosen)                                  */
