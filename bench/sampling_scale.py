@@ -3,7 +3,7 @@
 
     /usr/bin/python3 bench/sampling_scale.py [--from bench/sampling_speed.csv | --steps 6,8]
                                              [--sizes 256,2048,16384,65536] [--threads 1,2]
-                                             [--rounds 3] [--csv FILE]
+                                             [--rounds 3] [--csv FILE] [--precision double|mixed]
 
 bench/sampling_speed.py finds each code's largest accurate time step for NVT water at 298 K
 (rotleap: revised leapfrog + Bussi; OpenMM: LangevinMiddleIntegrator + SETTLE) on 256 molecules,
@@ -14,9 +14,10 @@ molecule does not depend on N; only the statistical error of a run of given leng
 this script takes the two steps from a sampling_speed CSV (its `chosen` rows) and times each
 code at its own step and with its own thermostat at every N and thread count:
 
-  rotleap: `ffbench time tip4p N T STEPS --h H --energy-every STEPS` (Bussi, tau = 50 h, from a
-           relaxed lattice at 298 K and 1 g/cm3; forces only on the timed steps, energies at the
-           ends, as OpenMM's step() computes none);
+  rotleap: `ffbench time tip4p N T STEPS --h H --energy-every STEPS --skin auto` (Bussi, tau = 50 h,
+           from a relaxed lattice at 298 K and 1 g/cm3; forces only on the timed steps, energies at
+           the ends, as OpenMM's step() computes none; the Verlet skin `rotleap run` takes at H;
+           --precision mixed adds --mixed, the TIP4P kernel's terms in single precision);
   OpenMM:  the same sites, box, cutoff 0.9 nm, eps_rf 78.3, plain LJ, rigid waters by SETTLE, a
            CMMotionRemover every 100 steps, LangevinMiddleIntegrator(298 K, friction, H), CPU
            platform with Threads = T, as in sampling_speed.py; 25 fs at 0.5 fs, 1 ps at 2 fs and
@@ -64,11 +65,14 @@ def chosen_steps(path):
     return h["rotleap"], h["openmm"]
 
 
-def rotleap_time(ffbench, n, threads, steps, h_fs, dump=None):
+def rotleap_time(ffbench, n, threads, steps, h_fs, dump=None, precision="double"):
     # 200 relaxation steps of 0.5 fs at every N (ffbench's default of 20 from 16,384 on is enough
-    # for 2 fs, but left states with fused waters that blew OpenMM up at 8 fs)
+    # for 2 fs, but left states with fused waters that blew OpenMM up at 8 fs); the skin that
+    # `rotleap run` takes at this step (--skin auto; before 2026-11-26 the library's 0.1 rc)
     cmd = [ffbench, "time", "tip4p", str(n), str(threads), str(steps), "--energy-every", str(steps),
-           "--h", repr(h_fs * 1e-3), "--relax", "200"]
+           "--h", repr(h_fs * 1e-3), "--relax", "200", "--skin", "auto"]
+    if precision == "mixed":
+        cmd.append("--mixed")
     if dump:
         cmd += ["--dump", dump]
     return tokens(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
@@ -106,6 +110,8 @@ def main():
     ap.add_argument("--ffbench", default=os.path.join(HERE, "..", "build", "bench", "ffbench"))
     ap.add_argument("--csv", default=os.path.join(HERE, "sampling_scale.csv"))
     ap.add_argument("--pin", default="auto", help="CPU for the one-thread rows of both codes: auto, a number, or none")
+    ap.add_argument("--precision", choices=("double", "mixed"), default="double",
+                    help="rotleap's precision (interactions.precision; ffbench --mixed)")
     a = ap.parse_args()
     if a.steps:
         h_rl, h_omm = (float(x) for x in a.steps.split(","))
@@ -115,8 +121,9 @@ def main():
         source = os.path.relpath(a.src, os.path.join(HERE, ".."))
     allowed = os.sched_getaffinity(0)
     t0 = time.time()
-    print("Sampling speed, TIP4P-RF (rc 0.9 nm, eps_rf 78.3), 298 K: rotleap Bussi at %g fs, OpenMM "
-          "LangevinMiddle at %g fs (from %s); best of %d alternating rounds" % (h_rl, h_omm, source, a.rounds))
+    print("Sampling speed, TIP4P-RF (rc 0.9 nm, eps_rf 78.3), 298 K: rotleap Bussi at %g fs (%s precision), "
+          "OpenMM LangevinMiddle at %g fs (from %s); best of %d alternating rounds"
+          % (h_rl, a.precision, h_omm, source, a.rounds))
     print("%7s %3s %11s %11s %7s %10s %10s %7s %s" % ("N", "T", "rl ms", "omm ms", "t ratio", "rl ns/day",
                                                      "omm ns/day", "ratio", "target >= 2"))
     rows = []
@@ -124,7 +131,7 @@ def main():
         for threads in [int(x) for x in a.threads.split(",")]:
             steps = steps_for(n)
             pin = pin_row(threads, a.pin, allowed)
-            kv, L, pos = timed_start(lambda dump: rotleap_time(a.ffbench, n, threads, steps, h_rl, dump))
+            kv, L, pos = timed_start(lambda dump: rotleap_time(a.ffbench, n, threads, steps, h_rl, dump, a.precision))
             best_rl, rows_rl = float(kv["ms_per_step"]), kv.get("rows", "?")
             # OpenMM at 8 fs is close to its limit (10 fs blows up at once): a run that blows up
             # (in the warm-up or a timed round) starts again from the same positions with new
@@ -145,7 +152,8 @@ def main():
                     continue
                 r += 1
                 if r < a.rounds:
-                    best_rl = min(best_rl, float(rotleap_time(a.ffbench, n, threads, steps, h_rl)["ms_per_step"]))
+                    best_rl = min(best_rl, float(rotleap_time(a.ffbench, n, threads, steps, h_rl,
+                                                              precision=a.precision)["ms_per_step"]))
             ctx = integ = None
             if r < a.rounds:
                 print("%7d %3d  OpenMM at %g fs blew up %d times: row not timed" % (n, threads, h_omm, blowups),
@@ -162,11 +170,12 @@ def main():
             rows.append((n, threads, h_rl, h_omm, best_rl, best_omm, best_rl / best_omm, ns_rl, ns_omm, ratio,
                          blowups, "" if pin is None else str(pin), rows_rl, cpu_model()))
     os.sched_setaffinity(0, allowed)
-    with open(a.csv, "w") as f:
+    with open(a.csv + ".part", "w") as f:  # renamed when whole: an earlier CSV is never left half-written
         f.write("N,threads,rotleap_h_fs,openmm_h_fs,rotleap_ms_per_step,openmm_ms_per_step,time_ratio,"
                 "rotleap_ns_per_day,openmm_ns_per_day,sampling_ratio,openmm_blowups,pinned_cpu,rotleap_rows,cpu\n")
         for r in rows:
             f.write("%d,%d,%g,%g,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%d,%s,%s,\"%s\"\n" % r)
+    os.replace(a.csv + ".part", a.csv)
     met = sum(r[9] >= 2.0 for r in rows)
     print("written: %s; target >= 2 met at %d of %d points; rotleap rows %s; CPU %s; %.0f s"
           % (os.path.relpath(a.csv, os.path.join(HERE, "..")), met, len(rows), rows[0][12] if rows else "?",

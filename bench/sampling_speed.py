@@ -8,7 +8,7 @@ Run (from the repository root, after building rotleap):
     nice -n 15 /usr/bin/python3 bench/sampling_speed.py [--quick] [--rotleap build/rotleap]
         [--rotleap-fs 2,4,5,6,8,10] [--isokinetic-fs ''] [--openmm-fs 1,2,3,4,5,6,8,10] [--threads 1]
         [--prod-ps 200] [--eq-ps 4] [--blocks 10] [--rounds 3] [--pair-rounds 10]
-        [--timing-steps 2000] [--jobs 1]
+        [--timing-steps 2000] [--jobs 1] [--precision double|mixed]
 The script lowers its own priority to nice 15 (--nice) so that the other core's benchmarks are
 disturbed little; every child process inherits it, so both codes are timed at the same priority.
 Full defaults: 4 ps equilibration + 200 ps production per run, 15 runs, one at a time (--jobs 1),
@@ -83,7 +83,9 @@ were 1.80-2.39 ms per step and the ratio 1.52, while a pinned re-timing of the s
     warm-up steps, then integrator.step(--timing-steps) timed with perf_counter (no reporting).
 ns/day = h[fs] * 1e-6 * 86400 / (seconds per step).  For each code the largest accurate h is
 chosen (the reference 1 fs counts for rotleap) and ratio = rotleap ns/day / OpenMM ns/day at those
-steps is compared with the target 2.  rotleap is double precision; OpenMM's CPU platform is mixed
+steps is compared with the target 2.  rotleap is double precision unless --precision mixed, which
+runs rotleap's tested steps and their timing with interactions.precision = mixed (the TIP4P kernel's
+terms in single precision; the 1 fs reference stays double); OpenMM's CPU platform is mixed
 (single-precision forces).
 
 Output: the table on stdout; bench/sampling_speed.csv (--csv), one row per run with
@@ -219,7 +221,12 @@ def compare(run, ref):
 
 
 # ----------------------------------------------------------------------------------- timing
-def rotleap_timer(rotleap, work, run, box, steps, threads):
+def rl_interactions(args):
+    """The [interactions] lines of rotleap's tested runs and their timing (--precision)."""
+    return ("precision = %s" % args.precision,) if args.precision != "double" else ()
+
+
+def rotleap_timer(rotleap, work, run, box, steps, threads, interactions=()):
     """A `rotleap run` of `steps` steps at the run's h from its start checkpoint, outputs off;
     returns seconds per step from the summary's wall_seconds."""
     h_ps = run["h_fs"] * 1e-3
@@ -228,7 +235,7 @@ def rotleap_timer(rotleap, work, run, box, steps, threads):
     tag = "rl_%s_h%g" % (ns.ENSEMBLE_NAMES[ens][0], run["h_fs"])
     start = os.path.join(work, tag + "_start.chk")
     pre = os.path.join(work, "time_" + tag)
-    text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0)
+    text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0, interactions=interactions)
     # energies at the first and the last step only (output.energy_every), as OpenMM's step()
     # computes none: before 2026-11-22 rotleap summed energy and virial on every timed step
     text = text.replace("thermo_every = 1\n", "thermo_every = %d\nenergy_every = %d\n" % (steps, steps))
@@ -289,6 +296,9 @@ def main():
                     "run, the reference included")
     ap.add_argument("--friction", type=float, default=1.0, help="OpenMM Langevin friction (1/ps)")
     ap.add_argument("--threads", type=int, default=1, help="threads of both codes in the timing")
+    ap.add_argument("--precision", choices=("double", "mixed"), default="double",
+                    help="rotleap's interactions.precision for its tested steps and their timing (the 1 fs "
+                         "reference stays double)")
     ap.add_argument("--rounds", type=int, help="alternating timing rounds over every stable run (default 3; "
                     "--quick 1)")
     ap.add_argument("--pair-rounds", type=int, help="further alternating rounds of the two chosen runs "
@@ -337,6 +347,9 @@ def main():
         if abs(saved.get("tau_ps", 1.0) - args.tau) > 1e-12:
             sys.exit("--reanalyse: that run's rotleap Bussi tau was %g ps; give --tau %g" % (saved.get("tau_ps", 1.0),
                                                                                             saved.get("tau_ps", 1.0)))
+        if saved.get("precision", "double") != args.precision:
+            sys.exit("--reanalyse: that run's rotleap precision was %s; give --precision %s"
+                     % (saved.get("precision", "double"), saved.get("precision", "double")))
         if abs(saved["frame_fs"] - frame) > 1e-9:
             sys.exit("--reanalyse: that run stored frames every %g fs, these steps need %g" % (saved["frame_fs"], frame))
     else:
@@ -356,7 +369,8 @@ def main():
         every = lambda h: int(round(frame / h))
         tasks = [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-bussi", args.ref_fs * 1e-3,
                                     nfr * every(args.ref_fs), every(args.ref_fs)), "reference")]
-        tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-bussi", h * 1e-3, nfr * every(h), every(h)), "")
+        tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-bussi", h * 1e-3, nfr * every(h), every(h),
+                                     (), "", rl_interactions(args)), "")
                   for h in rl_fs]
         tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-isokinetic", h * 1e-3, nfr * every(h),
                                      every(h)), "") for h in iso_fs]
@@ -373,7 +387,8 @@ def main():
                 runs.append(r)
         t_sim = time.time() - t0
         with open(os.path.join(work, "runs.json"), "w") as f:
-            json.dump(dict(runs=runs, eqinfo=eqinfo, t_sim=t_sim, frame_fs=frame, tau_ps=args.tau), f)
+            json.dump(dict(runs=runs, eqinfo=eqinfo, t_sim=t_sim, frame_fs=frame, tau_ps=args.tau,
+                           precision=args.precision), f)
         print("simulations done in %.0f s; analysing with MDTraj" % t_sim, flush=True)
     # ------------------------------------------------------------------------- analysis
     t1 = time.time()
@@ -427,7 +442,8 @@ def main():
                 continue
             try:
                 if r["code"] == "rotleap":
-                    sec = rotleap_timer(rotleap, work, r, ck["box"], tsteps, args.threads)
+                    sec = rotleap_timer(rotleap, work, r, ck["box"], tsteps, args.threads,
+                                        () if r.get("role") == "reference" else rl_interactions(args))
                 else:
                     if id(r) not in timers:
                         timers[id(r)] = OpenMMTimer(ck, r["h_fs"], args.friction, args.threads)
@@ -502,7 +518,7 @@ def main():
                     a if not os.path.isabs(a) else os.path.relpath(a, ROOT) for a in sys.argv[1:]))).strip(),
                 eq_ps=eq_eff, prod_ps=prod_eff, blocks=nblocks, frame_fs=frame, rdf_stride=ns.RDF_STRIDE,
                 rounds=rounds, pair_rounds=pair_rounds, timing_steps=tsteps, pinned_cpu=pin, threads=args.threads, friction=args.friction,
-                tau=args.tau,
+                tau=args.tau, precision=args.precision,
                 wall_s=elapsed, sim_s=t_sim, analysis_s=t_an, timing_s=t_time, load_start=load_start,
                 load_end=load_end, cpus=os.cpu_count(), openmm=openmm.version.full_version,
                 mdtraj=mdtraj.version.version, reanalysed=bool(args.reanalyse))
@@ -646,9 +662,11 @@ def update_md(path, runs, ref, choice, ratio, notes, meta):
             "both codes pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "not pinned"),
          "",
          "Runs: %g ps equilibration + %g ps production each, %d blocks of %g ps, frames every %g fs (RDF every "
-         "%g fs). rotleap: Bussi, tau = %g ps, thermostat groups trans-rot (the default); OpenMM: friction %g/ps."
+         "%g fs). rotleap: Bussi, tau = %g ps, thermostat groups trans-rot (the default), %s precision at the "
+         "tested steps (the reference double); OpenMM: friction %g/ps."
          % (meta["eq_ps"], meta["prod_ps"], meta["blocks"], meta["prod_ps"] / meta["blocks"],
-            meta["frame_fs"], meta["frame_fs"] * meta["rdf_stride"], meta["tau"], meta["friction"]),
+            meta["frame_fs"], meta["frame_fs"] * meta["rdf_stride"], meta["tau"], meta["precision"],
+            meta["friction"]),
          "",
          "| " + " | ".join(HEAD) + " |", "|" + "---|" * len(HEAD)]
     for r in runs:

@@ -97,9 +97,10 @@ TEMPS = [("T", "T"), ("Tt", "T_trans"), ("Tr", "T_rot")]
 
 
 # ------------------------------------------------------------------------------------ runs
-def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=()):
+def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=(), interactions=()):
     """extra: further [run] lines, e.g. "thermostat_groups = all", "seed = 3" or
-    "integrator = no-squish" (which replaces the default "integrator = rl")."""
+    "integrator = no-squish" (which replaces the default "integrator = rl"); interactions: further
+    [interactions] lines, e.g. "precision = mixed"."""
     integ = [x for x in extra if x.replace(" ", "").startswith("integrator=")]
     extra = [x for x in extra if x not in integ]
     run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h_ps, (integ or ["integrator = rl"])[-1],
@@ -114,7 +115,7 @@ def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=()):
     sysl.append("temperature = %g K" % T_K)
     return "\n".join(sysl + [
         "[interactions]", "cutoff = %r nm" % CUTOFF, "scheme = site", "lj = plain",
-        "dispersion_correction = no", "eps_rf = %r" % EPS_RF] + run + [
+        "dispersion_correction = no", "eps_rf = %r" % EPS_RF] + list(interactions) + run + [
         "[output]", "prefix = %s" % prefix, "progress = no", "thermo_every = %d" % max(every, 1),
         "trajectory_every = %d" % every, "sample_every = %d" % every, ""])
 
@@ -131,17 +132,17 @@ ENSEMBLE_NAMES = {"nvt-bussi": ("bussi", "bussi", "Bussi"), "nvt-isokinetic": ("
                   "nvt-langevin": ("langevin", "langevin", "Langevin")}
 
 
-def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix=""):
+def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix="", interactions=()):
     """One rotleap NVT run from the shared start.  rotleap appends to PREFIX.dcd when it starts
     from a checkpoint, so the 0-step template run (from a lattice, same prefix) creates the empty
     DCD that the production run then fills.  extra: further [run] deck lines for both runs (a
     "seed = k" there seeds the thermostat: the template's checkpoint carries its random state);
-    suffix: appended to the run's file names."""
+    suffix: appended to the run's file names; interactions: further [interactions] lines."""
     name = ENSEMBLE_NAMES[ensemble]
     tag = "rl_%s_h%g%s" % (name[0], h_ps * 1e3, suffix)
     pre = os.path.join(work, tag)
     with open(pre + "_tmpl.ini", "w") as f:
-        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra))
+        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra, interactions=interactions))
     nc.sh([rotleap, "run", pre + "_tmpl.ini"])
     M = ck["species"][0]["mass"]
     vh = [[v[i][c] - 0.5 * h_ps * F[i][c] / M for c in range(3)] for i in range(N)]
@@ -150,7 +151,7 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, ex
         f.write(nc.put_state(open(pre + ".chk", "rb").read(), ck["r"], vh, lh, ck["A"]))
     with open(pre + ".ini", "w") as f:  # + every: the frame at the last step needs its thermo row
         f.write(deck(pre, steps + every, h_ps, ensemble, ck["box"], start=pre + "_start.chk", every=every,
-                     extra=extra))
+                     extra=extra, interactions=interactions))
     t0 = time.time()
     p = subprocess.run([rotleap, "run", pre + ".ini"], capture_output=True, text=True)
     wall = time.time() - t0
