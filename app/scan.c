@@ -35,6 +35,7 @@ typedef struct {
   long steps;         /* planned            */
   long done;          /* steps completed    */
   int ok;
+  int analysis_bad;   /* its .results/.rdf/.tcf files could not be written */
   char error[512];
   double calE, calU, drift, ortho, t_trans, t_rot, rdf_dist, wall_per_step, ns_day, iterations;
   double max_h_omega;
@@ -240,8 +241,10 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     char pre[700];
     snprintf(pre, sizeof pre, "%s.%s.h%g", o->prefix, rl_deck_integrators[r->integ].name,
              r->h * (d->units == RL_UNITS_REAL ? 1e3 : 1.0));
-    if (analysis_write(an, pre, (sample ? sample : 1) * r->h))
+    if (analysis_write(an, pre, (sample ? sample : 1) * r->h)) {
       fprintf(stderr, "rotleap scan: writing %s.*: %s\n", pre, rl_last_error());
+      r->analysis_bad = 1;
+    }
   }
   analysis_free(an);
   free(snap.f);
@@ -597,12 +600,16 @@ int rl_app_scan(int argc, char **argv)
            o.plot ? ", .scan_calE.png, .scan_pareto.png" : "");
     if (o.plot) plot(d.prefix);
   }
+  /* runs that blew up are results of the scan (reported in the table), not failures of it;
+     a file that could not be written is (as for rotleap run) */
+  int analysis_bad = 0;
   for (int k = 0; k < nruns; k++) {
+    analysis_bad |= runs[k].analysis_bad;
     rl_rdf_free(runs[k].rdf);
     free(runs[k].curve);
   }
   free(runs);
   scene_free(&s);
-  /* runs that blew up are results of the scan (reported in the table), not failures of it */
-  return io_bad ? 1 : 0;
+  if (analysis_bad) fprintf(stderr, "rotleap scan: some per-run analysis files were not written (above)\n");
+  return io_bad || analysis_bad ? 1 : 0;
 }

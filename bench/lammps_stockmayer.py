@@ -16,7 +16,8 @@ diameter 0.5 so that I* = 0.4 m (d/2)^2 = 0.025; fix nve/sphere update dipole).
    (no pressure), rotleap's --energy-every STEPS (output.energy_every; before 2026-11-22 rotleap
    summed the energy and the virial on every step).
 3. Energy conservation at equal dt from the same state (--nve steps, smallest N only).
-Prints tables, writes bench/lammps_stockmayer.csv.
+Prints tables, writes bench/lammps_stockmayer.csv (or --csv FILE) and, for 3., FILE_nve.csv
+(each under a temporary name, renamed when whole).
 """
 import argparse
 import math
@@ -150,6 +151,7 @@ def main():
                 n, cores, best_rl, best_lmp, ratio, verdict, u_rl, u_lmp, rel), flush=True)
             out.append((n, cores, best_rl, best_lmp, ratio, u_rl, u_lmp, rel, rows_rl, cpu_model()))
     n = sizes[0]
+    nve_rows = []
     if a.nve > 0:
         with tempfile.TemporaryDirectory() as tmp:
             dump, data = os.path.join(tmp, "state.txt"), os.path.join(tmp, "data.stockmayer")
@@ -160,16 +162,31 @@ def main():
         e = [r[2] for r in rows[1:]]
         mean = sum(e) / len(e)
         sd = math.sqrt(max(0.0, sum(x * x for x in e) / len(e) - mean * mean))
+        nve_rows = [("rotleap", float(kv["drift_per_molecule"]), float(kv["sd_per_molecule"]),
+                     float(kv["range_per_molecule"])),
+                    ("lammps", (e[-1] - e[0]) / n, sd / n, (max(e) - min(e)) / n)]
         print("\nenergy conservation, N = %d, %d NVE steps at dt = 0.002, both from the relaxed rotleap state" % (n, a.nve))
         print("%8s %16s %16s %16s" % ("code", "drift / N", "sd(E) / N", "range(E) / N"))
-        print("%8s %16.3e %16.3e %16.3e" % ("rotleap", float(kv["drift_per_molecule"]),
-                                            float(kv["sd_per_molecule"]), float(kv["range_per_molecule"])))
-        print("%8s %16.3e %16.3e %16.3e" % ("LAMMPS", (e[-1] - e[0]) / n, sd / n, (max(e) - min(e)) / n))
-    with open(a.csv, "w") as f:
+        for r in nve_rows:
+            print("%8s %16.3e %16.3e %16.3e" % r)
+        print("rotleap / LAMMPS: |drift| %.2f, sd %.2f" % (abs(nve_rows[0][1]) / max(abs(nve_rows[1][1]), 1e-300),
+                                                          nve_rows[0][2] / max(nve_rows[1][2], 1e-300)))
+    # written whole under a temporary name and renamed, so an interrupted run leaves the last CSVs
+    part = a.csv + ".part"
+    with open(part, "w") as f:
         f.write("N,cores,rotleap_ms_per_step,lammps_ms_per_step,ratio,U_rotleap,U_lammps,U_rel_diff,"
                 "rotleap_rows,cpu\n")
         for r in out:
             f.write("%d,%d,%.4f,%.4f,%.4f,%.12g,%.12g,%.3e,%s,\"%s\"\n" % r)
+    os.replace(part, a.csv)
+    if nve_rows:
+        nve_csv = os.path.splitext(a.csv)[0] + "_nve.csv"
+        with open(nve_csv + ".part", "w") as f:
+            f.write("code,N,nve_steps,dt,drift_per_molecule,sd_per_molecule,range_per_molecule\n")
+            for r in nve_rows:
+                f.write("%s,%d,%d,0.002,%.6e,%.6e,%.6e\n" % (r[0], n, a.nve, r[1], r[2], r[3]))
+        os.replace(nve_csv + ".part", nve_csv)
+        print("written:", nve_csv)
     print("written:", a.csv)
     if out:
         print("rotleap's dipole rows: %s (rl_forcefield_rows); CPU: %s" % (out[0][8], out[0][9]))

@@ -87,6 +87,13 @@ check "a baseline on dipoles: the run says why it cannot, the scan goes on" '[ $
   --analysis --no-plot --set output.rdf=O-O --set output.prefix="$work/an" >out.txt 2>err.txt; code=$?
 check "scan from a checkpoint with --analysis" '[ $code -eq 0 ] && grep -c "\"ok\"$" "$work/an.scan.csv" | grep -q 2'
 check "per-run analysis files" '( for h in 1 2; do for x in results.txt rdf.csv tcf.csv; do [ -s "$work/an.rl.h$h.$x" ] || exit 1; done; done )'
+# a per-run analysis file that cannot be written (a directory in its place): the scan finishes,
+# names the file and exits 1, as rotleap run does; the scan's own files and the other runs' are written
+rm -f "$work"/an2.*; mkdir -p "$work/an2.rl.h2.rdf.csv"
+"$rotleap" scan "$deck" --set system.start="$work/c.chk" --set run.equilibrate=0 --timesteps 1,2fs --steps 50 \
+  --analysis --no-plot --set output.rdf=O-O --set output.prefix="$work/an2" >out.txt 2>err.txt; code=$?
+check "unwritable per-run analysis file: exit 1, named, the rest written" \
+  '[ $code -eq 1 ] && grep -q "an2.rl.h2.rdf.csv" err.txt && [ -s "$work/an2.scan.csv" ] && [ -s "$work/an2.rl.h1.rdf.csv" ] && [ -s "$work/an2.rl.h2.results.txt" ]'
 
 # an unstable step: the run at 20 fs stops with the cause; the 1 fs run is kept; the scan succeeds
 "$rotleap" scan "$deck" --timesteps 1,20 fs --integrators rl --steps 100 --no-plot \
