@@ -412,6 +412,13 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
   for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
 }
 
+/* the values the handler stored (strdup'd) */
+static void raw_deck_free(raw_deck *r)
+{
+  for (int k = 0; k < NKEYS; k++) free(r->val[k]);
+  for (int i = 0; i < r->nmodel; i++) { free(r->model_key[i]); free(r->model_val[i]); }
+}
+
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
 {
   raw_deck r;
@@ -430,7 +437,10 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   void *stream[2] = {f, &r};
   int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
   fclose(f);
-  if (r.binary) return r.problems;
+  if (r.binary) { /* the lines before the first NUL byte were stored */
+    raw_deck_free(&r);
+    return r.problems;
+  }
   if (st > 0) problem(&r, st, "not a valid INI line (expected [section] or key = value)");
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
@@ -642,8 +652,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 
-  for (int k = 0; k < NKEYS; k++) free(r.val[k]);
-  for (int i = 0; i < r.nmodel; i++) { free(r.model_key[i]); free(r.model_val[i]); }
+  raw_deck_free(&r);
   return r.problems;
 }
 
