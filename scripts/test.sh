@@ -6,14 +6,30 @@ cd "$(dirname "$0")/.."
 scripts/deps.sh test
 jobs="$(nproc)"
 cmake -S . -B build-test -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON >/dev/null
-cmake --build build-test -j"$jobs"
-ctest --test-dir build-test --output-on-failure -j"$jobs"
 # the library and the command also build without OpenMP (ROTLEAP_OPENMP=OFF: one thread); the
 # pair rows once, portable (ROTLEAP_NO_CLONES): build-test compiled every instance with -Werror
 cmake -S . -B build-noomp -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON -DROTLEAP_OPENMP=OFF \
   -DROTLEAP_TESTS=OFF -DROTLEAP_NO_CLONES=ON >/dev/null
-cmake --build build-noomp -j"$jobs"
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAP_WERROR=ON -DROTLEAP_SANITIZE=ON >/dev/null
-cmake --build build-asan -j"$jobs"
+# The three builds run side by side: each is held up by one long compile (models/ff_fast.c), so
+# in turn they would leave the other cores idle for minutes.  Each build's output goes to its
+# own log, printed if it fails.
+builds=(build-test build-noomp build-asan)
+pids=()
+for b in "${builds[@]}"; do
+  cmake --build "$b" -j"$jobs" >"$b.log" 2>&1 &
+  pids+=($!)
+done
+failed=0
+for i in "${!builds[@]}"; do
+  if ! wait "${pids[$i]}"; then
+    echo "scripts/test.sh: building ${builds[$i]} failed:" >&2
+    cat "${builds[$i]}.log" >&2
+    failed=1
+  fi
+done
+[ "$failed" -eq 0 ]
+echo "scripts/test.sh: built build-test, build-noomp and build-asan (logs: build-*.log)"
+ctest --test-dir build-test --output-on-failure -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j"$jobs"
