@@ -124,7 +124,7 @@ typedef struct {
 
 /* The Verlet skin `rotleap run` takes when none is given: 0.1 cutoff, and at large steps
  * 0.1 sqrt(x) cutoff with x = v h / (0.0015 cutoff), v = sqrt(3 kT / mass) the thermal speed, up
- * to 0.25 cutoff (the minimum of a cost linear in the skin plus one in v h / skin; README,
+ * to 0.25 cutoff (the minimum of a cost linear in the skin plus one in v h / skin; docs/performance.md,
  * "Skin").  kT in energy units, h in time units of the system; 0.1 cutoff if kT, mass or h is not
  * positive. */
 double rl_ff_skin_for_step(double cutoff, double kT, double mass, double h);
