@@ -18,7 +18,8 @@
  *       --skin S: S (nm or sigma); default the force field's, 0.1 rc.
  *   ffbench scaling MODEL THREADS [NMAX]
  *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
- *       side (every size set up first, then 5 rounds visiting each in turn; best round kept), the log-log slope of the auto kernel, memory per molecule.
+ *       side (every size set up first, then 5 rounds visiting each in turn; best round kept),
+ *       the log-log slope of the auto kernel, memory per molecule.
  *       Writes bench/scaling_MODEL.csv (or $ROTLEAP_BENCH_CSV).
  *   ffbench kernel MODEL N THREADS [ROUNDS] [--ab ENV=VALUE|mixed]
  *       The force field alone, called repeatedly on one relaxed configuration (no list rebuilds),
@@ -32,6 +33,7 @@
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -350,7 +352,9 @@ static int cmd_scaling(int argc, char **argv)
   char csvname[256];
   snprintf(csvname, sizeof csvname, "bench/scaling_%s.csv", model);
   const char *cn = getenv("ROTLEAP_BENCH_CSV") ? getenv("ROTLEAP_BENCH_CSV") : csvname;
-  FILE *csv = fopen(cn, "w");
+  char part[300];
+  snprintf(part, sizeof part, "%s.part", cn); /* renamed to cn when whole */
+  FILE *csv = fopen(part, "w");
   if (csv) fprintf(csv, "model,N,threads,auto_us_per_molecule_step,general_us_per_molecule_step,speedup,ff_share,mem_per_molecule,rows\n");
   printf("%s, %d thread(s): cost per molecule-step against N (best of 5 rounds, the sizes and the two paths\n"
          "alternating within each round)\n\n", model, threads);
@@ -403,7 +407,11 @@ static int cmd_scaling(int argc, char **argv)
   double slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
   printf("\nlog-log slope of time per step against N (auto kernels): %.3f (target <= 1.05: %s)\n", slope,
          slope <= 1.05 ? "met" : "MISSED");
-  if (csv) { fprintf(csv, "# slope,%.4f\n", slope); fclose(csv); printf("written: %s\n", cn); }
+  if (csv) {
+    fprintf(csv, "# slope,%.4f\n", slope);
+    if (fclose(csv) || rename(part, cn)) fprintf(stderr, "ffbench: cannot write %s: %s\n", cn, strerror(errno));
+    else printf("written: %s\n", cn);
+  }
   return 0;
 }
 
@@ -436,7 +444,9 @@ static int cmd_skin(int argc, char **argv)
   char csvname[256];
   snprintf(csvname, sizeof csvname, "bench/skin_%s.csv", model);
   const char *cn = getenv("ROTLEAP_BENCH_CSV") ? getenv("ROTLEAP_BENCH_CSV") : csvname;
-  FILE *csv = fopen(cn, "w");
+  char part[300];
+  snprintf(part, sizeof part, "%s.part", cn); /* renamed to cn when whole */
+  FILE *csv = fopen(part, "w");
   if (csv) fprintf(csv, "model,N,threads,skin_over_rc,skin,ms_per_step,ratio_to_default,rebuilds_per_100_steps\n");
   printf("%s, N = %d, %d thread(s): Verlet skin (best of 3 alternating rounds of %d steps)\n\n",
          model, n, threads, steps);
@@ -450,7 +460,10 @@ static int cmd_skin(int argc, char **argv)
               1e3 * best[k], ratio, rebuilds[k]);
     teardown(&b[k]);
   }
-  if (csv) { fclose(csv); printf("written: %s\n", cn); }
+  if (csv) {
+    if (fclose(csv) || rename(part, cn)) fprintf(stderr, "ffbench: cannot write %s: %s\n", cn, strerror(errno));
+    else printf("written: %s\n", cn);
+  }
   return 0;
 }
 
