@@ -540,9 +540,10 @@ static int check_state(const rl_integrator *in, const double K[2])
 
 /* The kick of one component x (v or l) by the force f over the step (eqs. 8, 10), as eqs. 17-18
  * under the isokinetic scheme (beta != 1, c2 = 2 beta - 1); w = h / 2 (times 1/m for v). */
+static inline double plain_kick(double x, double w, double f) { return x + 2.0 * w * f; }
 static inline double kicked(double beta, double c2, double x, double w, double f)
 {
-  return beta == 1.0 ? x + 2.0 * w * f : c2 * (x + w * f) + w * f;
+  return beta == 1.0 ? plain_kick(x, w, f) : c2 * (x + w * f) + w * f;
 }
 
 /* The on-step values at the current time t (eqs. 9, 12) from v(t-h/2), l(t-h/2) and the forces
@@ -629,12 +630,12 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
     for (int b = 0; b < sp->count; b++) {
       const int i = sp->first + b;
       double v[3];
-      for (int c = 0; c < 3; c++) v[c] = kicked(1.0, 1.0, s->v[i][c], w, in->F.f[i][c]);
+      for (int c = 0; c < 3; c++) v[c] = plain_kick(s->v[i][c], w, in->F.f[i][c]);
       Kmid[0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       if (sp->rot_off < 0) continue;
       const double *l = s->l[sp->rot_off + b], *kk = in->F.k[sp->rot_off + b];
       double lt[3];
-      for (int c = 0; c < 3; c++) lt[c] = kicked(1.0, 1.0, l[c], h2, kk[c]);
+      for (int c = 0; c < 3; c++) lt[c] = plain_kick(l[c], h2, kk[c]);
       Kmid[1] += fam->ke_rot(sp, s, b, lt);
     }
   }
@@ -704,8 +705,8 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         const double *f = in->F.f[i];
         double x[3]; /* the plain kick, for Kmid; the same as v, l unless isokinetic */
         for (int c = 0; c < 3; c++) {
-          x[c] = kicked(1.0, 1.0, v[c], w, f[c]);
-          v[c] = kicked(beta, c2, v[c], w, f[c]); /* eq. 8, or 17 */
+          x[c] = plain_kick(v[c], w, f[c]);
+          v[c] = beta == 1.0 ? x[c] : kicked(beta, c2, v[c], w, f[c]); /* eq. 8, or 17 */
           if (!bussi && !langevin) s->r[i][c] += h * v[c];
         }
         kt += 0.5 * sp->mass * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
@@ -713,8 +714,8 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         double *l = s->l[sp->rot_off + b];
         const double *kk = in->F.k[sp->rot_off + b];
         for (int c = 0; c < 3; c++) {
-          x[c] = kicked(1.0, 1.0, l[c], h2, kk[c]);
-          l[c] = kicked(beta, c2, l[c], h2, kk[c]); /* eq. 10, or 18 */
+          x[c] = plain_kick(l[c], h2, kk[c]);
+          l[c] = beta == 1.0 ? x[c] : kicked(beta, c2, l[c], h2, kk[c]); /* eq. 10, or 18 */
         }
         kr += fam->ke_rot(sp, s, b, x);
       }
