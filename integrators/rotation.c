@@ -57,8 +57,7 @@ static double det3(const double M[9])
 
 static int solve3(const double M[9], const double b[3], double x[3])
 {
-  double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
-               M[2] * (M[3] * M[7] - M[4] * M[6]);
+  const double det = det3(M);
   if (!(fabs(det) > 0.0) || !isfinite(det)) return 0;
   double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
                    M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
