@@ -1,23 +1,25 @@
-/* The run driver: deck -> system, force field, integrator -> loop -> outputs.  Thin by design:
- * the physics lives in the library. */
+/* rotleap run: deck -> scene -> relaxation -> production loop -> outputs.  The physics lives in
+ * the library; this file owns the run's files (outputs.h), its checkpoints (runrec.h), signals
+ * and messages. */
 #include "run.h"
 #include "analysis.h"
+#include "outputs.h"
 #include "quantity.h"
+#include "runrec.h"
 #include "scene.h"
 
 #include <errno.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <stdint.h>
-#include <sys/stat.h>
-#include <stddef.h>
+#include <limits.h>
 #include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
-
 
 static const char *pressure_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "bar" : "reduced"; }
 static const char *energy_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "kJ/mol" : "reduced"; }
@@ -106,47 +108,13 @@ static double now(void)
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-/* Welford running mean and variance. */
-typedef struct { long n; double mean, m2; } running;
-static void run_add(running *r, double x)
+/* "PREFIX" + "suffix", malloc'd (paths are as long as the OS allows: never truncated). */
+static char *path_of(const char *prefix, const char *suffix)
 {
-  r->n++;
-  double d = x - r->mean;
-  r->mean += d / r->n;
-  r->m2 += d * (x - r->mean);
-}
-static double run_sd(const running *r) { return r->n > 1 ? sqrt(r->m2 / (r->n - 1)) : 0.0; }
-
-/* FNV-1a (64 bits) of a text: the fingerprint of a thermo row, by which a continuation recognises
- * the file of the run that wrote its checkpoint (run_blob's row_hash). */
-static uint64_t fnv1a(const char *text)
-{
-  uint64_t h = 14695981039346656037ULL;
-  for (; *text; text++) h = (h ^ (unsigned char)*text) * 1099511628211ULL;
-  return h;
-}
-
-/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k.
- * Returns its fingerprint. */
-static uint64_t thermo_row(FILE *f, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
-                           const running *E)
-{
-  char row[1024];
-  snprintf(row, sizeof row, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n",
-           k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
-           info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
-           E->n > 1 ? run_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid);
-  fputs(row, f);
-  return fnv1a(row);
-}
-
-/* Write `text` to path atomically (rl_atomic_*: temporary file, fsync, rename). */
-static int write_atomic(const char *path, const char *text)
-{
-  rl_atomic_file af;
-  if (rl_atomic_open(&af, path)) return -1;
-  if (fputs(text, af.fp) < 0) { rl_atomic_abort(&af); return -1; }
-  return rl_atomic_commit(&af) ? -1 : 0;
+  const size_t n = strlen(prefix) + strlen(suffix) + 1;
+  char *p = malloc(n);
+  if (p) snprintf(p, n, "%s%s", prefix, suffix);
+  return p;
 }
 
 /* 1 if paths a and b name one existing file. */
@@ -156,330 +124,396 @@ static int same_file(const char *a, const char *b)
   return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
-/* The newer of two files' modification times: 1 if a is at least as new as b (or b is missing). */
-static int newer_or_only(const char *a, const char *b)
-{
-  struct stat sa, sb;
-  if (stat(a, &sa)) return 0;
-  if (stat(b, &sb)) return 1;
-  return sa.st_mtim.tv_sec > sb.st_mtim.tv_sec ||
-         (sa.st_mtim.tv_sec == sb.st_mtim.tv_sec && sa.st_mtim.tv_nsec >= sb.st_mtim.tv_nsec);
-}
+/* ------------------------------------------------------------------------------ signals */
 
-/* Trajectories: DCD + PDB topology for site models, extended XYZ for the rest.  A new
- * trajectory is written under a temporary name (path.part) and renamed over any earlier one
- * when the run ends with frames (or without error), so that a run which fails before its first
- * step leaves an earlier run's trajectory as it was.  A continuation of this prefix's run
- * (system.start = prefix.chk) appends in place, after the frames up to its checkpoint, to the
- * trajectory of the run whose thermo rows it keeps (TRAJ_APPEND: the complete one; TRAJ_PART: a
- * killed run's .part, if newer); a continuation that keeps no rows of that run writes a new one. */
-enum { TRAJ_NEW, TRAJ_APPEND, TRAJ_PART };
-typedef struct {
-  long every;
-  rl_dcd *dcd;
-  FILE *xyz;
-  int fresh; /* written under .part names, renamed by traj_close */
-  char path[600], part[640], pdb[600], pdb_part[640];
-} traj;
-
-
-/* Keep the frames of an extended XYZ file up to step `last` (by their Step= key) and truncate
- * after them: a killed run's frames past its checkpoint go. */
-static int xyz_keep_frames(const char *path, long last)
-{
-  FILE *fp = fopen(path, "r+");
-  if (!fp) return rl_error(RL_EINVAL, "%s: cannot open for appending: %s", path, strerror(errno));
-  char *line = NULL;
-  size_t cap = 0;
-  long at = 0, frame = 0;
-  int st = RL_OK;
-  for (;;) {
-    const long start = ftell(fp);
-    if (getline(&line, &cap, fp) <= 0) { at = start; break; } /* the end: every frame kept */
-    char *end;
-    const long natoms = strtol(line, &end, 10);
-    const char *key = getline(&line, &cap, fp) > 0 ? strstr(line, " Step=") : NULL;
-    if (end == line || natoms < 0 || !key) {
-      st = rl_error(RL_EINVAL, "%s: frame %ld is not an extended XYZ frame written by rotleap (atom count, "
-                    "then a comment line with Step=)", path, frame + 1);
-      break;
-    }
-    if (strtol(key + 6, NULL, 10) > last) { at = start; break; }
-    long k = 0;
-    while (k < natoms && getline(&line, &cap, fp) > 0) k++;
-    if (k < natoms) { at = start; break; } /* a frame cut short by a kill */
-    frame++;
-  }
-  free(line);
-  fclose(fp);
-  if (!st && truncate(path, at))
-    st = rl_error(RL_EINVAL, "%s: cannot truncate after frame %ld: %s", path, frame, strerror(errno));
-  return st;
-}
-
-/* The frames of a DCD to keep for a continuation from step `first`: those up to that step.  The
- * interval between frames must be that of this run (DCD frames are evenly spaced). */
-static int dcd_keep(const char *path, long every, long first, long *keep)
-{
-  long istart, nsavc;
-  if (rl_dcd_info(path, &istart, &nsavc, NULL)) return 1;
-  if (nsavc != every)
-    return rl_error(RL_EINVAL, "%s has a frame every %ld steps, this run writes one every %ld "
-                    "(output.trajectory_every): a continuation keeps the interval, or writes under another "
-                    "output.prefix", path, nsavc, every);
-  *keep = first < istart ? 0 : (first - istart) / every + 1;
-  return 0;
-}
-
-static int traj_open(traj *t, const rl_deck *d, scene *s, long first, int mode)
-{
-  t->every = d->trajectory_every;
-  const int site = rl_deck_site_model(&s->mol);
-  snprintf(t->path, sizeof t->path, "%s.%s", d->prefix, site ? "dcd" : "xyz");
-  snprintf(t->part, sizeof t->part, "%s.part", t->path);
-  /* a continuation of this prefix appends; where there is no trajectory yet (the first run
-   * wrote none), or the start is another prefix's checkpoint, a new one starts at this run's
-   * first frame */
-  if (site) {
-    snprintf(t->pdb, sizeof t->pdb, "%s.pdb", d->prefix);
-    snprintf(t->pdb_part, sizeof t->pdb_part, "%s.part", t->pdb);
-  }
-  /* a run of this prefix killed without a signal it could catch left its trajectory under the
-   * .part name: a continuation of that run takes that one, if newer than the last complete one */
-  if (mode == TRAJ_PART && access(t->part, F_OK) == 0 && newer_or_only(t->part, t->path)) {
-    if (rename(t->part, t->path))
-      return rl_error(RL_EINVAL, "cannot move %s to %s: %s", t->part, t->path, strerror(errno));
-    if (site && access(t->pdb_part, F_OK) == 0 && rename(t->pdb_part, t->pdb))
-      return rl_error(RL_EINVAL, "cannot move %s to %s: %s", t->pdb_part, t->pdb, strerror(errno));
-  }
-  t->fresh = mode == TRAJ_NEW || access(t->path, F_OK) != 0;
-  const char *out = t->fresh ? t->part : t->path;
-  if (site) {
-    /* a new trajectory's PDB is its first state, under the .part name; a continuation keeps the
-     * PDB of the run it continues (its topology and first state, as an uninterrupted run's), and
-     * writes one only if there is none, after its DCD has been opened: a continuation that
-     * fails leaves the PDB as it was */
-    const rl_molecule *mols[1] = {&s->mol};
-    if (t->fresh) {
-      if (rl_pdb_write(t->pdb_part, s->sys, mols, d->box)) return 1;
-      t->dcd = rl_dcd_create(out, s->sys, first + t->every, t->every, d->timestep, "rotleap");
-      return t->dcd ? 0 : 1;
-    }
-    long keep = 0;
-    if (dcd_keep(out, t->every, first, &keep) || !(t->dcd = rl_dcd_append(out, s->sys, keep))) return 1;
-    return access(t->pdb, F_OK) == 0 ? 0 : rl_pdb_write(t->pdb, s->sys, mols, d->box);
-  }
-  if (!t->fresh && xyz_keep_frames(out, first)) return 1;
-  t->xyz = fopen(out, t->fresh ? "w" : "a");
-  if (!t->xyz) return rl_error(RL_EINVAL, "cannot write %s: %s", out, strerror(errno));
-  return 0;
-}
-
-static int traj_frame(traj *t, scene *s, const rl_deck *d, double time, long step)
-{
-  if (t->dcd) return rl_dcd_write_frame(t->dcd, s->sys, d->box);
-  int st = rl_xyz_write_frame(t->xyz, t->path, s->sys, d->box, time, step);
-  if (!st && fflush(t->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
-  return st;
-}
-
-/* Close; a new trajectory replaces the earlier one if `keep`, else it is removed.  Nonzero (with
- * the message set) if a file could not be completed or renamed. */
-static int traj_close(traj *t, int keep)
-{
-  int st = 0;
-  if (t->dcd && rl_dcd_close(t->dcd)) st = 1;
-  if (t->xyz && fclose(t->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
-  const int opened = t->dcd || t->xyz || (t->pdb[0] && access(t->pdb_part, F_OK) == 0);
-  t->dcd = NULL;
-  t->xyz = NULL;
-  if (!t->fresh || !opened) return st;
-  const char *parts[2] = {t->part, t->pdb_part}, *paths[2] = {t->path, t->pdb};
-  for (int k = 0; k < 2; k++) {
-    if (!parts[k][0] || access(parts[k], F_OK)) continue;
-    if (!keep || st) { remove(parts[k]); continue; }
-    if (rename(parts[k], paths[k])) st = rl_error(RL_EINVAL, "cannot rename %s to %s: %s", parts[k], paths[k], strerror(errno));
-  }
-  return st;
-}
-
-/* What a checkpoint carries besides the state: the run's own bookkeeping, so that a restart
- * continues bit for bit (thermostat account and random stream, the summary's accumulators), and
- * from version 3 the neighbour list's origin (rl_forcefield_list_origin: the centres at its last
- * build, which fix the list and the order of the pair sums; without them a restart rebuilds the
- * list from its own centres and continues to round-off only, once the box has a cell grid or the
- * pair loop has threads).  From version 4 it also names the last thermo row its run wrote before
- * the checkpoint's step (step and FNV-1a hash of the text), so that a continuation takes its
- * earlier rows from that run's file and no other.  Layout: run_blob, the random state (rng_size
- * bytes), then (version 3) a long count (0 or the number of bodies) and count x 3 doubles. */
-#define RUN_BLOB_MAGIC "rotleap-run-4"
-#define RUN_BLOB_MAGIC_V3 "rotleap-run-3" /* before the last thermo row */
-#define RUN_BLOB_MAGIC_V2 "rotleap-run-2" /* before the list origin */
-#define RUN_BLOB_MAGIC_V1 "rotleap-run-1" /* before the thermostat and the seed were recorded */
-typedef struct {
-  char magic[16];
-  double thermo_work;
-  running E, U, T, Tt, Tr, P;
-  long done;
-  unsigned long rng_size;
-  /* version 2 */
-  long thermostat;    /* rl_thermostat of the run that wrote it; -1: not recorded (version 1) */
-  unsigned long seed; /* run.seed its random stream started from */
-  /* version 4 */
-  long row_step;      /* the last row of the run's thermo file before the checkpoint's step; -1:
-                         the file has none; -2: not recorded (versions 1-3) */
-  uint64_t row_hash;  /* fnv1a of that row's text */
-} run_blob;
-#define RUN_BLOB_V1_SIZE offsetof(run_blob, thermostat)
-#define RUN_BLOB_V3_SIZE offsetof(run_blob, row_step)
-
-/* The run record of a checkpoint into *b, the random state following it at blob + *hdr: 4, 3, 2
- * or 1 (its version), 0 if the checkpoint has none. */
-static int read_blob(const scene *s, run_blob *b, size_t *hdr)
-{
-  static const struct { const char *magic; size_t size; int version; } known[] = {
-      {RUN_BLOB_MAGIC, sizeof(run_blob), 4}, {RUN_BLOB_MAGIC_V3, RUN_BLOB_V3_SIZE, 3},
-      {RUN_BLOB_MAGIC_V2, RUN_BLOB_V3_SIZE, 2}, {RUN_BLOB_MAGIC_V1, RUN_BLOB_V1_SIZE, 1}};
-  memset(b, 0, sizeof *b);
-  b->row_step = -2;
-  for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
-    if (s->blob_size >= known[k].size && !memcmp(s->blob, known[k].magic, strlen(known[k].magic) + 1)) {
-      memcpy(b, s->blob, known[k].size);
-      if (known[k].version == 1) b->thermostat = -1;
-      *hdr = known[k].size;
-      return known[k].version;
-    }
-  return 0;
-}
-
-static int write_checkpoint(const rl_deck *d, scene *s, rl_integrator *in, const run_blob *b0, const char *path)
-{
-  run_blob b = *b0;
-  snprintf(b.magic, sizeof b.magic, "%s", RUN_BLOB_MAGIC);
-  b.thermo_work = rl_integrator_thermostat_work(in);
-  b.rng_size = (unsigned long)rl_integrator_rng_size(in);
-  b.thermostat = d->thermostat;
-  b.seed = d->thermostat_seed;
-  const int n = rl_system_count(s->sys);
-  const size_t list_bytes = sizeof(long) + sizeof(double[3]) * (size_t)n;
-  size_t size = sizeof b + b.rng_size + list_bytes;
-  unsigned char *buf = malloc(size);
-  if (!buf) return rl_error(RL_ENOMEM, "out of memory");
-  memcpy(buf, &b, sizeof b);
-  if (b.rng_size) memcpy(buf + sizeof b, rl_integrator_rng_state(in), b.rng_size);
-  { /* the list's origin, or a count of 0 (no list yet) */
-    unsigned char *p = buf + sizeof b + b.rng_size;
-    long count = n > 0 && rl_forcefield_list_origin(s->ff, (double(*)[3])(void *)(p + sizeof(long))) ? n : 0;
-    memcpy(p, &count, sizeof count);
-    if (!count) size = sizeof b + b.rng_size + sizeof(long);
-  }
-  rl_checkpoint_meta meta = {rl_integrator_time(in), rl_integrator_steps(in), {d->box[0], d->box[1], d->box[2]}, buf, size};
-  int st = rl_checkpoint_write(path, s->sys, &meta);
-  free(buf);
-  return st;
-}
-
-/* SIGINT and SIGTERM during the production loop: the step in progress ends, and the run stops
- * as if run.steps had been reached there (checkpoint, thermo rows, summary with status =
- * interrupted), exit status 128 + the signal.  A second signal acts at once (the handler
- * restores the default action).  The handlers are installed before the thermo file is opened
- * and stay until the outputs are written; a signal after the last step changes nothing.  Before
- * that (building, relaxing) the default actions apply, and a run killed there has written
- * nothing.  A run killed by SIGKILL leaves its rows in PREFIX.thermo.csv.part, which a
- * continuation of its checkpoint reads. */
+/* SIGINT and SIGTERM, from the relaxation to the last output: the step in progress ends and the
+ * run stops as if run.steps had been reached there (a checkpoint, the rows and the summary with
+ * status = interrupted), exit status 128 + the signal.  The first signal restores the default
+ * action of both, so that a second one, of either kind, stops at once.  A run killed by SIGKILL
+ * leaves its files under their working names (outputs.h), which a continuation of its last
+ * checkpoint takes up. */
 static volatile sig_atomic_t got_signal;
+static const int caught_sigs[2] = {SIGINT, SIGTERM};
+static int sig_ignored[2]; /* a signal ignored at the start (a background job's SIGINT) stays so */
+
+static void default_actions(void)
+{
+  for (int k = 0; k < 2; k++) {
+    if (sig_ignored[k]) continue;
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = SIG_DFL;
+    sigemptyset(&sa.sa_mask);
+    sigaction(caught_sigs[k], &sa, NULL);
+  }
+}
 
 static void on_signal(int sig)
 {
   got_signal = sig;
-  signal(sig, SIG_DFL);
+  default_actions(); /* sigaction is async-signal-safe */
 }
 
 static void catch_signals(int on)
 {
-  static const int sigs[2] = {SIGINT, SIGTERM};
-  static int ignored[2]; /* a signal ignored at the start (a background job's SIGINT) stays so */
+  if (!on) { default_actions(); return; }
   for (int k = 0; k < 2; k++) {
     struct sigaction sa, old;
-    if (on) {
-      sigaction(sigs[k], NULL, &old);
-      ignored[k] = old.sa_handler == SIG_IGN;
-    }
-    if (ignored[k]) continue;
+    sigaction(caught_sigs[k], NULL, &old);
+    sig_ignored[k] = old.sa_handler == SIG_IGN;
+    if (sig_ignored[k]) continue;
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on ? on_signal : SIG_DFL;
+    sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    sigaction(sigs[k], &sa, NULL);
+    sigaction(caught_sigs[k], &sa, NULL);
   }
 }
+
+static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)"; }
+
+/* --------------------------------------------------------------------------- thermo rows */
 
 #define THERMO_HEADER                                                                          \
   "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"        \
   "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n"
 
-/* A complete thermo row: THERMO_HEADER's 19 columns and its newline (a run killed mid-write
- * leaves a torn last line in its .part file). */
-static int thermo_row_complete(const char *line)
+/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k;
+ * calE is the running relative fluctuation of the conserved quantity (E). */
+static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
+                      const running *E)
 {
-  int commas = 0;
-  const char *c = line;
-  for (; *c; c++) commas += *c == ',';
-  return commas == 18 && c > line && c[-1] == '\n';
+  if (fprintf(f, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n",
+              k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
+              info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
+              E->n > 1 ? running_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid) < 0)
+    return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
+  return RL_OK;
 }
 
-/* The complete rows before step `first` of the thermo file at path: their number in *nrows and
- * the last of them (its step and fnv1a, or -1 and 0 if none) in *last_step, *last_hash; with
- * copy_to, they are also copied there.  Returns 1 for a file with THERMO_HEADER's columns, 0 for
- * one with other columns, -1 if there is no file to read, -2 on a read or write error (reported). */
-static int thermo_scan(const char *path, long first, long *nrows, long *last_step, uint64_t *last_hash, FILE *copy_to)
+/* ------------------------------------------------------------ the settings of a simulation */
+
+/* The shortest decimal form of x that reads back as x. */
+static const char *exact(char buf[40], double x)
 {
-  *nrows = 0;
-  *last_step = -1;
-  *last_hash = 0;
-  FILE *in = fopen(path, "r");
-  if (!in) return -1;
-  char *line = NULL;
-  size_t cap = 0;
-  int st = getline(&line, &cap, in) >= 0 && !strcmp(line, THERMO_HEADER);
-  while (st == 1 && getline(&line, &cap, in) > 0) {
-    char *end;
-    const long step = strtol(line, &end, 10);
-    if (end == line || !thermo_row_complete(line)) continue; /* a row torn by a kill */
-    if (step >= first) break;
-    (*nrows)++;
-    *last_step = step;
-    *last_hash = fnv1a(line);
-    if (copy_to && fputs(line, copy_to) < 0) st = -2;
+  for (int p = 15; p <= 17; p++) {
+    snprintf(buf, 40, "%.*g", p, x);
+    if (strtod(buf, NULL) == x || isnan(x)) break;
   }
-  if (ferror(in)) st = -2;
-  fclose(in);
-  free(line);
-  if (st == -2) fprintf(stderr, "rotleap run: cannot copy the earlier rows of %s: %s\n", path, strerror(errno));
+  return buf;
+}
+
+/* The settings that define the simulation a checkpoint continues, one "key = value" line each
+ * (values in the system's units): a continuation whose deck gives other values runs another
+ * simulation, and under the same output.prefix its averages and files would mix the two.  Not
+ * here: what changes only the speed or the round-off (threads, kernel, precision, skin), the
+ * bookkeeping (steps, thermo, checkpoints, progress) and run.seed (another seed continues with a
+ * new random stream, and says so). */
+static char *physics_text(const rl_deck *d)
+{
+  size_t cap = 4096, n = 0;
+  char *s = malloc(cap);
+  if (!s) return NULL;
+  s[0] = '\0';
+#define ADD(...)                                                                                                   \
+  do {                                                                                                             \
+    int w_ = snprintf(s + n, cap - n, __VA_ARGS__);                                                                \
+    if (w_ < 0) break;                                                                                             \
+    if ((size_t)w_ >= cap - n) {                                                                                   \
+      char *t_ = realloc(s, cap = 2 * cap + (size_t)w_);                                                           \
+      if (!t_) { free(s); return NULL; }                                                                           \
+      s = t_;                                                                                                      \
+      snprintf(s + n, cap - n, __VA_ARGS__);                                                                       \
+    }                                                                                                              \
+    n += (size_t)w_;                                                                                               \
+  } while (0)
+  char r1[40], r2[40], r3[40], r4[40], r5[40], r6[40], r7[40];
+  const char *L = rl_dim_unit(Q_LENGTH, d->units), *tu = rl_dim_unit(Q_TIME, d->units),
+             *Tu = rl_dim_unit(Q_TEMPERATURE, d->units);
+  static const char *const scheme[] = {"site", "molecule"}, *const lj[] = {"plain", "shifted", "shifted-force", "switched"},
+                           *const dip[] = {"rf", "sf"};
+  ADD("system.model = %s\n", d->model->name);
+  for (int k = 0; k < d->model->nparams; k++)
+    ADD("model.%s = %s %s\n", d->model->param_names[k], exact(r1, d->params[k]), d->model->param_units[k] ? d->model->param_units[k] : "");
+  ADD("system.count = %d\n", d->count);
+  ADD("system.force_general = %s\n", d->force_general ? "yes" : "no");
+  ADD("interactions.cutoff = %s %s\n", exact(r2, d->ff.cutoff), L);
+  ADD("interactions.scheme = %s\n", scheme[d->ff.scheme]);
+  ADD("interactions.lj = %s\n", lj[d->ff.lj_truncation]);
+  if (d->ff.lj_truncation == RL_LJ_SWITCHED) ADD("interactions.switch = %s %s\n", exact(r3, d->ff.r_switch), L);
+  ADD("interactions.dispersion_correction = %s\n", d->ff.dispersion_correction ? "yes" : "no");
+  ADD("interactions.eps_rf = %s\n", exact(r4, d->ff.eps_rf));
+  ADD("interactions.dipole = %s\n", dip[d->ff.dipole_method]);
+  ADD("run.timestep = %s %s\n", exact(r5, d->timestep), tu);
+  ADD("run.integrator = %s\n", rl_rot_method_name(d->method));
+    static const char *const ensemble[] = {"nve", "nvt-isokinetic", "nvt-bussi", "nvt-langevin"};
+  ADD("run.ensemble = %s\n", ensemble[d->thermostat]);
+  if (d->thermostat != RL_THERMO_NONE) ADD("run.temperature = %s %s\n", exact(r6, d->thermostat_temperature), Tu);
+  if (d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN) ADD("run.tau = %s %s\n", exact(r7, d->tau), tu);
+  if (d->thermostat == RL_THERMO_BUSSI) ADD("run.thermostat_groups = %s\n", rl_thermo_groups_name(d->thermostat_groups));
+  ADD("output.energy_every = %ld\n", d->energy_every);
+  ADD("output.trajectory_every = %ld\n", d->trajectory_every);
+  ADD("output.sample_every = %ld\n", d->sample_every);
+  ADD("output.rdf = %s\n", d->rdf);
+#undef ADD
+  return s;
+}
+
+/* The lines of `old` (len bytes) that `now` gives otherwise, as "key: X -> Y; ..." in msg; their
+ * number.  outputs_only: the output.* lines only (the sampling of the files), else the others. */
+static int is_output_key(const char *line) { return !strncmp(line, "output.", 7); }
+
+static int physics_diff(const char *old, size_t len, const char *now_text, int outputs_only, char *msg, size_t cap)
+{
+  int count = 0;
+  size_t used = 0;
+  msg[0] = '\0';
+  const char *end = old + len;
+  /* a line of `old` is "key = value\n" */
+  for (const char *line = old; line < end;) {
+    const char *nl = memchr(line, '\n', (size_t)(end - line));
+    if (!nl) nl = end;
+    const char *eq = memchr(line, '=', (size_t)(nl - line));
+    if (eq && eq > line && is_output_key(line) == outputs_only) {
+      const size_t klen = (size_t)(eq - line); /* "key " */
+      const char *mine = NULL;
+      for (const char *p = now_text; *p;) {
+        const char *pn = strchr(p, '\n');
+        if (!pn) pn = p + strlen(p);
+        if ((size_t)(pn - p) > klen && !strncmp(p, line, klen) && p[klen] == '=') { mine = p; break; }
+        p = *pn ? pn + 1 : pn;
+      }
+      const char *mv = mine ? mine + klen + 2 : "(not used)";
+      const size_t mvlen = mine ? strcspn(mv, "\n") : strlen(mv);
+      const char *ov = eq + 2 <= nl ? eq + 2 : nl;
+      if (mvlen != (size_t)(nl - ov) || strncmp(mv, ov, mvlen)) {
+        count++;
+        const int w = snprintf(msg + used, cap - used, "%s%.*s: %.*s -> %.*s", count > 1 ? "; " : "", (int)(klen - 1),
+                               line, (int)(nl - ov), ov, (int)mvlen, mv);
+        if (w > 0 && (size_t)w < cap - used) used += (size_t)w;
+      }
+    }
+    line = nl < end ? nl + 1 : end;
+  }
+  /* settings the checkpoint's run did not have (a thermostat's temperature after NVE, say) */
+  for (const char *p = now_text; *p;) {
+    const char *pn = strchr(p, '\n');
+    if (!pn) pn = p + strlen(p);
+    const char *eq = memchr(p, '=', (size_t)(pn - p));
+    if (eq && is_output_key(p) == outputs_only) {
+      const size_t klen = (size_t)(eq - p);
+      int found = 0;
+      for (const char *line = old; line < end && !found;) {
+        const char *nl = memchr(line, '\n', (size_t)(end - line));
+        if (!nl) nl = end;
+        found = (size_t)(nl - line) > klen && !strncmp(line, p, klen) && line[klen] == '=';
+        line = nl < end ? nl + 1 : end;
+      }
+      if (!found) {
+        count++;
+        const int w = snprintf(msg + used, cap - used, "%s%.*s: (not used) -> %.*s", count > 1 ? "; " : "",
+                               (int)(klen - 1), p, (int)(pn - eq - 2), eq + 2);
+        if (w > 0 && (size_t)w < cap - used) used += (size_t)w;
+      }
+    }
+    p = *pn ? pn + 1 : pn;
+  }
+  return count;
+}
+
+/* ------------------------------------------------------------------------------ the run */
+
+typedef struct {
+  const rl_deck *d;
+  scene s;
+  outputs *out;
+  char *chk_path, *chk_prev, *summary_path;
+  char *physics;
+  int site;             /* a DCD of the sites + PDB topology, else extended XYZ            */
+  int same_prefix;      /* system.start is this prefix's checkpoint                        */
+  int resumed;          /* the streams continue those of the checkpoint's run              */
+  int moved_prev;       /* this run moved an earlier PREFIX.chk to PREFIX.chk.prev          */
+  int streams;          /* the streams are open                                            */
+  rl_integrator *in;
+  analysis *an;
+  FILE *thermo, *xyz;
+  rl_dcd *dcd;
+  running E, U, T, Tt, Tr, P; /* E: the conserved quantity (the total energy in NVE)      */
+  scene_watch watch;
+  long first, done;
+  int stopped;          /* the signal that ended the run                                    */
+  long last_chk;        /* the step of the last checkpoint this run wrote or continues (-1)  */
+  long relax_done;      /* relaxation steps done (for messages)                             */
+  scene_relaxation *relax; /* a relaxation stopped by a signal, for its checkpoint          */
+} run_ctx;
+
+/* A checkpoint at `step`, `time` of the integrator `in` (the production's, or the relaxation's
+ * with relax_step >= 0).  marks: the streams' marks (NULL: taken now, if the streams are open).
+ * Before the first checkpoint of a run that does not continue this prefix's own, an earlier
+ * PREFIX.chk is kept as PREFIX.chk.prev until the run completes (its outputs stay complete). */
+static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double time, long relax_step, double relax_time,
+                            const out_mark *marks)
+{
+  const rl_deck *d = c->d;
+  run_record r;
+  memset(&r, 0, sizeof r);
+  r.version = 5;
+  r.thermo_work = rl_integrator_thermostat_work(in);
+  r.E = c->E; r.U = c->U; r.T = c->T; r.Tt = c->Tt; r.Tr = c->Tr; r.P = c->P;
+  r.done = relax_step >= 0 ? 0 : step;
+  r.thermostat = relax_step >= 0 ? RL_THERMO_BUSSI : d->thermostat;
+  r.seed = relax_step >= 0 ? d->seed + 2 : d->thermostat_seed;
+  r.rng = rl_integrator_rng_state(in);
+  r.rng_size = rl_integrator_rng_size(in);
+  r.physics = c->physics;
+  r.physics_len = strlen(c->physics);
+  int st = RL_OK;
+  if (marks) memcpy(r.marks, marks, sizeof r.marks);
+  else if (c->streams) st = outputs_mark(c->out, r.marks);
+  r.has_watch = 1;
+  r.watch = c->watch;
+  r.relax_step = relax_step;
+  r.relax_time = relax_time;
+  const int n = rl_system_count(c->s.sys);
+  double(*origin)[3] = n > 0 ? malloc(sizeof *origin * (size_t)n) : NULL;
+  if (!st && n > 0 && !origin) st = rl_error(RL_ENOMEM, "out of memory");
+  if (!st && origin && rl_forcefield_list_origin(c->s.ff, origin)) {
+    r.list_count = n;
+    r.list = (const double(*)[3])origin;
+  }
+  unsigned char *blob = NULL;
+  size_t size = 0;
+  if (!st) st = runrec_encode(&r, &blob, &size);
+  if (!st && !c->same_prefix && !c->moved_prev && access(c->chk_path, F_OK) == 0) {
+    if (rename(c->chk_path, c->chk_prev) != 0)
+      st = rl_error(RL_EINVAL, "cannot keep the earlier %s as %s: %s", c->chk_path, c->chk_prev, strerror(errno));
+    else c->moved_prev = 1;
+  }
+  if (!st) {
+    rl_checkpoint_meta meta = {time, relax_step >= 0 ? 0 : step, {d->box[0], d->box[1], d->box[2]}, blob, size};
+    st = rl_checkpoint_write(c->chk_path, c->s.sys, &meta);
+    if (!st) c->last_chk = relax_step >= 0 ? 0 : step;
+  }
+  free(blob);
+  free(origin);
   return st;
 }
 
-/* Which file holds the rows before step `first` of the run that wrote the checkpoint a
- * continuation of this prefix starts from (rec): a killed run's .part (a run killed without a
- * signal it could catch leaves its rows there), the .part.old an earlier run moved aside, or the
- * thermo file itself.  A file holds them if its last complete row before `first` is the one the
- * checkpoint names (version 4; none, if it names none), so that no other run's rows are ever
- * spliced in.  A checkpoint of version 3 or older names no row: a killed run's .part that has
- * rows is taken if it is newer than the thermo file, else the thermo file. */
-enum { ROWS_NONE, ROWS_PART, ROWS_OLD, ROWS_FILE };
-static int rows_source(const char *part, const char *oldpart, const char *thermo_path, long first,
-                       const run_blob *rec)
+/* The outputs a run under this prefix writes, for the check that none of them is the deck or
+ * the start (scene_check_outputs). */
+static int check_overwrites(const rl_deck *d, const outputs *o)
 {
-  long nrows, step;
-  uint64_t hash;
-  if (rec->row_step < -1)
-    return thermo_scan(part, first, &nrows, &step, &hash, NULL) == 1 && nrows > 0 && newer_or_only(part, thermo_path)
-               ? ROWS_PART : ROWS_FILE;
-  const char *file[3] = {part, oldpart, thermo_path};
-  for (int k = 0; k < 3; k++)
-    if (thermo_scan(file[k], first, &nrows, &step, &hash, NULL) == 1 && step == rec->row_step &&
-        (step < 0 || hash == rec->row_hash))
-      return k + 1; /* ROWS_PART, ROWS_OLD, ROWS_FILE */
-  return ROWS_NONE;
+  static const char *const whole[] = {".chk", ".chk.prev", ".summary.txt", ".summary.txt.part", ".results.txt",
+                                      ".results.txt.part", ".rdf.csv", ".rdf.csv.part", ".tcf.csv", ".tcf.csv.part",
+                                      ".thermo.csv.prev", ".lock"};
+  enum { NW = sizeof whole / sizeof whole[0] };
+  char *names[NW + 2 * OUT_NSTREAMS];
+  int n = 0, st = RL_OK;
+  for (int k = 0; k < NW; k++) names[n++] = path_of(d->prefix, whole[k]);
+  for (int k = 0; k < OUT_NSTREAMS; k++)
+    if (outputs_path(o, k)) {
+      names[n++] = path_of(outputs_path(o, k), "");
+      names[n++] = path_of(outputs_part(o, k), "");
+    }
+  for (int k = 0; k < n && !st; k++)
+    if (!names[k]) st = rl_error(RL_ENOMEM, "out of memory");
+  if (!st) st = scene_check_outputs(d, (const char *const *)names, n);
+  for (int k = 0; k < n; k++) free(names[k]);
+  return st;
+}
+
+/* A run that writes new streams under this prefix would replace the working files of an
+ * unfinished run there (killed, failed or stopped) that PREFIX.chk continues: refused, saying
+ * how to continue it or let it go. */
+static int check_unfinished(run_ctx *c)
+{
+  const rl_deck *d = c->d;
+  if (access(c->chk_path, F_OK) != 0 || (d->start[0] && same_file(d->start, c->chk_path))) return RL_OK;
+  rl_checkpoint_meta meta;
+  memset(&meta, 0, sizeof meta);
+  rl_system *sys = rl_checkpoint_load(c->chk_path, &meta);
+  if (!sys) return RL_OK; /* not a checkpoint this run could continue: it is replaced */
+  run_record r;
+  int unfinished = 0;
+  if (!runrec_decode(meta.blob, meta.blob_size, rl_system_count(sys), c->chk_path, &r))
+    for (int k = 0; k < OUT_NSTREAMS; k++)
+      if (r.marks[k].where == MARK_PART && outputs_part_matches(c->out, k, &r.marks[k])) unfinished = 1;
+  const long step = meta.step;
+  free((void *)meta.blob);
+  rl_system_free(sys);
+  if (!unfinished) return RL_OK;
+  return rl_error(RL_EINVAL, "%s.*.part hold the outputs of an unfinished run (killed, stopped by an error or out of disk "
+                  "space) up to its checkpoint %s at step %ld, which this run would replace: continue it with "
+                  "system.start = %s, or let it go (rm %s.*.part %s) and run again, or give another output.prefix",
+                  d->prefix, c->chk_path, step, c->chk_path, d->prefix, c->chk_path);
+}
+
+/* Header and frame bytes of the DCD the run writes. */
+static int dcd_layout(const char *path, const rl_system *sys, long *header, long *frame)
+{
+  (void)path;
+  *header = 276;
+  *frame = 56L + 3L * (8L + 4L * rl_io_natoms(sys));
+  return RL_OK;
+}
+
+/* The streams of this run: new working files (a new run, or a continuation under another
+ * prefix, whose rows and frames start at its first step), or those of the checkpoint's run
+ * continued from its marks (a continuation under this prefix). */
+static int open_streams(run_ctx *c, const run_record *rec)
+{
+  const rl_deck *d = c->d;
+  outputs *o = c->out;
+  int st = RL_OK;
+  if (rec && rec->marks[OUT_THERMO].where != MARK_NONE) {
+    if (!(st = outputs_resume(o, OUT_THERMO, &rec->marks[OUT_THERMO], outputs_path(o, OUT_THERMO), outputs_part(o, OUT_THERMO))))
+      if (!(c->thermo = outputs_append(o, OUT_THERMO))) st = RL_EINVAL;
+  } else if (!(c->thermo = outputs_create(o, OUT_THERMO))) st = RL_EINVAL;
+  else if (fputs(THERMO_HEADER, c->thermo) < 0)
+    st = rl_error(RL_EINVAL, "cannot write %s: %s", outputs_part(o, OUT_THERMO), strerror(errno));
+  c->streams = 1;
+  if (st || d->trajectory_every <= 0) return st;
+  const int resume = rec && rec->marks[OUT_TRAJ].where != MARK_NONE;
+  if (c->site) { /* the DCD; its PDB topology is written by open_topology, at the production's start */
+    long header, frame;
+    if (resume) {
+      if (!(st = outputs_resume(o, OUT_TRAJ, &rec->marks[OUT_TRAJ], outputs_path(o, OUT_TRAJ), outputs_part(o, OUT_TRAJ))) &&
+          !(st = dcd_layout(outputs_part(o, OUT_TRAJ), c->s.sys, &header, &frame)) &&
+          !(c->dcd = rl_dcd_append(outputs_part(o, OUT_TRAJ), c->s.sys, (rec->marks[OUT_TRAJ].len - header) / frame)))
+        st = RL_EINVAL;
+      if (!st && rec->marks[OUT_TOPOLOGY].where != MARK_NONE)
+        st = outputs_resume(o, OUT_TOPOLOGY, &rec->marks[OUT_TOPOLOGY], outputs_path(o, OUT_TOPOLOGY),
+                            outputs_part(o, OUT_TOPOLOGY));
+    } else {
+      c->dcd = rl_dcd_create(outputs_part(o, OUT_TRAJ), c->s.sys, c->first + d->trajectory_every, d->trajectory_every,
+                             d->timestep, "rotleap");
+      if (!c->dcd || dcd_layout(outputs_part(o, OUT_TRAJ), c->s.sys, &header, &frame)) st = RL_EINVAL;
+      else outputs_started(o, OUT_TRAJ, header);
+    }
+  } else if (resume) {
+    if (!(st = outputs_resume(o, OUT_TRAJ, &rec->marks[OUT_TRAJ], outputs_path(o, OUT_TRAJ), outputs_part(o, OUT_TRAJ))))
+      if (!(c->xyz = outputs_append(o, OUT_TRAJ))) st = RL_EINVAL;
+  } else if (!(c->xyz = outputs_create(o, OUT_TRAJ))) st = RL_EINVAL;
+  return st;
+}
+
+/* The DCD's PDB topology: the production's starting state (after the relaxation), written once
+ * by the run that starts the trajectory. */
+static int open_topology(run_ctx *c)
+{
+  if (!c->site || c->d->trajectory_every <= 0 || outputs_started_p(c->out, OUT_TOPOLOGY)) return RL_OK;
+  const rl_molecule *mols[1] = {&c->s.mol};
+  const int st = rl_pdb_write(outputs_part(c->out, OUT_TOPOLOGY), c->s.sys, mols, c->d->box);
+  if (!st) outputs_started(c->out, OUT_TOPOLOGY, 0);
+  return st;
+}
+
+static int traj_frame(run_ctx *c, double time, long step)
+{
+  if (c->dcd) return rl_dcd_write_frame(c->dcd, c->s.sys, c->d->box);
+  const char *path = outputs_part(c->out, OUT_TRAJ);
+  int st = rl_xyz_write_frame(c->xyz, path, c->s.sys, c->d->box, time, step);
+  if (!st && ferror(c->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
+  return st;
 }
 
 /* The library's message for a failed step; for a non-finite potential energy, also the term
@@ -499,236 +533,353 @@ static void step_error(const rl_deck *d, const scene *s, int st)
   fprintf(stderr, "rotleap run: %s\n", msg);
 }
 
+/* The species line of the summary: family, rotation path, degrees of freedom and how far apart
+ * the principal moments are (a molecule just outside the tolerance for calling two equal is
+ * integrated by a slower path: visible here, and warned about). */
+static int species_text(const run_ctx *c, char *buf, size_t cap)
+{
+  const rl_molecule *m = &c->s.mol;
+  const rl_system *sys = c->s.sys;
+  const rl_kind kind = rl_system_species_kind(sys, 0);
+  const double *J = m->inertia, Jmax = fmax(J[0], fmax(J[1], J[2]));
+  const char *path = c->in ? rl_integrator_path(c->in, 0) : rl_kind_rotation_path(kind);
+  int n = snprintf(buf, cap, "species = %s x %d: %s, %d+%d dof, rotation path: %s", m->name, c->d->count, rl_kind_name(kind),
+                   3, rl_kind_rotational_dof(kind), path ? path : "?");
+  if (kind != RL_KIND_POINT && Jmax > 0 && n > 0 && (size_t)n < cap) {
+    const double d01 = fabs(J[0] - J[1]) / Jmax, d12 = fabs(J[1] - J[2]) / Jmax, d02 = fabs(J[0] - J[2]) / Jmax;
+    n += snprintf(buf + n, cap - (size_t)n, "; principal moments %.6g %.6g %.6g %s, relative differences %.3g (X-Y) %.3g "
+                  "(Y-Z) %.3g (X-Z), equal below %g\n", J[0], J[1], J[2], c->d->units == RL_UNITS_REAL ? "amu nm^2" : "m sigma^2",
+                  d01, d12, d02, RL_INERTIA_RTOL);
+    const double dd[3] = {d01, d12, d02};
+    for (int k = 0; k < 3 && n > 0 && (size_t)n < cap; k++)
+      if (dd[k] > RL_INERTIA_RTOL && dd[k] < 1e-6) {
+        n += snprintf(buf + n, cap - (size_t)n, "warning = two principal moments of %s differ by %.3g relative, just above "
+                      "the tolerance %g for calling them equal: it is integrated as %s, not by the faster path of a "
+                      "more symmetric top; if the difference is rounding in its coordinates, symmetrise the model\n",
+                      m->name, dd[k], RL_INERTIA_RTOL, rl_kind_name(kind));
+        break;
+      }
+  } else if (n > 0 && (size_t)n < cap) n += snprintf(buf + n, cap - (size_t)n, "\n");
+  return n;
+}
+
+/* The summary: whole-run averages (they survive continuations), what ran, and the status. */
+static int write_summary(run_ctx *c, const char *path, const char *status, const char *error, double wall, int io_bad)
+{
+  const rl_deck *d = c->d;
+  const int n = d->count;
+  const rl_forcefield *ff = c->s.ff;
+  char au[160] = "n/a (no step with energies)", at[200] = "n/a", ap[160] = "n/a";
+  if (c->U.n > 0) {
+    snprintf(au, sizeof au, "%.8g +- sd %.3g %s", c->U.mean / n, running_sd(&c->U) / n, energy_unit(d));
+    snprintf(at, sizeof at, "%.6g (translational %.6g, rotational %.6g)%s", c->T.mean, c->Tt.mean, c->Tr.mean,
+             d->units == RL_UNITS_LJ ? "" : " K");
+    snprintf(ap, sizeof ap, "%.6g +- sd %.3g %s", c->P.mean, running_sd(&c->P), pressure_unit(d));
+  }
+  char cE[64], cU[64], cEU[64], species[1024];
+  /* relative fluctuations (0 with fewer than two steps; n/a where a mean is 0) */
+  const double calE = c->E.n > 1 ? running_sd(&c->E) / fabs(c->E.mean) : 0.0,
+               calU = c->U.n > 1 ? running_sd(&c->U) / fabs(c->U.mean) : 0.0;
+  const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
+  const int mode = scene_drift_mode(d, c->watch.alt_at_max); /* the isokinetic scheme's, not the step's */
+  species_text(c, species, sizeof species);
+  double sem;
+  const double drift = scene_watch_drift(&c->watch, &sem);
+  char drift_fit[200] = "n/a (fewer than two windows)";
+  if (isfinite(sem)) snprintf(drift_fit, sizeof drift_fit, "%.3g +- %.2g kT per molecule per %s (mean over %ld windows)",
+                              drift, sem, tunit, c->watch.nwin);
+  rl_rot_method m = d->method;
+  FILE *f = NULL;
+  char *text = NULL;
+  size_t len = 0;
+  if (!(f = open_memstream(&text, &len))) return rl_error(RL_ENOMEM, "out of memory for the summary");
+  fprintf(f, "# rotleap %s summary of %s\n", ROTLEAP_VERSION, d->path);
+  fprintf(f, "status = %s\n", status);
+  if (error) fprintf(f, "error = %s\n", error);
+  if (c->stopped) fprintf(f, "stopped_by = %s\n", signal_text(c->stopped));
+  if (c->relax_done >= 0 && c->relax_done < d->equilibrate_steps)
+    fprintf(f, "relaxation = stopped at step %ld of %ld (system.start = %s continues it)\n", c->relax_done,
+            d->equilibrate_steps, c->chk_path);
+  fprintf(f, "steps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\n%sunits = %s\n", c->first + c->done,
+          d->steps, c->done, d->model->name, n, species, d->units == RL_UNITS_LJ ? "lj" : "real");
+  fprintf(f, "integrator = %s\ntimestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\n",
+          rl_rot_method_name(m), d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every);
+  fprintf(f, "neighbour_list = skin %.4g %s, %ld builds in this invocation\n", scene_skin(d, &c->s.mol),
+          rl_dim_unit(Q_LENGTH, d->units), ff ? rl_forcefield_rebuilds(ff) : 0L);
+  fprintf(f, "pair_kernels = %s (%s rows, %d thread(s), %s precision)\nwall_seconds = %.3f\nfallbacks = %ld\n",
+          ff ? rl_forcefield_kernel(ff) : "none", ff ? rl_forcefield_rows(ff) : "no", ff ? rl_forcefield_threads(ff) : 1,
+          ff ? rl_forcefield_precision(ff) : "double", wall, c->in ? rl_integrator_fallbacks(c->in) : 0L);
+  fprintf(f, "U_per_molecule = %s\ntemperature = %s\npressure = %s\n", au, at, ap);
+  fprintf(f, "calE = %s (relative fluctuation of the conserved quantity: the total energy%s)\ncalU = %s\n"
+          "calE_over_calU = %s\n", rel_fluct_text(cE, sizeof cE, calE),
+          d->thermostat == RL_THERMO_NONE ? ", conserved in NVE" : " plus the energy the thermostat took out",
+          rel_fluct_text(cU, sizeof cU, calU), rel_fluct_text(cEU, sizeof cEU, calU > 0 ? calE / calU : c->U.n > 1 ? NAN : 0.0));
+  fprintf(f, "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n", scene_rigidity_error(c->s.sys));
+  fprintf(f, "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n", c->watch.max_rate, tunit,
+          SCENE_WINDOW, tunit, c->watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window");
+  fprintf(f, "conserved_drift_mean = %s\n", drift_fit);
+  if (fabs(c->watch.max_rate) > SCENE_DRIFT_WARN)
+    fprintf(f, "%s", mode ? "warning = the conserved energy drifts: the isokinetic thermostat's undamped step-to-step "
+                            "alternation of the kinetic energy (a start out of equilibrium at run.temperature), not the time "
+                            "step; relax the start at run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n"
+                          : "warning = the conserved energy drifts: integration error is heating or cooling the system; "
+                            "a smaller time step will change the results\n");
+  if (io_bad) fprintf(f, "warning = some output files could not be written (the messages on stderr say which)\n");
+  if (fclose(f) != 0) { free(text); return rl_error(RL_ENOMEM, "out of memory for the summary"); }
+  rl_atomic_file af;
+  int st = rl_atomic_open(&af, path);
+  if (!st && fputs(text, af.fp) < 0) {
+    st = rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
+    rl_atomic_abort(&af);
+  } else if (!st) st = rl_atomic_commit(&af);
+  if (!st && !error) fputs(text, stdout);
+  free(text);
+  return st;
+}
+
+/* The continuation a checkpoint start asks for.  The run record must describe the simulation
+ * this deck asks for (physics_text); if it does not, a run under another prefix starts a new
+ * run from the checkpoint's state, and one under the checkpoint's own prefix is refused (its
+ * averages and files would mix two simulations).  Sets *cont (continue the record) or turns
+ * the start into a plain starting state. */
+static int decide_continuation(run_ctx *c, run_record *rec, int *cont)
+{
+  const rl_deck *d = c->d;
+  scene *s = &c->s;
+  *cont = 0;
+  if (!s->restart) return RL_OK;
+  int st = runrec_decode(s->blob, s->blob_size, rl_system_count(s->sys), d->start, rec);
+  if (st) return st;
+  char diff[4096] = "", odiff[2048] = "";
+  int other = 0, outputs_other = 0;
+  if (rec->version >= 5) {
+    other = physics_diff(rec->physics, rec->physics_len, c->physics, 0, diff, sizeof diff);
+    outputs_other = physics_diff(rec->physics, rec->physics_len, c->physics, 1, odiff, sizeof odiff);
+  } else if (rec->version >= 2 ? rec->thermostat != (long)d->thermostat
+                               : (rec->rng_size > 0) != (d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN)) {
+    other = 1;
+    snprintf(diff, sizeof diff, "run.ensemble: %s -> %s", rec->thermostat >= 0 ? rl_thermostat_name((rl_thermostat)rec->thermostat) : "?",
+             rl_thermostat_name(d->thermostat));
+  }
+  if (other && c->same_prefix)
+    return rl_error(RL_EINVAL, "%s was written by another simulation than this deck asks for (%s): a continuation under "
+                    "the same output.prefix must keep these settings, or its averages and files would mix two "
+                    "simulations; give another output.prefix to start a new run from this state", d->start, diff);
+  if (other) {
+    fprintf(stderr, "rotleap run: %s was written by a run with other settings (%s): starting a new run from its state "
+                    "(step 0; v and l completed to on-step with run.timestep = %g)\n", d->start, diff, d->timestep);
+    st = scene_onstep(d, s);
+    s->restart = 0;
+    return st;
+  }
+  /* the sampling of the files: a continuation appends to them, whose frames and samples are
+   * evenly spaced; under another prefix its files are new */
+  if (outputs_other && c->same_prefix)
+    return rl_error(RL_EINVAL, "%s was written with other output settings (%s): a continuation under the same "
+                    "output.prefix appends to its files and keeps their sampling; give another output.prefix for new "
+                    "files", d->start, odiff);
+  if (c->same_prefix && rec->version < 5)
+    return rl_error(RL_EINVAL, "%s was written by an older rotleap (run record version %d), whose output files a "
+                    "continuation cannot check: continue it under another output.prefix", d->start, rec->version);
+  *cont = 1;
+  return RL_OK;
+}
+
+/* The neighbour list the checkpoint's run had (before the first force computation), so that the
+ * pair sums keep their order. */
+static int restore_list(scene *s, const run_record *rec)
+{
+  const int n = rl_system_count(s->sys);
+  if (rec->list_count != n || n <= 0) return RL_OK;
+  double(*r0)[3] = malloc(sizeof *r0 * (size_t)n);
+  if (!r0) return rl_error(RL_ENOMEM, "out of memory");
+  memcpy(r0, rec->list, sizeof *r0 * (size_t)n);
+  const int st = rl_forcefield_set_list_origin(s->ff, (const double(*)[3])r0);
+  free(r0);
+  return st;
+}
+
+/* The run record's bookkeeping into the production integrator (a continuation). */
+static int restore_record(run_ctx *c, const run_record *rec)
+{
+  const rl_deck *d = c->d;
+  scene *s = &c->s;
+  if (rec->rng_size != rl_integrator_rng_size(c->in))
+    return rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %zu bytes, this run needs %zu)",
+                    d->start, rec->rng_size, rl_integrator_rng_size(c->in));
+  int st = restore_list(s, rec);
+  if (!st) st = rl_integrator_resume(c->in, s->step0, s->t0);
+  if (st) return st;
+  /* a changed run.seed asks for a new random stream: the integrator was seeded with it */
+  const int reseed = rec->version >= 2 && rec->rng_size && rec->seed != d->thermostat_seed;
+  if (reseed)
+    fprintf(stderr, "rotleap run: run.seed = %lu differs from the seed %lu of the run that wrote %s: the "
+                    "%s thermostat continues with a new random stream from seed %lu (not bit for bit "
+                    "with a continuation that keeps seed %lu)\n", d->thermostat_seed, rec->seed, d->start,
+            rl_thermostat_name(d->thermostat), d->thermostat_seed, rec->seed);
+  else if (rec->rng_size) memcpy(rl_integrator_rng_state(c->in), rec->rng, rec->rng_size);
+  rl_integrator_set_thermostat_work(c->in, rec->thermo_work);
+  c->E = rec->E; c->U = rec->U; c->T = rec->T; c->Tt = rec->Tt; c->Tr = rec->Tr; c->P = rec->P;
+  if (rec->has_watch) c->watch = rec->watch;
+  c->last_chk = s->step0;
+  c->first = s->step0;
+  if (c->first > d->steps)
+    return rl_error(RL_EINVAL, "%s is at step %ld, past run.steps = %ld (the total a continuation runs to, counted from "
+                    "the first run's step 0): ask for more steps", d->start, c->first, d->steps);
+  return RL_OK;
+}
+
+/* The relaxation phase: from the start, or continued from a checkpoint written during it.  A
+ * signal stops it at the step in progress: a checkpoint holds the relaxation's state (its
+ * continuation finishes the relaxation and runs the production, bit for bit with a run that was
+ * never stopped), and the summary says where it stopped.  Returns RL_OK with c->stopped set for
+ * a stop. */
+static int relax(run_ctx *c, const run_record *rec)
+{
+  const rl_deck *d = c->d;
+  const long k0 = rec ? rec->relax_step : 0;
+  if (d->equilibrate_steps <= 0 || k0 >= d->equilibrate_steps) return RL_OK;
+  if (rec && restore_list(&c->s, rec)) return RL_EINVAL;
+  scene_relaxation *r = scene_relax_begin(d, &c->s, k0, rec ? rec->relax_time : 0.0);
+  if (!r) return RL_EINVAL;
+  rl_integrator *in = scene_relax_integrator(r);
+  if (rec) {
+    if (rec->rng_size != rl_integrator_rng_size(in)) {
+      scene_relax_end(r, 0);
+      return rl_error(RL_EINVAL, "%s: the relaxation's random state has %zu bytes, expected %zu", d->start, rec->rng_size,
+                      rl_integrator_rng_size(in));
+    }
+    memcpy(rl_integrator_rng_state(in), rec->rng, rec->rng_size);
+    rl_integrator_set_thermostat_work(in, rec->thermo_work);
+  }
+  int st = scene_relax_run(d, &c->s, r, &got_signal);
+  c->relax_done = scene_relax_step(r);
+  if (!st && got_signal && c->relax_done < d->equilibrate_steps) { /* the run's end writes its checkpoint */
+    c->stopped = got_signal;
+    c->relax = r;
+    fprintf(stderr, "rotleap run: %s during the relaxation, at its step %ld of %ld: writing the checkpoint and summary "
+                    "(system.start = %s continues it)\n", signal_text(c->stopped), c->relax_done, d->equilibrate_steps,
+            c->chk_path);
+    return RL_OK;
+  }
+  const int fin = scene_relax_end(r, !st);
+  return st ? st : fin;
+}
+
 int rl_app_run(const rl_deck *d)
 {
-  scene s;
-  char thermo_path[600], part[700], summary_path[600];
-  snprintf(thermo_path, sizeof thermo_path, "%s.thermo.csv", d->prefix);
-  snprintf(part, sizeof part, "%s.part", thermo_path);
-  snprintf(summary_path, sizeof summary_path, "%s.summary.txt", d->prefix);
-  char chk_path[600], oldpart[720];
-  snprintf(chk_path, sizeof chk_path, "%s.chk", d->prefix);
-  snprintf(oldpart, sizeof oldpart, "%s.old", part);
-  { /* no output may overwrite the deck or the start (PREFIX.pdb = water.pdb, say), checked
-     * before anything is written */
-    static const char *const ext[] = {".thermo.csv", ".thermo.csv.part", ".thermo.csv.part.old", ".summary.txt",
-                                      ".chk", ".results.txt", ".rdf.csv", ".tcf.csv", ".dcd", ".dcd.part",
-                                      ".pdb", ".pdb.part", ".xyz", ".xyz.part"};
-    enum { NOUT = sizeof ext / sizeof ext[0], NTRAJ = 6 }; /* the last NTRAJ: trajectory files */
-    char out[NOUT][640];
-    const char *outs[NOUT];
+  run_ctx c;
+  memset(&c, 0, sizeof c);
+  c.d = d;
+  c.relax_done = -1;
+  c.last_chk = -1;
+  scene_watch_init(&c.watch);
+  c.chk_path = path_of(d->prefix, ".chk");
+  c.chk_prev = path_of(d->prefix, ".chk.prev");
+  c.summary_path = path_of(d->prefix, ".summary.txt");
+  c.physics = physics_text(d);
+  { /* which trajectory: a DCD of the sites (+ PDB) or an extended XYZ of centres and axes */
     rl_molecule m;
-    const int site = !rl_model_build(d->model, d->params, d->force_general, &m) && rl_deck_site_model(&m);
-    int n = 0;
-    for (int k = 0; k < NOUT; k++) {
-      const int traj = k >= NOUT - NTRAJ, xyz = k >= NOUT - 2;
-      if (traj && (d->trajectory_every == 0 || xyz == site)) continue;
-      snprintf(out[n], sizeof out[n], "%s%s", d->prefix, ext[k]);
-      outs[n] = out[n];
-      n++;
-    }
-    if (scene_check_outputs(d, outs, n)) {
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-      return 1;
-    }
+    c.site = !rl_model_build(d->model, d->params, d->force_general, &m) && rl_deck_site_model(&m);
   }
-  /* a continuation of this prefix's run (its rows are kept) */
-  const int same_prefix = d->start[0] && same_file(d->start, chk_path);
-  { /* an unwritable prefix is an error before the scene is built and relaxed; the thermo file
-     * itself is opened only when the run is about to step (below) */
-    char probe[740];
-    snprintf(probe, sizeof probe, "%s.probe.%ld", part, (long)getpid());
-    const int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0644);
-    if (fd < 0) {
-      fprintf(stderr, "rotleap run: cannot write %s: %s (output.prefix = %s)\n", part, strerror(errno), d->prefix);
-      return 1;
-    }
-    close(fd);
-    unlink(probe);
-  }
-  if (scene_build(d, &s)) {
+  int st = !c.chk_path || !c.chk_prev || !c.summary_path || !c.physics ? rl_error(RL_ENOMEM, "out of memory") : RL_OK;
+  if (!st && !(c.out = outputs_alloc(d->prefix, d->trajectory_every > 0 ? (c.site ? "dcd" : "xyz") : NULL, 0)))
+    st = RL_ENOMEM;
+  /* before anything is written: no output may overwrite the deck or the start, the directory
+   * must be safe to write in, and no other run may be writing this prefix */
+  if (!st) st = check_overwrites(d, c.out);
+  if (!st) st = outputs_check_dir(d->prefix);
+  if (!st) st = outputs_lock(c.out);
+  if (st) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-    scene_free(&s);
+    outputs_free(c.out);
+    free(c.chk_path); free(c.chk_prev); free(c.summary_path); free(c.physics);
     return 1;
   }
-  int progress = d->progress < 0 ? isatty(fileno(stderr)) : d->progress;
-  rl_integrator_params p;
-  rl_integrator *in = NULL;
-  int st = RL_OK, n = d->count;
-  if ((st = scene_relax(d, &s))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-  rl_integrator_params_default(&p);
-  p.h = d->timestep;
-  p.method = d->method;
-  p.thermostat = d->thermostat;
-  p.T0 = d->thermostat_temperature;
-  p.tau = d->tau;
-  p.seed = d->thermostat_seed;
-  p.groups = d->thermostat_groups;
-  p.force_general = d->force_general;
-  p.threads = d->ff.threads; /* run.threads: the rotation solves too */
-  p.energy_every = d->energy_every;
-  if (!st) in = rl_integrator_alloc(s.sys, &p, rl_forcefield_provider(s.ff));
-  run_blob rec;
-  size_t hdr = 0;
-  const int ver = s.restart ? read_blob(&s, &rec, &hdr) : 0;
-  if (!st && in && ver) {
-    /* a checkpoint of a run with another thermostat (an NVT equilibration before NVE production,
-     * say) is a start, not a continuation: its half-step v, l are completed to on-step values
-     * with run.timestep and the run, its step count and its averages start afresh.  A version 1
-     * record says only whether the thermostat drew random numbers */
-    if (ver >= 2 ? rec.thermostat != (long)d->thermostat : rec.rng_size != rl_integrator_rng_size(in)) {
-      fprintf(stderr, "rotleap run: %s was written by a run with another thermostat: starting a new run from its "
-                      "state (step 0; v and l completed to on-step with run.timestep = %g)\n", d->start, d->timestep);
-      st = scene_onstep(d, &s);
-      s.restart = 0;
-    }
-  }
-  if (!st) {
-    st = !in ? RL_EINVAL : s.restart ? RL_OK : rl_integrator_init(in);
-    if (st) step_error(d, &s, st);
-  }
-  running E = {0}, U = {0}, T = {0}, Tt = {0}, Tr = {0}, P = {0};
-  long first = 0;
-  if (!st && s.restart) { /* continue: forces at t, no re-staggering, bookkeeping restored */
-    if (!ver) {
-      st = rl_error(RL_EINVAL, "%s was not written by rotleap run (no run record)", d->start);
-    } else {
-      const size_t rest = ver >= 3 ? s.blob_size - hdr - rec.rng_size : 0; /* the list's origin */
-      long count = -1;
-      if (ver >= 3 && s.blob_size >= hdr + rec.rng_size + sizeof count)
-        memcpy(&count, (unsigned char *)s.blob + hdr + rec.rng_size, sizeof count);
-      const int list_ok = ver < 3 || ((count == 0 || count == n) &&
-                                      rest == sizeof count + sizeof(double[3]) * (size_t)(count > 0 ? count : 0));
-      if (rec.rng_size != rl_integrator_rng_size(in) || s.blob_size < hdr + rec.rng_size ||
-          (ver < 3 && s.blob_size != hdr + rec.rng_size))
-        st = rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %lu bytes, "
-                      "this run needs %lu)", d->start, rec.rng_size, (unsigned long)rl_integrator_rng_size(in));
-      else if (!list_ok)
-        st = rl_error(RL_EINVAL, "%s: its neighbour-list record is damaged (%ld bodies in %zu bytes; the "
-                      "system has %d)", d->start, count, rest, n);
-      else {
-        if (count == n) { /* the list the run had, so that the pair sums keep their order */
-          double(*r0)[3] = malloc(sizeof *r0 * (size_t)n);
-          if (!r0) st = rl_error(RL_ENOMEM, "out of memory");
-          else {
-            memcpy(r0, (unsigned char *)s.blob + hdr + rec.rng_size + sizeof count, sizeof *r0 * (size_t)n);
-            st = rl_forcefield_set_list_origin(s.ff, (const double(*)[3])r0);
-            free(r0);
-          }
-        }
-        if (!st) st = rl_integrator_resume(in, s.step0, s.t0);
-        /* a changed run.seed asks for a new random stream: the integrator was seeded with it */
-        const int reseed = ver >= 2 && rec.rng_size && rec.seed != d->thermostat_seed;
-        if (!st && reseed)
-          fprintf(stderr, "rotleap run: run.seed = %lu differs from the seed %lu of the run that wrote %s: the "
-                          "%s thermostat continues with a new random stream from seed %lu (not bit for bit "
-                          "with a continuation that keeps seed %lu)\n", d->thermostat_seed, rec.seed, d->start,
-                  rl_thermostat_name(d->thermostat), d->thermostat_seed, rec.seed);
-        else if (!st && rec.rng_size) memcpy(rl_integrator_rng_state(in), (unsigned char *)s.blob + hdr, rec.rng_size);
-        rl_integrator_set_thermostat_work(in, rec.thermo_work);
-        E = rec.E; U = rec.U; T = rec.T; Tt = rec.Tt; Tr = rec.Tr; P = rec.P;
-        first = s.step0;
-        if (first > d->steps)
-          st = rl_error(RL_EINVAL, "%s is at step %ld, past run.steps = %ld (the total a continuation runs "
-                        "to, counted from the first run's step 0): ask for more steps", d->start, first, d->steps);
-      }
-    }
-    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-  }
-  /* Signals are caught from here on: a run stopped before this point has written nothing. */
+  /* Signals are caught from here on (a stop before the first step writes nothing). */
   got_signal = 0;
   catch_signals(1);
-  /* The thermo file, opened now that the run is about to step.  A continuation of this prefix
-   * starts it with the rows before its first step of the run that wrote its checkpoint
-   * (rows_source), and appends to that run's trajectory.  A killed run's .part that is not read
-   * is moved aside to .part.old, and back if this run fails before its first step. */
-  FILE *thermo = NULL;
-  int rows = ROWS_NONE, moved_part = 0, aside = 0, traj_mode = TRAJ_NEW;
-  long row_step = -1, nrows = 0; /* the last row written before the step at hand, for checkpoints */
-  uint64_t row_hash = 0;
-  if (!st) {
-    const int cont = s.restart && same_prefix;
-    if (cont) rows = rows_source(part, oldpart, thermo_path, first, &rec);
-    if (cont && rows == ROWS_NONE && access(thermo_path, F_OK) == 0) {
-      fprintf(stderr, "rotleap run: warning: neither %s nor a killed run's %s holds the rows of the run that wrote %s "
-                      "(its last row before step %ld): this run writes its own rows from step %ld and a new "
-                      "trajectory; %s is kept as %s.prev\n", thermo_path, part, d->start, first, first, thermo_path,
-              thermo_path);
-      aside = 1;
-    }
-    traj_mode = !cont || rows == ROWS_NONE || rows == ROWS_OLD ? TRAJ_NEW : rows == ROWS_PART ? TRAJ_PART : TRAJ_APPEND;
-    if (rows != ROWS_OLD && access(part, F_OK) == 0) {
-      if (rename(part, oldpart))
-        st = rl_error(RL_EINVAL, "cannot move %s aside to %s: %s", part, oldpart, strerror(errno));
-      else moved_part = 1;
-    }
-    if (!st && !(thermo = fopen(part, "w"))) {
-      st = rl_error(RL_EINVAL, "cannot write %s: %s (output.prefix = %s)", part, strerror(errno), d->prefix);
-      if (moved_part) rename(oldpart, part);
-    }
+  int progress = d->progress < 0 ? isatty(fileno(stderr)) : d->progress;
+  const double t0 = now();
+  c.same_prefix = d->start[0] && same_file(d->start, c.chk_path);
+  run_record rec;
+  memset(&rec, 0, sizeof rec);
+  rec.relax_step = -1;
+  int cont = 0;
+  st = scene_build(d, &c.s);
+  if (!st) st = decide_continuation(&c, &rec, &cont);
+  const int relax_cont = cont && rec.relax_step >= 0; /* a checkpoint of a stopped relaxation */
+  c.resumed = cont && c.same_prefix;
+  c.first = cont && !relax_cont ? c.s.step0 : 0;
+  if (!st && !c.resumed) st = check_unfinished(&c);
+  /* the streams (their working files) are open from the relaxation on: a signal then ends the
+   * run as it does the production, with its files, checkpoint and summary */
+  if (!st) st = open_streams(&c, c.resumed ? &rec : NULL);
+  if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+  /* the relaxation (a new run, or the rest of a stopped one) */
+  if (!st && (!c.s.restart || relax_cont)) {
+    st = relax(&c, relax_cont ? &rec : NULL);
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-    else {
-      fputs(THERMO_HEADER, thermo);
-      const int got = rows == ROWS_NONE ? -1 : thermo_scan(rows == ROWS_FILE ? thermo_path : oldpart, first, &nrows,
-                                                           &row_step, &row_hash, thermo);
-      if (got == -2) st = RL_EINVAL;
-      else if (got == 0) { /* the thermo file of an older rotleap (a version 3 checkpoint) */
-        fprintf(stderr, "rotleap run: %s has other columns than this run writes; it is kept as %s.prev\n",
-                thermo_path, thermo_path);
-        aside = 1;
-      }
-    }
   }
-  double t0 = now(), last_progress = 0.0;
-  long done = 0, fallbacks = 0;
-  int nrot = rl_system_nrot(s.sys);
-  rl_forces fsnap_store = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])), 0.0, {0}, 0};
-  rl_forces *fsnap = &fsnap_store;
-  traj tr = {0};
-  if (!st && d->trajectory_every > 0 && traj_open(&tr, d, &s, first, traj_mode)) {
+  if (!st && !c.stopped) {
+    rl_integrator_params p;
+    rl_integrator_params_default(&p);
+    p.h = d->timestep;
+    p.method = d->method;
+    p.thermostat = d->thermostat;
+    p.T0 = d->thermostat_temperature;
+    p.tau = d->tau;
+    p.seed = d->thermostat_seed;
+    p.groups = d->thermostat_groups;
+    p.force_general = d->force_general;
+    p.threads = d->ff.threads; /* run.threads: the rotation solves too */
+    p.energy_every = d->energy_every;
+    c.in = rl_integrator_alloc(c.s.sys, &p, rl_forcefield_provider(c.s.ff));
+    st = !c.in ? RL_EINVAL : cont && !relax_cont ? restore_record(&c, &rec) : rl_integrator_init(c.in);
+    if (st) step_error(d, &c.s, st);
+    else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+  }
+  if (!st && !c.stopped && !(c.an = analysis_alloc(d, &c.s.mol, c.s.sys))) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
-  scene_watch watch;
-  scene_watch_init(&watch);
-  analysis *an = NULL;
-  if (!st && !(an = analysis_alloc(d, &s.mol, s.sys))) {
-    fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-    st = RL_EINVAL;
-  }
-  int stopped = 0, wrote_chk = 0; /* the signal that ended the loop; a checkpoint was written */
-  for (long k = first; !st && k < d->steps; k++) {
+  const int n = d->count, nrot = c.s.sys ? rl_system_nrot(c.s.sys) : 0;
+  rl_forces fsnap = {calloc((size_t)(n > 0 ? n : 1), sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])),
+                     0.0, {0}, 0};
+  if (!st && (!fsnap.f || !fsnap.k)) st = rl_error(RL_ENOMEM, "out of memory");
+  double last_progress = 0.0;
+  char failure[2048] = "";
+  for (long k = c.first; !st && !c.stopped && k < d->steps; k++) {
     if (got_signal) {
-      stopped = got_signal;
+      c.stopped = got_signal;
       fprintf(stderr, "%srotleap run: %s at step %ld of %ld: writing the checkpoint, thermo rows and summary "
-                      "(system.start = %s.chk continues)\n", progress ? "\n" : "",
-              got_signal == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)", k, d->steps, d->prefix);
+                      "(system.start = %s continues)\n", progress ? "\n" : "", signal_text(c.stopped), k, d->steps,
+              c.chk_path);
       break;
     }
     /* the energies, virial and averages on the steps of output.energy_every (the integrator
      * computes forces only on the others; init and resume always compute all) */
     const int ev = k % d->energy_every == 0;
     rl_ff_energies e;
-    rl_forcefield_energies(s.ff, &e); /* terms at the current time t */
-    const rl_forces *F = rl_integrator_forces(in);
+    rl_forcefield_energies(c.s.ff, &e); /* terms at the current time t */
+    const rl_forces *F = rl_integrator_forces(c.in);
     double virial[9];
     if (ev) {
       memcpy(virial, F->virial, sizeof virial);
-      memcpy(fsnap->f, F->f, sizeof(double[3]) * (size_t)n);
-      if (nrot) memcpy(fsnap->k, F->k, sizeof(double[3]) * (size_t)nrot);
+      memcpy(fsnap.f, F->f, sizeof(double[3]) * (size_t)n);
+      if (nrot) memcpy(fsnap.k, F->k, sizeof(double[3]) * (size_t)nrot);
     }
     rl_step_info info;
-    st = rl_integrator_step(in, &info);
-    if (st) { /* the library's message names the step and the cause */
-      step_error(d, &s, st);
+    if ((st = rl_integrator_step(c.in, &info))) { /* the library's message names the step and the cause */
+      step_error(d, &c.s, st);
       break;
     }
     if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
-      fprintf(stderr, "rotleap run: internal error: no energies at step %ld\n", k);
-      st = RL_ESTATE;
+      st = rl_error(RL_ESTATE, "internal error: no energies at step %ld", k);
+      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
-    if ((st = scene_watch_step(d, &s, &watch, &info, k, d->energy_every, d->timestep, "run.timestep"))) {
+    if ((st = scene_watch_step(d, &c.s, &c.watch, &info, k, d->energy_every, d->timestep, "run.timestep"))) {
       fprintf(stderr, "rotleap run: %s\n", rl_last_error());
       break;
     }
@@ -736,163 +887,139 @@ int rl_app_run(const rl_deck *d)
     if (ev) {
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, virial, sizeof virial);
-      pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+      pr = scene_pressure_out(d, rl_forcefield_pressure(c.s.ff, &Ft, info.ke_trans));
       if ((st = scene_check_finite(d, &e, virial, pr))) {
         fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
         break;
       }
-      analysis_step(an, &info, pr, fsnap, s.sys);
-      run_add(&E, info.total);
-      run_add(&U, info.potential);
-      run_add(&T, info.temperature);
-      run_add(&Tt, info.t_trans);
-      run_add(&Tr, info.t_rot);
-      run_add(&P, pr);
+      analysis_step(c.an, &info, pr, &fsnap, c.s.sys);
+      running_add(&c.E, info.conserved);
+      running_add(&c.U, info.potential);
+      running_add(&c.T, info.temperature);
+      running_add(&c.Tt, info.t_trans);
+      running_add(&c.Tr, info.t_rot);
+      running_add(&c.P, pr);
     }
-    if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && analysis_sample(an, s.sys)) {
+    if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && (st = analysis_sample(c.an, c.s.sys))) {
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      st = RL_EINVAL;
+      break;
     }
-    done++;
-    if (tr.every && (k + 1) % tr.every == 0 && traj_frame(&tr, &s, d, rl_integrator_time(in), k + 1)) {
+    c.done++;
+    if (d->trajectory_every > 0 && (k + 1) % d->trajectory_every == 0 &&
+        (st = traj_frame(&c, rl_integrator_time(c.in), k + 1))) {
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      st = RL_EINVAL;
+      break;
     }
-    if (k % d->thermo_every == 0) {
-      row_hash = thermo_row(thermo, k, &info, &e, pr, &E);
-      row_step = k;
+    if (k % d->thermo_every == 0 && (st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), k, &info, &e, pr, &c.E))) {
+      fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
+      break;
     }
-    if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps) {
-      fflush(thermo); /* every row before the checkpoint's step reaches the .part file before it */
-      run_blob b = {"", 0, E, U, T, Tt, Tr, P, k + 1, 0, 0, 0, row_step, row_hash};
-      if (write_checkpoint(d, &s, in, &b, chk_path)) {
-        fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-        st = RL_EINVAL;
-      } else wrote_chk = 1;
+    if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps &&
+        (st = write_checkpoint(&c, c.in, k + 1, rl_integrator_time(c.in), -1, 0.0, NULL))) {
+      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
+      break;
     }
     if (progress && now() - last_progress > 0.5) {
       double el = now() - t0, frac = (double)(k + 1) / d->steps;
-      double nsday = d->units == RL_UNITS_REAL ? (k + 1) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
+      double nsday = d->units == RL_UNITS_REAL ? (k + 1 - c.first) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
       fprintf(stderr, "\r%5.1f%%  step %ld/%ld  ETA %.0f s%s%.2f%s   ", 100.0 * frac, k + 1, d->steps,
               el / frac - el, d->units == RL_UNITS_REAL ? "  " : "", nsday, d->units == RL_UNITS_REAL ? " ns/day" : "");
       last_progress = now();
     }
   }
-  if (!st && in) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
+  if (st) snprintf(failure, sizeof failure, "%s", rl_last_error());
+  /* The end.  A run that completed (or was stopped by a signal) syncs its streams, renames them
+   * to their names and writes its last checkpoint; one that failed leaves them under their
+   * working names, with the checkpoint it last wrote, and an earlier run's files as they were.
+   * The last checkpoint's marks are taken before the row of the last state: a continuation
+   * drops that row and writes it again as the row of its first step, as a run that never
+   * stopped there writes it. */
+  int io_bad = 0;
+  out_mark marks[OUT_NSTREAMS];
+  if (c.dcd && rl_dcd_close(c.dcd) && !st) st = RL_EINVAL;
+  c.dcd = NULL;
+  if (!st && c.streams) st = outputs_mark(c.out, marks);
+  if (!st && c.in && c.streams) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
     rl_step_info info;
     rl_ff_energies e;
-    st = rl_integrator_observe(in, &info);
-    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-    else {
-      rl_forcefield_energies(s.ff, &e);
+    st = rl_integrator_observe(c.in, &info);
+    if (!st) {
+      rl_forcefield_energies(c.s.ff, &e);
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
-      memcpy(Ft.virial, rl_integrator_forces(in)->virial, sizeof Ft.virial);
-      const double pr = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &Ft, info.ke_trans));
+      memcpy(Ft.virial, rl_integrator_forces(c.in)->virial, sizeof Ft.virial);
+      const double pr = scene_pressure_out(d, rl_forcefield_pressure(c.s.ff, &Ft, info.ke_trans));
       if ((st = scene_check_finite(d, &e, Ft.virial, pr)))
-        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", first + done, info.t, rl_last_error());
-      else thermo_row(thermo, first + done, &info, &e, pr, &E);
+        rl_error_wrap(st, "step %ld (t = %g)", c.first + c.done, info.t);
+      else st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), c.first + c.done, &info, &e, pr, &c.E);
     }
   }
-  if (in) fallbacks = rl_integrator_fallbacks(in);
-  /* a new trajectory replaces an earlier one only if this run has frames for it or ended well */
-  const int traj_bad = traj_close(&tr, done > 0 || !st);
-  if (traj_bad) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-  /* results, RDF and TCF files: each is written (atomically) whatever happened to the others; a
-   * failure is named on stderr and makes the exit status 1, like a failed thermo or trajectory */
-  const int results_bad = an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep);
-  if (results_bad) fprintf(stderr, "rotleap run: cannot write the results: %s\n", rl_last_error());
-  analysis_free(an);
-  free(fsnap_store.f);
-  free(fsnap_store.k);
-  if (!st && in) { /* the final state, for a continuation */
-    run_blob b = {"", 0, E, U, T, Tt, Tr, P, first + done, 0, 0, 0, row_step, row_hash};
-    fflush(thermo);
-    if (write_checkpoint(d, &s, in, &b, chk_path)) {
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-      st = RL_EINVAL;
-    } else wrote_chk = 1;
+  if (!st && c.streams) {
+    out_mark synced[OUT_NSTREAMS]; /* the last row on disk before the renames */
+    if (!(st = outputs_mark(c.out, synced)) && !(st = outputs_close(c.out)) && !(st = outputs_commit(c.out, marks))) {
+      if (c.relax) { /* stopped during the relaxation: its state, for a continuation to finish it */
+        rl_integrator *ri = scene_relax_integrator(c.relax);
+        st = write_checkpoint(&c, ri, 0, 0.0, c.relax_done, rl_integrator_time(ri), marks);
+      } else st = write_checkpoint(&c, c.in, c.first + c.done, rl_integrator_time(c.in), -1, 0.0, marks);
+    }
+  } else if (c.streams && outputs_close(c.out)) {
+    fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+  }
+  if (st && !failure[0]) {
+    snprintf(failure, sizeof failure, "%s", rl_last_error());
+    fprintf(stderr, "rotleap run: %s\n", failure);
   }
   if (progress) fputc('\n', stderr);
-  double wall = now() - t0;
-  /* the rows already written are kept whatever happened: close and rename; a run that failed
-   * before its first step has none, and leaves the thermo file of an earlier run as it was */
-  int io_ok = !thermo || fclose(thermo) == 0;
-  if (!thermo) { /* nothing was written */
-  } else if (st && done == 0) {
-    remove(part);
-    if (moved_part) rename(oldpart, part);
-  } else {
-    char prev[760];
-    snprintf(prev, sizeof prev, "%s.prev", thermo_path);
-    if (aside && access(thermo_path, F_OK) == 0 && rename(thermo_path, prev))
-      fprintf(stderr, "rotleap run: cannot move %s aside to %s: %s\n", thermo_path, prev, strerror(errno));
-    io_ok = io_ok && rename(part, thermo_path) == 0;
-    /* a killed run's rows moved aside are superseded once this run has a checkpoint */
-    if (io_ok && wrote_chk) remove(oldpart);
+  /* results, RDF and TCF files: each is written (atomically) whatever happened to the others */
+  char io_failure[1024] = "";
+  if (!st && c.an && c.done > 0 && analysis_write(c.an, d->prefix, d->sample_every * d->timestep)) {
+    snprintf(io_failure, sizeof io_failure, "cannot write the results: %s", rl_last_error());
+    fprintf(stderr, "rotleap run: %s\n", io_failure);
+    io_bad = 1;
   }
-  if (!io_ok) fprintf(stderr, "rotleap run: cannot write %s: %s\n", thermo_path, strerror(errno));
-  /* the averages over this run's steps with energies (none: n/a, not zeros) */
-  char au[160] = "n/a (no step with energies)", at[200] = "n/a", ap[160] = "n/a";
-  if (U.n > 0) {
-    snprintf(au, sizeof au, "%.8g +- sd %.3g %s", U.mean / n, run_sd(&U) / n, energy_unit(d));
-    snprintf(at, sizeof at, "%.6g (translational %.6g, rotational %.6g)%s", T.mean, Tt.mean, Tr.mean,
-             d->units == RL_UNITS_LJ ? "" : " K");
-    snprintf(ap, sizeof ap, "%.6g +- sd %.3g %s", P.mean, run_sd(&P), pressure_unit(d));
+  const double wall = now() - t0;
+  /* a run that failed before its first step leaves nothing but its message: the working files
+   * it created (headers only) go, those it continues stay as they were */
+  if (st && c.done == 0 && c.streams) outputs_discard(c.out);
+  const int started = !st || c.done > 0 || c.stopped;
+  char *part_summary = path_of(c.summary_path, ".part");
+  if (started) {
+    const char *spath = st ? part_summary : c.summary_path;
+    const char *status = st || io_bad ? "error" : c.stopped ? "interrupted" : "ok";
+    if (spath && write_summary(&c, spath, status, st ? failure : io_bad ? io_failure : NULL, wall, io_bad)) {
+      fprintf(stderr, "rotleap run: cannot write %s: %s\n", spath, rl_last_error());
+      io_bad = 1;
+    }
   }
-  char text[4096], cE[64], cU[64], cEU[64];
-  /* relative fluctuations (0 with fewer than two steps; n/a where a mean is 0) */
-  const double calE = E.n > 1 ? run_sd(&E) / fabs(E.mean) : 0.0, calU = U.n > 1 ? run_sd(&U) / fabs(U.mean) : 0.0;
-  const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
-  const int mode = scene_drift_mode(d, watch.alt_at_max); /* the isokinetic scheme's, not the step's */
-  snprintf(text, sizeof text,
-           "# rotleap %s summary of %s\n"
-           "status = %s\nsteps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\nunits = %s\n"
-           "timestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\n"
-           "neighbour_list = skin %.4g %s, %ld builds in this invocation\n"
-           "pair_kernels = %s (%s rows, %d thread(s), %s precision)\nwall_seconds = %.3f\nfallbacks = %ld\n"
-           "U_per_molecule = %s\n"
-           "temperature = %s\n"
-           "pressure = %s\n"
-           "calE = %s\ncalU = %s\ncalE_over_calU = %s\n"
-           "rigidity_error = %.3g (max |A A^T - I| or ||rho| - 1| at the end)\n"
-           "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n%s",
-           ROTLEAP_VERSION, d->path, stopped ? "interrupted" : st ? "error" : "ok", first + done, d->steps, done, d->model->name, n,
-           d->units == RL_UNITS_LJ ? "lj" : "real", d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every,
-           scene_skin(d, &s.mol), rl_dim_unit(Q_LENGTH, d->units), s.ff ? rl_forcefield_rebuilds(s.ff) : 0L,
-           s.ff ? rl_forcefield_kernel(s.ff) : "none", s.ff ? rl_forcefield_rows(s.ff) : "no",
-           s.ff ? rl_forcefield_threads(s.ff) : 1, s.ff ? rl_forcefield_precision(s.ff) : "double", wall, fallbacks,
-           au, at, ap,
-           rel_fluct_text(cE, sizeof cE, calE), rel_fluct_text(cU, sizeof cU, calU),
-           rel_fluct_text(cEU, sizeof cEU, calU > 0 ? calE / calU : U.n > 1 ? NAN : 0.0),
-           scene_rigidity_error(s.sys), watch.max_rate, tunit, SCENE_WINDOW, tunit,
-           watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window",
-           fabs(watch.max_rate) <= SCENE_DRIFT_WARN ? ""
-           : mode ? "warning = the conserved energy drifts: the isokinetic thermostat's undamped step-to-step "
-                    "alternation of the kinetic energy (a start out of equilibrium at run.temperature), not the time step; "
-                    "relax the start at run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n"
-                  : "warning = the conserved energy drifts: integration error is heating or cooling the system; "
-                    "a smaller time step will change the results\n");
-  if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st && mode)
-    fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the kinetic "
-                    "energy alternates from step to step by +-%.2g %% of run.temperature, the isokinetic scheme's "
-                    "undamped mode (a start out of equilibrium at run.temperature), not the time step: relax the start at "
-                    "run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n", watch.max_rate, tunit,
-            100.0 * watch.alt_at_max);
-  else if (fabs(watch.max_rate) > SCENE_DRIFT_WARN && !st)
-    fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
-                    "step %g is too large for accurate dynamics\n", watch.max_rate, tunit,
-            d->timestep);
-  /* a run that failed before its first step leaves the summary of an earlier run as it was,
-   * like its thermo file and trajectory: it has nothing to report but the error, on stderr */
-  if (!(st && done == 0) && write_atomic(summary_path, text)) {
-    fprintf(stderr, "rotleap run: cannot write %s: %s\n", summary_path, strerror(errno));
-    io_ok = 0;
+  if (st && c.done > 0) {
+    fprintf(stderr, "rotleap run: the rows and frames of this run up to the failure are in %s.*.part (%s says what "
+                    "happened); the files of an earlier run under %s are as they were", d->prefix, part_summary, d->prefix);
+    if (c.last_chk >= 0)
+      fprintf(stderr, "; %s (step %ld) continues this run from its last checkpoint\n", c.chk_path, c.last_chk);
+    else fputs("\n", stderr);
   }
-  if (traj_bad || results_bad) io_ok = 0;
-  if (!st) fputs(text, stdout);
-  rl_integrator_free(in);
-  scene_free(&s);
+  if (!st && !io_bad && fabs(c.watch.max_rate) > SCENE_DRIFT_WARN) {
+    const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
+    if (scene_drift_mode(d, c.watch.alt_at_max))
+      fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the kinetic "
+                      "energy alternates from step to step by +-%.2g %% of run.temperature, the isokinetic scheme's "
+                      "undamped mode (a start out of equilibrium at run.temperature), not the time step: relax the start at "
+                      "run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n", c.watch.max_rate, tunit,
+              100.0 * c.watch.alt_at_max);
+    else
+      fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
+                      "step %g is too large for accurate dynamics\n", c.watch.max_rate, tunit, d->timestep);
+  }
+  if (!st && c.streams && c.moved_prev) unlink(c.chk_prev); /* the earlier run is replaced by a whole one */
+  free(part_summary);
+  free(fsnap.f);
+  free(fsnap.k);
+  analysis_free(c.an);
+  scene_relax_end(c.relax, 0);
+  rl_integrator_free(c.in);
+  scene_free(&c.s);
   catch_signals(0);
-  if (stopped) return 128 + stopped; /* the outputs are complete; the caller asked to stop */
-  return st || !io_ok ? 1 : 0;
+  outputs_free(c.out);
+  free(c.chk_path); free(c.chk_prev); free(c.summary_path); free(c.physics);
+  if (c.stopped && !st && !io_bad) return 128 + c.stopped; /* the outputs are complete; the caller asked to stop */
+  return st || io_bad ? 1 : 0;
 }

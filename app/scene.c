@@ -117,11 +117,26 @@ void scene_free(scene *s)
   rl_system_free(s->sys);
 }
 
-int scene_relax(const rl_deck *d, scene *s)
+struct scene_relaxation {
+  rl_integrator *in;
+  long k;        /* steps done */
+  scene_watch w;
+};
+
+/* The relaxation's message gives t without a unit: say which, and the step that was used. */
+static int relax_error(const rl_deck *d, int st)
 {
-  if (d->equilibrate_steps <= 0 || s->restart) return RL_OK;
+  const char *tu = rl_dim_unit(Q_TIME, d->units);
+  return rl_error_wrap(st, "during equilibration (run.equilibrate_timestep = %g %s; t in %s)", d->equilibrate_timestep,
+                       tu, d->units == RL_UNITS_LJ ? "reduced units" : tu);
+}
+
+scene_relaxation *scene_relax_begin(const rl_deck *d, scene *s, long k0, double t0)
+{
   /* relaxation from the start: Bussi with tau = 20 steps, which rescales the half-step
    * velocities and stays sane however far T is from T0 (the isokinetic eqs. 17-18 do not) */
+  scene_relaxation *r = calloc(1, sizeof *r);
+  if (!r) { rl_error(RL_ENOMEM, "out of memory"); return NULL; }
   rl_integrator_params p;
   rl_integrator_params_default(&p);
   p.h = d->equilibrate_timestep;
@@ -130,32 +145,77 @@ int scene_relax(const rl_deck *d, scene *s)
   p.seed = d->seed + 2;
   p.T0 = d->temperature;
   p.threads = d->ff.threads;
-  rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
-  int st = in ? rl_integrator_init(in) : RL_EINVAL;
+  r->in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
+  int st = !r->in ? RL_EINVAL : k0 > 0 ? rl_integrator_resume(r->in, k0, t0) : rl_integrator_init(r->in);
+  if (st) {
+    relax_error(d, st);
+    rl_integrator_free(r->in);
+    free(r);
+    return NULL;
+  }
+  r->k = k0;
   /* a relaxation that blows up stops here, named, rather than handing the run a broken start;
    * its energy may fall steeply (that is its purpose), so only non-finite energies and
    * molecules thrown across the box count */
-  scene_watch w;
-  scene_watch_init(&w);
-  w.relax = 1;
-  for (long k = 0; !st && k < d->equilibrate_steps; k++) {
+  scene_watch_init(&r->w);
+  r->w.relax = 1;
+  return r;
+}
+
+int scene_relax_run(const rl_deck *d, scene *s, scene_relaxation *r, const volatile sig_atomic_t *stop)
+{
+  int st = RL_OK;
+  for (; !st && r->k < d->equilibrate_steps && !(stop && *stop); r->k++) {
     rl_step_info info;
-    st = rl_integrator_step(in, &info);
-    if (!st) st = scene_watch_step(d, s, &w, &info, k, 1, d->equilibrate_timestep, "run.equilibrate_timestep");
+    st = rl_integrator_step(r->in, &info);
+    if (!st) st = scene_watch_step(d, s, &r->w, &info, r->k, 1, d->equilibrate_timestep, "run.equilibrate_timestep");
+    if (st) break;
   }
-  if (!st) st = rl_integrator_finish(in);
-  rl_integrator_free(in);
-  /* the library's message gives t without a unit: say which, and the step that was used */
-  const char *tu = rl_dim_unit(Q_TIME, d->units);
-  return st ? rl_error_wrap(st, "during equilibration (run.equilibrate_timestep = %g %s; t in %s)",
-                            d->equilibrate_timestep, tu, d->units == RL_UNITS_LJ ? "reduced units" : tu)
-            : RL_OK;
+  return st ? relax_error(d, st) : RL_OK;
+}
+
+long scene_relax_step(const scene_relaxation *r) { return r->k; }
+rl_integrator *scene_relax_integrator(scene_relaxation *r) { return r->in; }
+
+int scene_relax_end(scene_relaxation *r, int finish)
+{
+  if (!r) return RL_OK;
+  const int st = finish ? rl_integrator_finish(r->in) : RL_OK;
+  rl_integrator_free(r->in);
+  free(r);
+  return st;
+}
+
+int scene_relax(const rl_deck *d, scene *s)
+{
+  if (d->equilibrate_steps <= 0 || s->restart) return RL_OK;
+  scene_relaxation *r = scene_relax_begin(d, s, 0, 0.0);
+  if (!r) return RL_EINVAL;
+  int st = scene_relax_run(d, s, r, NULL);
+  const int fin = scene_relax_end(r, !st);
+  return st ? st : fin;
 }
 
 void scene_watch_init(scene_watch *w)
 {
   memset(w, 0, sizeof *w);
   w->prevE = w->T1 = w->T2 = NAN;
+}
+
+double scene_watch_kT(const rl_deck *d, const scene_watch *w)
+{
+  const double T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
+  const double mean = w->T_n > 0 ? w->T_sum / w->T_n : 0.0;
+  return rl_units_kB(d->units) * fmax(T, mean);
+}
+
+double scene_watch_drift(const scene_watch *w, double *sem)
+{
+  *sem = NAN;
+  if (w->nwin < 2) return 0.0;
+  const double mean = w->rate_sum / w->nwin, var = (w->rate_sum2 - w->nwin * mean * mean) / (w->nwin - 1);
+  *sem = sqrt(fmax(var, 0.0) / w->nwin);
+  return mean;
 }
 
 int scene_drift_mode(const rl_deck *d, double alt)
@@ -177,7 +237,11 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
                      long every, double h, const char *dt_name)
 {
   const int ev = every <= 1 || k % every == 0;
-  double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
+  const double kT = scene_watch_kT(d, w);
+  if (isfinite(info->temperature)) {
+    w->T_sum += info->temperature;
+    w->T_n++;
+  }
   const char *tu = rl_dim_unit(Q_TIME, d->units);
   if (ev && w->nev++ == 0) w->U0 = info->potential;
   /* a blow-up within the first steps of a start whose energy was far above a liquid's points at
@@ -195,7 +259,7 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
       return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
                       "reduce %s (now %g)%s", k, info->t, tu, dt_name, h, hint);
     double jump = fabs(info->total - prevE);
-    if (isfinite(prevE) && jump > 10.0 * d->count * kT && !w->relax)
+    if (isfinite(prevE) && kT > 0 && jump > 10.0 * d->count * kT && !w->relax)
       return rl_error(RL_EINVAL, "step %ld (t = %g %s): the total energy jumped by %.3g %s (more "
                       "than 10 kT per molecule): the run is unstable; reduce %s (now %g)%s", k,
                       info->t, tu, jump, every > 1 ? "since its last evaluation" : "in one step",
@@ -228,8 +292,11 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
     w->c0 = info->conserved;
     w->alt_sum = 0.0;
     w->alt_n = 0;
-  } else if (k - w->step0 >= 50 && info->t - w->t0 >= SCENE_WINDOW) {
+  } else if (k - w->step0 >= 50 && info->t - w->t0 >= SCENE_WINDOW && kT > 0) {
     double rate = (info->conserved - w->c0) / (d->count * kT * (info->t - w->t0));
+    w->rate_sum += rate;
+    w->rate_sum2 += rate * rate;
+    w->nwin++;
     const double T0 = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
     const double alt = w->alt_n > 0 && T0 > 0 ? w->alt_sum / w->alt_n / T0 : 0.0;
     if (fabs(rate) > fabs(w->max_rate)) {

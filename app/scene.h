@@ -4,6 +4,7 @@
 #define ROTLEAP_APP_SCENE_H
 #include "deck.h"
 
+#include <signal.h>
 #include <stddef.h>
 
 typedef struct {
@@ -38,8 +39,21 @@ int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
  * cutoff. */
 double scene_skin(const rl_deck *d, const rl_molecule *mol);
 rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
-/* The deck's relaxation phase (run.equilibrate steps; nothing for a checkpoint start). */
+/* The deck's relaxation phase (run.equilibrate steps at run.equilibrate_timestep under Bussi with
+ * tau = 20 steps; nothing for a checkpoint start).  scene_relax runs all of it (rotleap scan);
+ * rotleap run drives it in parts so that a signal can stop it and a checkpoint continue it. */
 int scene_relax(const rl_deck *d, scene *s);
+typedef struct scene_relaxation scene_relaxation;
+/* Begin the relaxation at its step k0: 0 from the start's on-step state, or k0 > 0 from a
+ * checkpoint written during it at time t0 (v, l at half steps; restore the thermostat's account
+ * and random state through scene_relax_integrator).  NULL with a message. */
+scene_relaxation *scene_relax_begin(const rl_deck *d, scene *s, long k0, double t0);
+/* Step until the relaxation is done or *stop is nonzero (then RL_OK with steps left). */
+int scene_relax_run(const rl_deck *d, scene *s, scene_relaxation *r, const volatile sig_atomic_t *stop);
+long scene_relax_step(const scene_relaxation *r);     /* steps done                           */
+rl_integrator *scene_relax_integrator(scene_relaxation *r);
+/* With `finish`, put on-step v and l back into the system for the production; then free. */
+int scene_relax_end(scene_relaxation *r, int finish);
 /* Watching a run for blow-ups (scene.c says what and why). */
 #define SCENE_WINDOW 1.0       /* drift window: 1 ps (real), 1 time unit (lj)              */
 #define SCENE_DRIFT_ERROR 5.0  /* kT per molecule per time unit: the run is stopped        */
@@ -55,12 +69,23 @@ typedef struct {
   long step0;
   double t0, c0;
   double max_rate;        /* the largest drift seen, kT per molecule per time unit (signed) */
+  double rate_sum, rate_sum2; /* the sum of the windows' drift rates and of their squares   */
+  long nwin;              /* closed windows                                                */
+  double T_sum;           /* the sum of the on-step temperatures seen, T_n of them: the     */
+  long T_n;               /*   scale kT is kB max(the deck's T, their mean) (scene_watch_kT) */
   long nev;               /* steps with energies seen                                     */
   double U0;              /* the potential energy at the first of them                    */
   int relax;              /* the relaxation of a start: its energy may fall by any amount,
                              so only a non-finite energy or a jump across the box stops it */
 } scene_watch;
 void scene_watch_init(scene_watch *w);
+/* The energy scale of the watch: kB times the deck's temperature (the thermostat's, else the
+ * start's), or times the mean on-step temperature seen so far if that is higher: a start at
+ * 1e-30 K heats as its potential energy turns kinetic, which is not a blow-up. */
+double scene_watch_kT(const rl_deck *d, const scene_watch *w);
+/* The mean drift of the conserved energy over the closed windows and its standard error (kT
+ * per molecule per time unit); 0 with fewer than 2 windows (then *sem = NAN). */
+double scene_watch_drift(const scene_watch *w, double *sem);
 /* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce.  The
  * energy checks run on the steps that are multiples of every (output.energy_every; their info
  * has its energies) and compare with the previous such step; the displacement check on every

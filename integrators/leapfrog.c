@@ -822,6 +822,33 @@ int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotation
   return gt + gr;
 }
 
+const char *rl_integrator_path(const rl_integrator *in, int species)
+{
+  if (species < 0 || species >= in->sys->nspecies) return NULL;
+  const rl_species *sp = &in->sys->sp[species];
+  const int matrix = sp->kind == RL_KIND_SPHERICAL || sp->kind == RL_KIND_SYMMETRIC || sp->kind == RL_KIND_ASYMMETRIC ||
+                     (in->p.force_general && sp->kind != RL_KIND_POINT);
+  switch (matrix ? in->p.method : RL_ROT_CUBIC) {
+  case RL_ROT_HYBRID: return "the paper's hybrid: Omega from eq. 28, quaternion Cayley update (rl-hybrid, a baseline)";
+  case RL_ROT_FINCHAM: return "Fincham's implicit quaternion leapfrog (a baseline)";
+  case RL_ROT_NOSQUISH: return "NO_SQUISH splitting (a baseline)";
+  default: break;
+  }
+  const rl_family *f = rl_family_for(sp->kind, in->p.force_general);
+  if (f != &rl_family_asymmetric) return f->path;
+  const int forced = sp->kind != RL_KIND_ASYMMETRIC;
+  switch (in->p.method) {
+  case RL_ROT_EXACT:
+    return forced ? "general path forced (system.force_general): eq. 28 solved by Newton (rl-exact)"
+                  : "eq. 28 solved by Newton (rl-exact)";
+  case RL_ROT_QUATERNION:
+    return forced ? "general path forced (system.force_general): quaternions, eq. 23 iterated (rl-quaternion)"
+                  : "quaternions, eq. 23 iterated (rl-quaternion)";
+  default:
+    return forced ? "general path forced (system.force_general): guarded quasi-analytic cubic (eqs. 28-36)" : f->path;
+  }
+}
+
 long rl_integrator_fallbacks(const rl_integrator *in) { return in->fallbacks; }
 long rl_integrator_quat_iterations(const rl_integrator *in) { return in->quat_iterations; }
 long rl_integrator_steps(const rl_integrator *in) { return in->steps; }

@@ -253,6 +253,11 @@ void *rl_integrator_rng_state(rl_integrator *in);
  * which counts all 3N translational ones. */
 int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational);
 
+/* The rotation path that moves the bodies of `species` under this integrator's method: the
+ * family's fast path (system.h, rl_kind_rotation_path), the general path's solve (cubic, exact
+ * or quaternion), or a baseline.  NULL for a species out of range. */
+const char *rl_integrator_path(const rl_integrator *in, int species);
+
 /* Cumulative counters since init. */
 long rl_integrator_fallbacks(const rl_integrator *in);
 long rl_integrator_quat_iterations(const rl_integrator *in);

@@ -151,8 +151,8 @@ wr=(--set run.equilibrate=0 --set output.trajectory_every=5)
 "$rotleap" run "$water" "${wr[@]}" --set run.steps=20 --set output.prefix="$work/pb" >/dev/null 2>&1
 cp "$work/pb.pdb" pb.pdb.orig; cp "$work/pb.dcd" pb.dcd.orig; head -c 3000 pb.dcd.orig > "$work/pb.dcd"
 "$rotleap" run "$water" "${wr[@]}" --set run.steps=40 --set system.start="$work/pb.chk" --set output.prefix="$work/pb" >out.txt 2>err.txt; code=$?
-check "a continuation whose DCD is damaged fails and leaves PREFIX.pdb as it was" \
-  '[ $code -eq 1 ] && grep -q "DCD holds 0 complete frames" err.txt && cmp -s pb.pdb.orig "$work/pb.pdb"'
+check "a continuation whose DCD is damaged fails, saying so, and leaves PREFIX.pdb as it was" \
+  '[ $code -eq 1 ] && grep -q "neither $work/pb.dcd nor $work/pb.dcd.part holds the first [0-9]* bytes that were in it when the checkpoint was written ($work/pb.dcd has 3000 bytes" err.txt && cmp -s pb.pdb.orig "$work/pb.pdb" && ! ls "$work"/pb.*part >/dev/null 2>&1'
 cp pb.dcd.orig "$work/pb.dcd"
 "$rotleap" run "$water" "${wr[@]}" --set run.steps=40 --set system.start="$work/pb.chk" --set output.prefix="$work/pb" >out.txt 2>err.txt; code=$?
 check "a continuation's PDB and DCD are an uninterrupted run's" '[ $code -eq 0 ] && cmp -s "$work/pa.pdb" "$work/pb.pdb" && cmp -s "$work/pa.dcd" "$work/pb.dcd"'
@@ -160,16 +160,21 @@ check "a continuation's PDB and DCD are an uninterrupted run's" '[ $code -eq 0 ]
 # --- continuations take rows and frames only from the run that wrote their checkpoint
 sk=(--set output.thermo_every=5 --set output.trajectory_every=5)
 relax_forever=(--set run.equilibrate=100000000 --set run.equilibrate_timestep=0.0001)
-# a fresh run of the prefix stopped during its relaxation (SIGTERM: the default action) writes nothing
+# a fresh run of the prefix stopped during its relaxation (issue 30, item 12): the signal contract
+# of the run (exit 143, checkpoint, summary with status = interrupted), and a continuation of its
+# checkpoint finishes the relaxation and runs the production bit for bit with a run never stopped
+slow_relax=(--set run.equilibrate=20000 --set run.equilibrate_timestep=0.0005)
+"$rotleap" run "$sm" "${sk[@]}" "${slow_relax[@]}" --set run.steps=20 --set output.prefix="$work/k0" >/dev/null 2>&1
 "$rotleap" run "$sm" "${sk[@]}" --set run.steps=20 --set output.prefix="$work/k1" >/dev/null 2>&1
-(cd "$work" && md5sum k1.thermo.csv k1.chk k1.summary.txt k1.xyz) > k1.md5
-"$rotleap" run "$sm" "${sk[@]}" "${relax_forever[@]}" --set output.prefix="$work/k1" >/dev/null 2>&1 &
-pid=$!; sleep 1; kill -TERM $pid; wait $pid 2>/dev/null
-check "a run stopped while relaxing leaves the prefix as it was (no empty .part)" \
-  '(cd "$work" && md5sum -c --quiet "$OLDPWD/k1.md5") && ! ls "$work"/k1.*part* >/dev/null 2>&1'
-"$rotleap" run "$sm" "${sk[@]}" --set run.steps=40 --set system.start="$work/k1.chk" --set output.prefix="$work/k1" >/dev/null 2>&1; code=$?
-check "its continuation keeps every earlier row (0 .. 40 once each)" \
-  '[ $code -eq 0 ] && [ "$(tail -n +2 "$work/k1.thermo.csv" | cut -d, -f1 | tr "\n" " ")" = "$(seq -s " " 0 5 40) " ]'
+"$rotleap" run "$sm" "${sk[@]}" "${slow_relax[@]}" --set run.steps=20 --set output.prefix="$work/k1" >/dev/null 2>err.txt &
+pid=$!  # its working files appear as the relaxation starts
+for i in $(seq 300); do [ -e "$work/k1.thermo.csv.part" ] && break; sleep 0.01; done
+sleep 0.1; kill -TERM $pid; wait $pid 2>/dev/null; code=$?
+check "a run stopped while relaxing: exit 143, a message, a checkpoint and the summary say where" \
+  '[ $code -eq 143 ] && grep -q "terminated (SIGTERM) during the relaxation, at its step [0-9]* of 20000" err.txt && grep -q "^status = interrupted" "$work/k1.summary.txt" && grep -q "^relaxation = stopped at step [0-9]* of 20000" "$work/k1.summary.txt" && [ -s "$work/k1.chk" ] && ! ls "$work"/k1.*part* "$work/k1.chk.prev" >/dev/null 2>&1'
+"$rotleap" run "$sm" "${sk[@]}" "${slow_relax[@]}" --set run.steps=20 --set system.start="$work/k1.chk" --set output.prefix="$work/k1" >/dev/null 2>err.txt; code=$?
+check "its continuation finishes the relaxation and the run, bit for bit with one never stopped" \
+  '[ $code -eq 0 ] && cmp -s "$work/k0.chk" "$work/k1.chk" && cmp -s "$work/k0.thermo.csv" "$work/k1.thermo.csv" && cmp -s "$work/k0.xyz" "$work/k1.xyz"'
 # a fresh run of the prefix (another seed) killed in its loop before any checkpoint: its .part
 # and trajectory .part are not the checkpoint's run's, and a continuation takes neither
 "$rotleap" run "$sm" "${sk[@]}" --set run.steps=20 --set output.prefix="$work/k2" >/dev/null 2>&1
@@ -190,9 +195,10 @@ pid=$!
 for i in $(seq 200); do [ -e "$work/k3.chk" ] && [ "$(wc -l < "$work/k3.thermo.csv.part")" -ge 30 ] && break; sleep 0.1; done
 kill -KILL $pid; wait $pid 2>/dev/null
 md5sum "$work/k3.thermo.csv.part" > k3.md5
-"$rotleap" run "$sm" "${relax_forever[@]}" --set output.prefix="$work/k3" >/dev/null 2>&1 &
-pid=$!; sleep 1; kill -TERM $pid; wait $pid 2>/dev/null
-check "a run stopped while relaxing leaves a killed run's .part as it was" 'md5sum -c --quiet k3.md5'
+"$rotleap" run "$sm" "${relax_forever[@]}" --set output.prefix="$work/k3" >/dev/null 2>err.txt; code=$?
+check "a new run over a killed run's unfinished files is refused, saying how to continue or let them go" \
+  '[ $code -eq 1 ] && grep -q "hold the outputs of an unfinished run .* continue it with system.start = $work/k3.chk, or let it go (rm $work/k3.\*.part $work/k3.chk)" err.txt'
+check "and the killed run's .part is as it was" 'md5sum -c --quiet k3.md5'
 last=$(grep -c . "$work/k3.thermo.csv.part"); to=$(( (last + 20) * 10 ))
 "$rotleap" run "$sm" --set run.steps=$to --set output.checkpoint_every=50 --set system.start="$work/k3.chk" \
   --set output.prefix="$work/k3" >/dev/null 2>&1; code=$?

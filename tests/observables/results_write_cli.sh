@@ -35,7 +35,7 @@ for x in results.txt rdf.csv tcf.csv; do
   "$rotleap" run sm.ini --set output.prefix=$p >out.txt 2>err.txt; code=$?
   check "$x unwritable: exit 1" '[ $code -eq 1 ]'
   check "$x unwritable: stderr names the file and the reason" 'grep -q "cannot write the results: .*$p\.$x.*Is a directory" err.txt'
-  check "$x unwritable: thermo, summary and checkpoint written" '[ -s $p.thermo.csv ] && grep -q "^status = ok" $p.summary.txt && [ -s $p.chk ]'
+  check "$x unwritable: thermo, summary and checkpoint written; the summary says status = error and why" '[ -s $p.thermo.csv ] && grep -q "^status = error" $p.summary.txt && grep -q "^error = cannot write the results: .*$p\.$x" $p.summary.txt && [ -s $p.chk ]'
   for y in results.txt rdf.csv tcf.csv; do
     [ $y = $x ] && continue
     check "$x unwritable: $y written" '[ -s $p.$y ]'

@@ -1,0 +1,56 @@
+/* The run record a checkpoint of `rotleap run` carries besides the state (rl_checkpoint_meta's
+ * blob): what a continuation needs to go on bit for bit, and to know it is the same run.
+ *
+ * Version 5 (this rotleap): a magic, then tagged sections, each a 4-character tag, a 64-bit
+ * length and its bytes, little-endian (docs/files.md, "The run record"):
+ *   BOOK  the averages' accumulators, the thermostat's account, the steps done, thermostat, seed
+ *   RNG   the thermostat's random state                (omitted without one)
+ *   LIST  the neighbour list's origin                  (omitted before the first list)
+ *   PHYS  the settings that define the simulation, as "key = value" lines: a continuation
+ *         whose deck gives other values is another simulation
+ *   MARK  per output stream: where it was, its length and hash (outputs.h)
+ *   WTCH  the blow-up and drift watch (scene_watch)
+ *   RLAX  present when the checkpoint was written during the relaxation: its step and time
+ * Versions 1 to 4 (a fixed struct, older rotleap) are read for the state's bookkeeping only. */
+#ifndef ROTLEAP_APP_RUNREC_H
+#define ROTLEAP_APP_RUNREC_H
+
+#include "outputs.h"
+#include "scene.h"
+
+#include <stddef.h>
+
+/* Welford running mean and variance. */
+typedef struct { long n; double mean, m2; } running;
+void running_add(running *r, double x);
+double running_sd(const running *r);
+
+typedef struct {
+  int version;            /* 5; 1-4 for records of older rotleap (decode only)                */
+  double thermo_work;     /* energy the thermostat removed                                    */
+  running E, U, T, Tt, Tr, P; /* the summary's averages: conserved energy, potential, T, T_trans,
+                                 T_rot, pressure                                              */
+  long done;              /* steps of the run so far                                          */
+  long thermostat;        /* rl_thermostat of the run; -1: not recorded (version 1)           */
+  unsigned long seed;     /* run.seed of its random stream                                    */
+  const unsigned char *rng; size_t rng_size; /* the thermostat's random state                 */
+  long list_count;        /* 0 or the number of bodies                                        */
+  const double (*list)[3];/* the neighbour list's origin [list_count][3]                      */
+  const char *physics;    /* PHYS text, physics_len bytes (not NUL-terminated when decoded;
+                             NULL for versions 1-4)                                         */
+  size_t physics_len;
+  out_mark marks[OUT_NSTREAMS];
+  int has_watch;
+  scene_watch watch;
+  long relax_step;        /* -1: production; else the relaxation's step of the checkpoint      */
+  double relax_time;
+} run_record;
+
+/* Serialise (version 5) into a malloc'd buffer.  RL_ENOMEM. */
+int runrec_encode(const run_record *r, unsigned char **buf, size_t *size);
+/* Parse and validate a record of any version; pointers in r point into blob.  nbodies: the
+ * system's body count (the list origin must have 0 or that many entries).  RL_EINVAL naming
+ * the file (path) and the field for anything malformed or out of range. */
+int runrec_decode(const void *blob, size_t size, int nbodies, const char *path, run_record *r);
+
+#endif
