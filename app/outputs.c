@@ -48,6 +48,8 @@ static char *join(const char *a, const char *b, const char *c)
   return s;
 }
 
+char *outputs_name(const char *prefix, const char *suffix) { return join(prefix, suffix, ""); }
+
 outputs *outputs_alloc(const char *prefix, const char *traj_ext, int samples)
 {
   outputs *o = calloc(1, sizeof *o);

@@ -86,6 +86,10 @@ int outputs_commit(outputs *o, out_mark marks[OUT_NSTREAMS]);
  * run that failed before its first step. */
 void outputs_discard(outputs *o);
 
+/* prefix + suffix, malloc'd: file names are as long as the OS allows, never truncated.  NULL on
+ * out of memory. */
+char *outputs_name(const char *prefix, const char *suffix);
+
 /* FNV-1a (64 bits): the hash of the marks. */
 uint64_t outputs_hash(uint64_t h, const void *bytes, size_t n);
 #define OUTPUTS_HASH_INIT 14695981039346656037ULL

@@ -108,15 +108,6 @@ static double now(void)
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-/* "PREFIX" + "suffix", malloc'd (paths are as long as the OS allows: never truncated). */
-static char *path_of(const char *prefix, const char *suffix)
-{
-  const size_t n = strlen(prefix) + strlen(suffix) + 1;
-  char *p = malloc(n);
-  if (p) snprintf(p, n, "%s%s", prefix, suffix);
-  return p;
-}
-
 /* 1 if paths a and b name one existing file. */
 static int same_file(const char *a, const char *b)
 {
@@ -344,6 +335,7 @@ typedef struct {
   long last_chk;        /* the step of the last checkpoint this run wrote or continues (-1)  */
   long relax_done;      /* relaxation steps done (for messages)                             */
   scene_relaxation *relax; /* a relaxation stopped by a signal, for its checkpoint          */
+  char start_note[1024];   /* what is wrong with the start, if its energy says so (start_check) */
 } run_ctx;
 
 /* A checkpoint at `step`, `time` of the integrator `in` (the production's, or the relaxation's
@@ -408,11 +400,11 @@ static int check_overwrites(const rl_deck *d, const outputs *o)
   enum { NW = sizeof whole / sizeof whole[0] };
   char *names[NW + 2 * OUT_NSTREAMS];
   int n = 0, st = RL_OK;
-  for (int k = 0; k < NW; k++) names[n++] = path_of(d->prefix, whole[k]);
+  for (int k = 0; k < NW; k++) names[n++] = outputs_name(d->prefix, whole[k]);
   for (int k = 0; k < OUT_NSTREAMS; k++)
     if (outputs_path(o, k)) {
-      names[n++] = path_of(outputs_path(o, k), "");
-      names[n++] = path_of(outputs_part(o, k), "");
+      names[n++] = outputs_name(outputs_path(o, k), "");
+      names[n++] = outputs_name(outputs_part(o, k), "");
     }
   for (int k = 0; k < n && !st; k++)
     if (!names[k]) st = rl_error(RL_ENOMEM, "out of memory");
@@ -516,21 +508,68 @@ static int traj_frame(run_ctx *c, double time, long step)
   return st;
 }
 
-/* The library's message for a failed step; for a non-finite potential energy, also the term
- * that is not finite. */
-static void step_error(const rl_deck *d, const scene *s, int st)
+/* A start whose energy is far above a liquid's (U/N > 5 kT) has overlapping molecules, and a
+ * failure in its first steps (a rotation that cannot be solved, an energy jump) is theirs, not
+ * the time step's: the note names the molecule with the largest force and its nearest
+ * neighbour, for the messages of such failures. */
+static void start_check(run_ctx *c)
 {
-  char msg[1024];
+  const rl_deck *d = c->d;
+  rl_system *sys = c->s.sys;
+  const int n = rl_system_count(sys), nr = rl_system_nrot(sys);
+  c->start_note[0] = '\0';
+  rl_forces F = {calloc((size_t)(n > 0 ? n : 1), sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])),
+                 0.0, {0}, 0};
+  const double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
+  int st = F.f && F.k ? rl_forcefield_compute(c->s.ff, sys, &F) : RL_ENOMEM;
+  if (!st && n > 1 && kT > 0 && F.energy / (n * kT) > 5.0) {
+    int worst = 0;
+    double fmax = -1.0;
+    for (int i = 0; i < n; i++) {
+      const double f = sqrt(F.f[i][0] * F.f[i][0] + F.f[i][1] * F.f[i][1] + F.f[i][2] * F.f[i][2]);
+      if (f > fmax) { fmax = f; worst = i; }
+    }
+    double ri[3], best = INFINITY;
+    int near = -1;
+    rl_system_get_position(sys, worst, ri);
+    for (int j = 0; j < n; j++) {
+      if (j == worst) continue;
+      double rj[3], r2 = 0.0;
+      rl_system_get_position(sys, j, rj);
+      for (int k = 0; k < 3; k++) {
+        double x = rj[k] - ri[k];
+        x -= d->box[k] * nearbyint(x / d->box[k]);
+        r2 += x * x;
+      }
+      if (r2 < best) { best = r2; near = j; }
+    }
+    snprintf(c->start_note, sizeof c->start_note, "the start's U/N is %.3g kT (a liquid's is negative): it has overlapping "
+             "molecules; molecule %d (the one with the largest force, %.3g %s/%s) has its centre %.3g %s from molecule "
+             "%d's%s%s: relax the start (run.equilibrate with a small run.equilibrate_timestep), lower the density, or mend "
+             "the start", F.energy / (n * kT), worst, fmax, d->units == RL_UNITS_REAL ? "kJ/mol" : "epsilon",
+             rl_dim_unit(Q_LENGTH, d->units), sqrt(best), rl_dim_unit(Q_LENGTH, d->units), near,
+             d->start[0] ? " in " : "", d->start[0] ? d->start : "");
+  }
+  free(F.f);
+  free(F.k);
+}
+
+/* The library's message for a failed step; for a non-finite potential energy, also the term
+ * that is not finite; in the first steps of an overlapping start, what overlaps. */
+static void step_error(const run_ctx *c, int st)
+{
+  const rl_deck *d = c->d;
+  const scene *s = &c->s;
+  char msg[1024], term[1024] = "";
   snprintf(msg, sizeof msg, "%s", rl_last_error());
   rl_ff_energies e;
   if (st == RL_ENONFINITE && s->ff) {
     rl_forcefield_energies(s->ff, &e);
-    if (scene_check_finite(d, &e, NULL, 0.0)) {
-      fprintf(stderr, "rotleap run: %s: %s\n", msg, rl_last_error());
-      return;
-    }
+    if (scene_check_finite(d, &e, NULL, 0.0)) snprintf(term, sizeof term, ": %s", rl_last_error());
   }
-  fprintf(stderr, "rotleap run: %s\n", msg);
+  const int early = c->done < 20 && c->first == 0;
+  rl_error(st, "%s%s%s%s", msg, term, early && c->start_note[0] ? "; " : "", early ? c->start_note : "");
+  fprintf(stderr, "rotleap run: %s\n", rl_last_error());
 }
 
 /* The species line of the summary: family, rotation path, degrees of freedom and how far apart
@@ -774,9 +813,9 @@ int rl_app_run(const rl_deck *d)
   c.relax_done = -1;
   c.last_chk = -1;
   scene_watch_init(&c.watch);
-  c.chk_path = path_of(d->prefix, ".chk");
-  c.chk_prev = path_of(d->prefix, ".chk.prev");
-  c.summary_path = path_of(d->prefix, ".summary.txt");
+  c.chk_path = outputs_name(d->prefix, ".chk");
+  c.chk_prev = outputs_name(d->prefix, ".chk.prev");
+  c.summary_path = outputs_name(d->prefix, ".summary.txt");
   c.physics = physics_text(d);
   { /* which trajectory: a DCD of the sites (+ PDB) or an extended XYZ of centres and axes */
     rl_molecule m;
@@ -817,8 +856,10 @@ int rl_app_run(const rl_deck *d)
   if (!st) st = open_streams(&c, c.resumed ? &rec : NULL);
   if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   /* the relaxation (a new run, or the rest of a stopped one) */
+  if (!st && !c.s.restart) start_check(&c);
   if (!st && (!c.s.restart || relax_cont)) {
     st = relax(&c, relax_cont ? &rec : NULL);
+    if (st && c.relax_done < 20 && c.start_note[0]) rl_error_wrap(st, "%s", c.start_note);
     if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
   if (!st && !c.stopped) {
@@ -836,7 +877,7 @@ int rl_app_run(const rl_deck *d)
     p.energy_every = d->energy_every;
     c.in = rl_integrator_alloc(c.s.sys, &p, rl_forcefield_provider(c.s.ff));
     st = !c.in ? RL_EINVAL : cont && !relax_cont ? restore_record(&c, &rec) : rl_integrator_init(c.in);
-    if (st) step_error(d, &c.s, st);
+    if (st) step_error(&c, st);
     else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
   if (!st && !c.stopped && !(c.an = analysis_alloc(d, &c.s.mol, c.s.sys))) {
@@ -871,7 +912,7 @@ int rl_app_run(const rl_deck *d)
     }
     rl_step_info info;
     if ((st = rl_integrator_step(c.in, &info))) { /* the library's message names the step and the cause */
-      step_error(d, &c.s, st);
+      step_error(&c, st);
       break;
     }
     if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
@@ -981,7 +1022,7 @@ int rl_app_run(const rl_deck *d)
    * it created (headers only) go, those it continues stay as they were */
   if (st && c.done == 0 && c.streams) outputs_discard(c.out);
   const int started = !st || c.done > 0 || c.stopped;
-  char *part_summary = path_of(c.summary_path, ".part");
+  char *part_summary = outputs_name(c.summary_path, ".part");
   if (started) {
     const char *spath = st ? part_summary : c.summary_path;
     const char *status = st || io_bad ? "error" : c.stopped ? "interrupted" : "ok";

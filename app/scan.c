@@ -12,6 +12,7 @@
  * table), and PNG plots by scripts/plot_scan.py. */
 #include "scan.h"
 #include "analysis.h"
+#include "outputs.h"
 #include "quantity.h"
 #include "scene.h"
 
@@ -238,13 +239,14 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   r->done = done;
   if (st) snprintf(r->error, sizeof r->error, "%s", rl_last_error());
   if (an && done > 0) { /* PREFIX.<integrator>.h<h> .results.txt, .rdf.csv, .tcf.csv */
-    char pre[700];
-    snprintf(pre, sizeof pre, "%s.%s.h%g", o->prefix, rl_deck_integrators[r->integ].name,
-             r->h * (d->units == RL_UNITS_REAL ? 1e3 : 1.0));
-    if (analysis_write(an, pre, (sample ? sample : 1) * r->h)) {
-      fprintf(stderr, "rotleap scan: writing %s.*: %s\n", pre, rl_last_error());
+    char tail[96];
+    snprintf(tail, sizeof tail, ".%s.h%g", rl_deck_integrators[r->integ].name, r->h * (d->units == RL_UNITS_REAL ? 1e3 : 1.0));
+    char *pre = outputs_name(o->prefix, tail);
+    if (!pre || analysis_write(an, pre, (sample ? sample : 1) * r->h)) {
+      fprintf(stderr, "rotleap scan: writing %s%s.*: %s\n", o->prefix, tail, pre ? rl_last_error() : "out of memory");
       r->analysis_bad = 1;
     }
+    free(pre);
   }
   analysis_free(an);
   free(snap.f);
@@ -337,13 +339,31 @@ static void csv_text(FILE *f, const char *s)
   fputc('"', f);
 }
 
+static int write_table_csv(const rl_deck *d, const scan_opts *o, const scan_run *runs, int nruns, const char *rdfname,
+                           const char *path);
+static int write_curve_csv(const rl_deck *d, const scan_run *runs, int nruns, const char *path);
+
 static int write_outputs(const rl_deck *d, const scan_opts *o, const char *prefix, const scan_run *runs,
                          int nruns, const char *rdfname)
 {
-  char path[700];
+  rl_atomic_file af;
+  char *path[3] = {outputs_name(prefix, ".scan.csv"), outputs_name(prefix, ".scan_calE.csv"), outputs_name(prefix, ".scan.txt")};
+  int st = !path[0] || !path[1] || !path[2] ? rl_error(RL_ENOMEM, "out of memory") : RL_OK;
+  if (!st) st = write_table_csv(d, o, runs, nruns, rdfname, path[0]);
+  if (!st) st = write_curve_csv(d, runs, nruns, path[1]);
+  if (!st && !(st = rl_atomic_open(&af, path[2]))) {
+    print_table(af.fp, d, o, runs, nruns, rdfname);
+    st = rl_atomic_commit(&af);
+  }
+  for (int k = 0; k < 3; k++) free(path[k]);
+  return st ? 1 : 0;
+}
+
+static int write_table_csv(const rl_deck *d, const scan_opts *o, const scan_run *runs, int nruns, const char *rdfname,
+                           const char *path)
+{
   rl_atomic_file af;
   const int real = d->units == RL_UNITS_REAL;
-  snprintf(path, sizeof path, "%s.scan.csv", prefix);
   if (rl_atomic_open(&af, path)) return 1;
   fprintf(af.fp, "integrator,h_%s,steps,steps_done,calE,calU,calE_over_calU,drift_per_molecule_per_%s,ortho_error,fallbacks,"
                  "iterations_per_body_step,max_h_omega,t_trans,t_rot,t_rot_over_t_trans,rdf_distance_%s,wall_s_per_step,"
@@ -362,19 +382,20 @@ static int write_outputs(const rl_deck *d, const scan_opts *o, const char *prefi
     csv_text(af.fp, r->ok ? "ok" : r->error);
     fputc('\n', af.fp);
   }
-  if (rl_atomic_commit(&af)) return 1;
-  snprintf(path, sizeof path, "%s.scan_calE.csv", prefix);
+  return rl_atomic_commit(&af);
+}
+
+static int write_curve_csv(const rl_deck *d, const scan_run *runs, int nruns, const char *path)
+{
+  rl_atomic_file af;
+  const int real = d->units == RL_UNITS_REAL;
   if (rl_atomic_open(&af, path)) return 1;
   fprintf(af.fp, "integrator,h_%s,step,time_%s,calE\n", real ? "fs" : "reduced", real ? "ps" : "reduced");
   for (int k = 0; k < nruns; k++)
     for (int j = 0; j < runs[k].ncurve; j++)
       fprintf(af.fp, "%s,%.10g,%.0f,%.10g,%.6e\n", rl_deck_integrators[runs[k].integ].name,
               runs[k].h * (real ? 1e3 : 1.0), runs[k].curve[j][0], runs[k].curve[j][1], runs[k].curve[j][2]);
-  if (rl_atomic_commit(&af)) return 1;
-  snprintf(path, sizeof path, "%s.scan.txt", prefix);
-  if (rl_atomic_open(&af, path)) return 1;
-  print_table(af.fp, d, o, runs, nruns, rdfname);
-  return rl_atomic_commit(&af) ? 1 : 0;
+  return rl_atomic_commit(&af);
 }
 
 /* PNG plots by scripts/plot_scan.py (matplotlib), next to the CSVs. */
@@ -391,13 +412,16 @@ static int plot(const char *prefix)
     return 1;
   }
   const char *py = access("/usr/bin/python3", X_OK) ? "python3" : "/usr/bin/python3";
-  char cmd[3000];
-  snprintf(cmd, sizeof cmd, "'%s' '%s' '%s'", py, script, prefix);
   if (strchr(prefix, '\'') || strchr(script, '\'')) {
     fprintf(stderr, "rotleap scan: plots not made: a quote in the path\n");
     return 1;
   }
+  const size_t n = strlen(py) + strlen(script) + strlen(prefix) + 16;
+  char *cmd = malloc(n);
+  if (!cmd) return 1;
+  snprintf(cmd, n, "'%s' '%s' '%s'", py, script, prefix);
   int rc = system(cmd);
+  free(cmd);
   if (rc) {
     fprintf(stderr, "rotleap scan: plots not made (%s exited with %d; it needs python3-matplotlib); the CSV files are "
                     "complete\n", script, rc);
@@ -538,24 +562,30 @@ int rl_app_scan(int argc, char **argv)
     if (*end || !(o.tolerance > 0)) { snprintf(err, sizeof err, "--tolerance: '%s' is not a positive fraction or percentage", tol); bad = 1; }
   }
   if (bad) { fprintf(stderr, "rotleap scan: %s\n", err); return 2; }
-  { /* none of the scan's files may overwrite the deck or the start */
-    static const char *const ext[] = {".scan.csv", ".scan_calE.csv", ".scan.txt", ".scan_calE.png", ".scan_pareto.png"};
-    char out[5][640];
-    const char *outs[5];
-    for (int k = 0; k < 5; k++) {
-      snprintf(out[k], sizeof out[k], "%s%s", d.prefix, ext[k]);
-      outs[k] = out[k];
-    }
-    if (scene_check_outputs(&d, outs, 5)) {
-      fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
-      return 1;
-    }
+  /* none of the scan's files may overwrite the deck or the start; the directory must be safe to
+   * write in, and no other run may be writing this prefix (PREFIX.lock, as rotleap run) */
+  static const char *const ext[] = {".scan.csv", ".scan_calE.csv", ".scan.txt", ".scan_calE.png", ".scan_pareto.png"};
+  char *outs[5];
+  int st = RL_OK;
+  for (int k = 0; k < 5; k++)
+    if (!(outs[k] = outputs_name(d.prefix, ext[k]))) st = rl_error(RL_ENOMEM, "out of memory");
+  if (!st) st = scene_check_outputs(&d, (const char *const *)outs, 5);
+  for (int k = 0; k < 5; k++) free(outs[k]);
+  outputs *lock = st ? NULL : outputs_alloc(d.prefix, NULL, 0);
+  if (!st && !lock) st = RL_ENOMEM;
+  if (!st) st = outputs_check_dir(d.prefix);
+  if (!st) st = outputs_lock(lock);
+  if (st) {
+    fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
+    outputs_free(lock);
+    return 1;
   }
 
   scene s;
   if (scene_build(&d, &s) || scene_relax(&d, &s) || scene_onstep(&d, &s)) {
     fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
     scene_free(&s);
+    outputs_free(lock);
     return 1;
   }
   int site[2];
@@ -563,11 +593,12 @@ int rl_app_scan(int argc, char **argv)
   if (rdf_pair(&d, &s.mol, site, rdfname, sizeof rdfname)) {
     fprintf(stderr, "rotleap scan: %s\n", rl_last_error());
     scene_free(&s);
+    outputs_free(lock);
     return 1;
   }
   int nruns = o.nh * o.ninteg;
   scan_run *runs = calloc((size_t)nruns, sizeof *runs);
-  if (!runs) { scene_free(&s); return 1; }
+  if (!runs) { scene_free(&s); outputs_free(lock); return 1; }
   int progress = d.progress < 0 ? isatty(fileno(stderr)) : d.progress, io_bad = 0;
   const double hs = d.units == RL_UNITS_REAL ? 1e3 : 1.0;
   for (int i = 0, k = 0; i < o.ninteg && !io_bad; i++)
@@ -610,6 +641,7 @@ int rl_app_scan(int argc, char **argv)
   }
   free(runs);
   scene_free(&s);
+  outputs_free(lock);
   if (analysis_bad) fprintf(stderr, "rotleap scan: some per-run analysis files were not written (above)\n");
   return io_bad || analysis_bad ? 1 : 0;
 }

@@ -206,7 +206,8 @@ double scene_watch_kT(const rl_deck *d, const scene_watch *w)
 {
   const double T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
   const double mean = w->T_n > 0 ? w->T_sum / w->T_n : 0.0;
-  return rl_units_kB(d->units) * fmax(T, mean);
+  const double floor = w->nev > 0 && d->count > 0 && isfinite(w->U0) ? 1e-3 * fabs(w->U0) / d->count : 0.0;
+  return fmax(rl_units_kB(d->units) * fmax(T, mean), floor);
 }
 
 double scene_watch_drift(const scene_watch *w, double *sem)
@@ -237,17 +238,17 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
                      long every, double h, const char *dt_name)
 {
   const int ev = every <= 1 || k % every == 0;
-  const double kT = scene_watch_kT(d, w);
   if (isfinite(info->temperature)) {
     w->T_sum += info->temperature;
     w->T_n++;
   }
   const char *tu = rl_dim_unit(Q_TIME, d->units);
   if (ev && w->nev++ == 0) w->U0 = info->potential;
+  const double kT = scene_watch_kT(d, w);
   /* a blow-up within the first steps of a start whose energy was far above a liquid's points at
    * overlapping molecules more than at the time step */
   char hint[256] = "";
-  const double u0 = w->U0 / (d->count * kT);
+  const double u0 = kT > 0 ? w->U0 / (d->count * kT) : 0.0;
   if (w->nev <= 20 && !(u0 <= 5.0))
     snprintf(hint, sizeof hint, "; the start's U/N was %.3g kT (a liquid's is negative): overlapping molecules "
              "are the likelier cause: lower the density, or relax the start (run.equilibrate, with a small "

@@ -79,9 +79,10 @@ typedef struct {
                              so only a non-finite energy or a jump across the box stops it */
 } scene_watch;
 void scene_watch_init(scene_watch *w);
-/* The energy scale of the watch: kB times the deck's temperature (the thermostat's, else the
- * start's), or times the mean on-step temperature seen so far if that is higher: a start at
- * 1e-30 K heats as its potential energy turns kinetic, which is not a blow-up. */
+/* The energy scale of the watch, "kT": kB times the deck's temperature (the thermostat's, else the
+ * start's), or times the mean on-step temperature seen so far, or a thousandth of |U|/N at the
+ * first step with energies, whichever is highest: a start near 0 K (1e-30 K) is not unstable
+ * because the kinetic energy is tiny, and heats as its potential energy turns kinetic. */
 double scene_watch_kT(const rl_deck *d, const scene_watch *w);
 /* The mean drift of the conserved energy over the closed windows and its standard error (kT
  * per molecule per time unit); 0 with fewer than 2 windows (then *sem = NAN). */
