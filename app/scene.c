@@ -234,14 +234,26 @@ int scene_drift_mode(const rl_deck *d, double alt)
  * time units and at least 50 steps, and ends the run above SCENE_DRIFT_ERROR kT per molecule per
  * time unit (real: ps).  A stable run drifts by orders of magnitude less (TIP4P at 2 fs: ~1e-3;
  * at 10 fs 0.7, at 12 fs 16, measured with Bussi, tau 0.1 ps, 216 molecules). */
+static int watch_checks(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k, long every,
+                        double h, const char *dt_name);
+
 int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k,
                      long every, double h, const char *dt_name)
 {
-  const int ev = every <= 1 || k % every == 0;
-  if (isfinite(info->temperature)) {
+  const int st = watch_checks(d, s, w, info, k, every, h, dt_name);
+  /* the temperatures seen so far, for the scale of the next steps' checks (not this one's: a
+   * blow-up's temperature must not excuse its own energy jump) */
+  if (!st && isfinite(info->temperature)) {
     w->T_sum += info->temperature;
     w->T_n++;
   }
+  return st;
+}
+
+static int watch_checks(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k, long every,
+                        double h, const char *dt_name)
+{
+  const int ev = every <= 1 || k % every == 0;
   const char *tu = rl_dim_unit(Q_TIME, d->units);
   if (ev && w->nev++ == 0) w->U0 = info->potential;
   const double kT = scene_watch_kT(d, w);
