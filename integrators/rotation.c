@@ -21,16 +21,23 @@ static void rho_coeffs(const double J[3], double r[3])
 
 static double norm3(const double a[3]) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
-double rl_omega_residual(const double J[3], const double theta[3], double h, const double Om[3])
+/* rl_omega_residual with rho given */
+static double residual_rho(const double r[3], const double theta[3], double h, const double Om[3])
 {
-  double r[3], res[3];
-  rho_coeffs(J, r);
+  double res[3];
   res[0] = Om[0] - theta[0] - h * r[0] * Om[1] * Om[2];
   res[1] = Om[1] - theta[1] - h * r[1] * Om[2] * Om[0];
   res[2] = Om[2] - theta[2] - h * r[2] * Om[0] * Om[1];
   double n = norm3(Om), rn = norm3(res);
   if (n == 0.0) return rn == 0.0 ? 0.0 : INFINITY;
   return rn / n;
+}
+
+double rl_omega_residual(const double J[3], const double theta[3], double h, const double Om[3])
+{
+  double r[3];
+  rho_coeffs(J, r);
+  return residual_rho(r, theta, h, Om);
 }
 
 /* ----------------------------------------------------- the branch continuing from h = 0 */
@@ -205,15 +212,43 @@ static inline void eq29(const reduced *s, double z, double *ox, double *oy)
 }
 
 /* F(z) = z - theta_Z - h rho_Z Omega_X(z) Omega_Y(z): the third of eqs. 28 after eq. 29.  Its
- * roots are exactly the solutions of eq. 28.  Returns F and F'(z). */
+ * roots are exactly the solutions of eq. 28.  Returns F and F'(z), and Omega_X, Omega_Y of eq. 29
+ * at z with their derivatives. */
+static double reduced_eval(const reduced *s, double z, double *fp, double o[2], double d[2])
+{
+  const double h = s->h, a = h * h * s->nu2, id = 1.0 / (1.0 + a * z * z);
+  o[0] = (s->tx + h * s->rx * s->ty * z) * id;
+  o[1] = (s->ty + h * s->ry * s->tx * z) * id;
+  d[0] = (h * s->rx * s->ty - 2.0 * a * z * o[0]) * id;
+  d[1] = (h * s->ry * s->tx - 2.0 * a * z * o[1]) * id;
+  *fp = 1.0 - h * s->rz * (d[0] * o[1] + o[0] * d[1]);
+  return z - s->tz - h * s->rz * o[0] * o[1];
+}
+
 static double reduced_f(const reduced *s, double z, double *fp)
 {
-  double h = s->h, d = 1.0 + h * h * s->nu2 * z * z, ox, oy;
-  eq29(s, z, &ox, &oy);
-  double dox = (h * s->rx * s->ty - 2.0 * h * h * s->nu2 * z * ox) / d;
-  double doy = (h * s->ry * s->tx - 2.0 * h * h * s->nu2 * z * oy) / d;
-  if (fp) *fp = 1.0 - h * s->rz * (dox * oy + ox * doy);
-  return z - s->tz - h * s->rz * ox * oy;
+  double o[2], d[2], g;
+  return reduced_eval(s, z, fp ? fp : &g, o, d);
+}
+
+/* One Newton step on F from z, with Omega_X, Omega_Y moved along eq. 29's tangent: the 3-D
+ * Newton step of eq. 28 from (eq. 29 at z, z).  Its size is the error of z to first order
+ * (residual over derivative, so whatever the conditioning), and the error after it is of the
+ * order of its square.  If the step is at most tol |Omega| the corrected root is stored and 1
+ * returned; else (or for a non-finite step) 0, with *ox, *oy those of eq. 29 at the old z. */
+static int newton_step(const reduced *s, double *z, double *ox, double *oy, double tol)
+{
+  double o[2], d[2], fp;
+  const double dz = -reduced_eval(s, *z, &fp, o, d) / fp;
+  const double X = o[0] + d[0] * dz, Y = o[1] + d[1] * dz, Z = *z + dz;
+  *ox = o[0];
+  *oy = o[1];
+  /* |step|^2 <= tol^2 |Omega|^2; false for NaN */
+  if (!(dz * dz * (1.0 + d[0] * d[0] + d[1] * d[1]) <= tol * tol * (X * X + Y * Y + Z * Z))) return 0;
+  *ox = X;
+  *oy = Y;
+  *z = Z;
+  return 1;
 }
 
 /* Real root of a3 d^3 + a2 d^2 + a1 d + a0 = 0 that tends to 0 as h -> 0 (delta_1 of eq. 34).
@@ -317,6 +352,8 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
   double Jp[3] = {J[kx], J[ky], J[kz]}, r[3];
   rho_coeffs(Jp, r);
   reduced s = {h, theta[kx], theta[ky], theta[kz], r[0], r[1], r[2], -r[0] * r[1]};
+  double ro[3]; /* rho in the caller's axes (eq. 28 is cyclic: the same numbers) */
+  ro[kx] = r[0]; ro[ky] = r[1]; ro[kz] = r[2];
   if (s.nu2 < 0.0) s.nu2 = 0.0; /* -0 or round-off when two largest moments coincide */
 
   double ox, oy, oz;
@@ -346,28 +383,32 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
     double delta = rl_cubic_small_root(a0, a1, a2, a3, &loc.three_real);
     oz = s0 + delta;
     if (!isfinite(oz)) oz = s0; /* degenerate cubic: let the guard polish from s0 */
-    eq29(&s, oz, &ox, &oy);
+    /* the guard: one Newton step on the exact reduced equation from the cubic's root.  Its size
+     * is the cubic's error to first order (residual over derivative, whatever the conditioning),
+     * and the corrected root's error is of the order of its square: round-off when the step is
+     * below guard_tol.  A larger step (or none) is a fallback. */
+    if (!newton_step(&s, &oz, &ox, &oy, guard_tol)) loc.path = RL_OMEGA_PATH_NEWTON;
   }
 
   double Om[3];
   Om[kx] = ox; Om[ky] = oy; Om[kz] = oz;
-  loc.residual = rl_omega_residual(J, theta, h, Om);
-  if (!(loc.residual <= guard_tol)) {
-    /* guard: Newton on the exact reduced equation, keeping the branch continued from the cubic */
+  loc.residual = residual_rho(ro, theta, h, Om);
+  if (loc.path == RL_OMEGA_PATH_NEWTON) {
+    /* fallback: Newton on the exact reduced equation from the cubic's root to round-off (its
+     * steps bound the error), keeping the branch continued from the cubic */
     double z = isfinite(oz) ? oz : s.tz;
-    loc.path = RL_OMEGA_PATH_NEWTON;
     int ok = newton_reduced(&s, &z, 30, &loc.iterations);
     if (ok) {
       eq29(&s, z, &ox, &oy);
       Om[kx] = ox; Om[ky] = oy; Om[kz] = z;
-      loc.residual = rl_omega_residual(J, theta, h, Om);
+      loc.residual = residual_rho(ro, theta, h, Om);
     }
-    if (!ok || !(loc.residual <= guard_tol)) {
+    if (!ok || !(loc.residual <= 1e-12)) {
       loc.path = RL_OMEGA_PATH_BRACKET;
       z = bracketed_reduced(&s, isfinite(oz) ? oz : s.tz, &loc.iterations);
       eq29(&s, z, &ox, &oy);
       Om[kx] = ox; Om[ky] = oy; Om[kz] = z;
-      loc.residual = rl_omega_residual(J, theta, h, Om);
+      loc.residual = residual_rho(ro, theta, h, Om);
     }
   }
   /* beyond the certified range, the root must be the branch from h = 0 (Cardano's three real
@@ -377,7 +418,7 @@ int rl_omega_guarded(const double J[3], const double theta[3], double h, double 
    * Omega (theta itself) and let the residual below report the failure */
   if (!isfinite(Om[0] + Om[1] + Om[2])) {
     Om[0] = theta[0]; Om[1] = theta[1]; Om[2] = theta[2];
-    loc.residual = rl_omega_residual(J, theta, h, Om);
+    loc.residual = residual_rho(ro, theta, h, Om);
   }
   Omega[0] = Om[0]; Omega[1] = Om[1]; Omega[2] = Om[2];
   if (info) *info = loc;

@@ -9,6 +9,9 @@
 #include "../core/threads.h"
 
 #include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -68,6 +71,8 @@ void rl_forcefield_free(rl_forcefield *ff)
   rl_nlist_free(ff->nl);
   rl_ff_fast_free(ff->fast);
   free(ff->origin);
+  free(ff->tsite);
+  free(ff->sp_name);
   free(ff);
 }
 
@@ -110,11 +115,21 @@ static void update_dispersion(rl_forcefield *ff)
     }
 }
 
-static double species_extent(const rl_system *sys, int body, int nsites)
+/* Largest |site - centre| of one body, and (if t) its sites' offsets from the centre in a frame
+ * whose Z is the body's axis (orientation independent).  -1 if out of memory. */
+static double species_extent(const rl_system *sys, int body, int nsites, double (*t)[3])
 {
-  /* largest |site - centre| of one body, from its lab sites (orientation independent) */
-  double ext = 0.0, r[3];
+  double ext = 0.0, r[3], e[3], u[3], v[3];
   rl_system_get_position(sys, body, r);
+  rl_system_get_axis(sys, body, e);
+  /* u: the unit vector along the lab axis least aligned with e, made perpendicular; v = e x u */
+  int m = fabs(e[0]) <= fabs(e[1]) && fabs(e[0]) <= fabs(e[2]) ? 0 : fabs(e[1]) <= fabs(e[2]) ? 1 : 2;
+  for (int c = 0; c < 3; c++) u[c] = (c == m) - e[m] * e[c];
+  const double un = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (int c = 0; c < 3; c++) u[c] /= un;
+  v[0] = e[1] * u[2] - e[2] * u[1];
+  v[1] = e[2] * u[0] - e[0] * u[2];
+  v[2] = e[0] * u[1] - e[1] * u[0];
   int off = rl_system_site_offset(sys, body), ns = rl_system_nsites(sys);
   double(*s)[3] = malloc(sizeof *s * (size_t)(ns > 0 ? ns : 1));
   if (!s) return -1.0;
@@ -122,6 +137,11 @@ static double species_extent(const rl_system *sys, int body, int nsites)
   for (int a = 0; a < nsites; a++) {
     double d[3] = {s[off + a][0] - r[0], s[off + a][1] - r[1], s[off + a][2] - r[2]};
     ext = fmax(ext, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    if (t) {
+      t[a][0] = u[0] * d[0] + u[1] * d[1] + u[2] * d[2];
+      t[a][1] = v[0] * d[0] + v[1] * d[1] + v[2] * d[2];
+      t[a][2] = e[0] * d[0] + e[1] * d[1] + e[2] * d[2];
+    }
   }
   free(s);
   return ext;
@@ -302,7 +322,12 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
   ff->site = xcalloc((size_t)nsites, sizeof *ff->site);
   ff->dsite = xcalloc((size_t)nsites, sizeof *ff->dsite);
   ff->fs = xcalloc((size_t)nsites, sizeof *ff->fs);
-  if (!ff->type_off || !ff->sp_nsites || !ff->sp_extent || !ff->sig || !ff->eps || !ff->q || !ff->mu || !ff->Q ||
+  ff->tsite = xcalloc(nt, sizeof *ff->tsite);
+  ff->sp_name = xcalloc((size_t)nsp, sizeof *ff->sp_name);
+  ff->units = rl_system_units(sys);
+  ff->last_pairs = -1;
+  if (!ff->tsite || !ff->sp_name ||
+      !ff->type_off || !ff->sp_nsites || !ff->sp_extent || !ff->sig || !ff->eps || !ff->q || !ff->mu || !ff->Q ||
       !ff->type_species || !ff->type_site || !ff->lj || !ff->body_species ||
       !ff->body_site_off || !ff->body_rot || !ff->site_type || !ff->centre || !ff->axis ||
       !ff->tq || !ff->site || !ff->dsite || !ff->fs) {
@@ -316,6 +341,8 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     const rl_species_ff *s = &species[k];
     ff->type_off[k] = t;
     ff->sp_nsites[k] = s->nsites;
+    const char *name = rl_system_species_name(sys, k);
+    snprintf(ff->sp_name[k], sizeof ff->sp_name[k], "%s", name ? name : "");
     for (int a = 0; a < s->nsites; a++, t++) {
       ff->sig[t] = s->sigma[a];
       ff->eps[t] = s->epsilon[a];
@@ -328,7 +355,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
       if (ff->Q[t] != 0.0) ff->any_quad = 1;
     }
     if (first_body[k] >= 0) {
-      double ext = species_extent(sys, first_body[k], s->nsites);
+      double ext = species_extent(sys, first_body[k], s->nsites, ff->tsite + ff->type_off[k]);
       if (ext < 0.0) {
         free(first_body);
         rl_forcefield_free(ff);
@@ -469,6 +496,65 @@ static inline void cross_add(double t[3], const double a[3], const double b[3], 
   t[2] += s * (a[0] * b[1] - a[1] * b[0]);
 }
 
+/* The pair terms, in the order their forces are summed. */
+enum { TERM_LJ, TERM_COUL, TERM_DD, TERM_QD, TERM_QQ, NTERMS };
+#define ALL_TERMS ((1u << NTERMS) - 1u)
+
+/* The interactions in `mask` (bits 1 << TERM_*) of a site of type ta (its body's axis ea) with
+ * one of type tb (axis eb) at separation r = r_a - r_b (r2 = |r|^2): each term's energy is added
+ * to *e[term], its force on a to f, and the direct (dipole, quadrupole) torques to ka, kb. */
+static inline void site_terms(const rl_forcefield *ff, int ta, int tb, const double r[3],
+                              double r2, const double ea[3], const double eb[3], unsigned mask,
+                              double *const e[NTERMS], double f[3], double ka[3], double kb[3])
+{
+  const rl_lj_coef *lj = &ff->lj[ta * ff->ntypes + tb];
+  if ((mask & 1u << TERM_LJ) && lj->epsilon != 0.0) {
+    double fs;
+    *e[TERM_LJ] += rl_lj_pair(lj, r2, &fs);
+    for (int c = 0; c < 3; c++) f[c] += fs * r[c];
+  }
+  double qa = ff->q[ta], qb = ff->q[tb];
+  if ((mask & 1u << TERM_COUL) && qa != 0.0 && qb != 0.0) {
+    double fs;
+    *e[TERM_COUL] += rl_coulomb_rf_pair(&ff->rf, ff->kc * qa * qb, r2, &fs);
+    for (int c = 0; c < 3; c++) f[c] += fs * r[c];
+  }
+  double ma = ff->mu[ta], mb = ff->mu[tb];
+  if ((mask & (1u << TERM_DD | 1u << TERM_QD)) && (ma != 0.0 || mb != 0.0)) {
+    double mua[3], mub[3], fp[3], ga[3], gb[3];
+    for (int c = 0; c < 3; c++) { mua[c] = ma * ea[c]; mub[c] = mb * eb[c]; }
+    int sf = ff->p.dipole_method == RL_DIPOLE_SF;
+    if ((mask & 1u << TERM_DD) && ma != 0.0 && mb != 0.0) {
+      *e[TERM_DD] += sf ? rl_dipole_dipole_sf(ff->kc, ff->p.cutoff, r, mua, mub, fp, ga, gb)
+                        : rl_dipole_dipole_rf(ff->kc, ff->rf.krf, r, mua, mub, fp, ga, gb);
+      for (int c = 0; c < 3; c++) f[c] += fp[c];
+      cross_add(ka, mua, ga, -1.0);
+      cross_add(kb, mub, gb, -1.0);
+    }
+    if ((mask & 1u << TERM_QD) && qa != 0.0 && mb != 0.0) { /* charge at a, dipole at b */
+      *e[TERM_QD] += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, r, qa, mub, fp, gb)
+                        : rl_charge_dipole_rf(ff->kc, ff->rf.krf, r, qa, mub, fp, gb);
+      for (int c = 0; c < 3; c++) f[c] += fp[c];
+      cross_add(kb, mub, gb, -1.0);
+    }
+    if ((mask & 1u << TERM_QD) && ma != 0.0 && qb != 0.0) { /* dipole at a, charge at b */
+      double rm[3] = {-r[0], -r[1], -r[2]}; /* r_charge - r_dipole */
+      *e[TERM_QD] += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, rm, qb, mua, fp, ga)
+                        : rl_charge_dipole_rf(ff->kc, ff->rf.krf, rm, qb, mua, fp, ga);
+      for (int c = 0; c < 3; c++) f[c] -= fp[c]; /* fp is the force on the charge (b) */
+      cross_add(ka, mua, ga, -1.0);
+    }
+  }
+  double Qa = ff->Q[ta], Qb = ff->Q[tb];
+  if ((mask & 1u << TERM_QQ) && Qa != 0.0 && Qb != 0.0) {
+    double fp[3], ga[3], gb[3];
+    *e[TERM_QQ] += rl_quadrupole_quadrupole(ff->kc, r, Qa, ea, Qb, eb, fp, ga, gb);
+    for (int c = 0; c < 3; c++) f[c] += fp[c];
+    cross_add(ka, ea, ga, -1.0);
+    cross_add(kb, eb, gb, -1.0);
+  }
+}
+
 /* All interactions of site sa (body i) with site sb (body j), separation r = r_sa - r_sb,
  * centre vector R = r_i - r_j consistent with it. */
 static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const double r[3],
@@ -481,54 +567,10 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
                     "body %d are %g apart (minimum %g)", sa - ff->body_site_off[i], i,
                     sb - ff->body_site_off[j], j, sqrt(r2), ff->min_distance);
   }
-  int ta = ff->site_type[sa], tb = ff->site_type[sb];
+  double *const e[NTERMS] = {&acc->lj, &acc->coul, &acc->dip, &acc->dip, &acc->quad};
   double f[3] = {0.0, 0.0, 0.0};
-  const rl_lj_coef *lj = &ff->lj[ta * ff->ntypes + tb];
-  if (lj->epsilon != 0.0) {
-    double fs;
-    acc->lj += rl_lj_pair(lj, r2, &fs);
-    for (int c = 0; c < 3; c++) f[c] += fs * r[c];
-  }
-  double qa = ff->q[ta], qb = ff->q[tb];
-  if (qa != 0.0 && qb != 0.0) {
-    double fs;
-    acc->coul += rl_coulomb_rf_pair(&ff->rf, ff->kc * qa * qb, r2, &fs);
-    for (int c = 0; c < 3; c++) f[c] += fs * r[c];
-  }
-  double ma = ff->mu[ta], mb = ff->mu[tb];
-  if (ma != 0.0 || mb != 0.0) {
-    double mua[3], mub[3], fp[3], ga[3], gb[3];
-    for (int c = 0; c < 3; c++) { mua[c] = ma * ff->axis[i][c]; mub[c] = mb * ff->axis[j][c]; }
-    int sf = ff->p.dipole_method == RL_DIPOLE_SF;
-    if (ma != 0.0 && mb != 0.0) {
-      acc->dip += sf ? rl_dipole_dipole_sf(ff->kc, ff->p.cutoff, r, mua, mub, fp, ga, gb)
-                     : rl_dipole_dipole_rf(ff->kc, ff->rf.krf, r, mua, mub, fp, ga, gb);
-      for (int c = 0; c < 3; c++) f[c] += fp[c];
-      cross_add(acc->tq[i], mua, ga, -1.0);
-      cross_add(acc->tq[j], mub, gb, -1.0);
-    }
-    if (qa != 0.0 && mb != 0.0) { /* charge at a, dipole at b */
-      acc->dip += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, r, qa, mub, fp, gb)
-                     : rl_charge_dipole_rf(ff->kc, ff->rf.krf, r, qa, mub, fp, gb);
-      for (int c = 0; c < 3; c++) f[c] += fp[c];
-      cross_add(acc->tq[j], mub, gb, -1.0);
-    }
-    if (ma != 0.0 && qb != 0.0) { /* dipole at a, charge at b: r_charge - r_dipole = -r */
-      double rm[3] = {-r[0], -r[1], -r[2]};
-      acc->dip += sf ? rl_charge_dipole_sf(ff->kc, ff->p.cutoff, rm, qb, mua, fp, ga)
-                     : rl_charge_dipole_rf(ff->kc, ff->rf.krf, rm, qb, mua, fp, ga);
-      for (int c = 0; c < 3; c++) f[c] -= fp[c]; /* fp is the force on the charge (b) */
-      cross_add(acc->tq[i], mua, ga, -1.0);
-    }
-  }
-  double Qa = ff->Q[ta], Qb = ff->Q[tb];
-  if (Qa != 0.0 && Qb != 0.0) {
-    double fp[3], ga[3], gb[3];
-    acc->quad += rl_quadrupole_quadrupole(ff->kc, r, Qa, ff->axis[i], Qb, ff->axis[j], fp, ga, gb);
-    for (int c = 0; c < 3; c++) f[c] += fp[c];
-    cross_add(acc->tq[i], ff->axis[i], ga, -1.0);
-    cross_add(acc->tq[j], ff->axis[j], gb, -1.0);
-  }
+  site_terms(ff, ff->site_type[sa], ff->site_type[sb], r, r2, ff->axis[i], ff->axis[j], ALL_TERMS,
+             e, f, acc->tq[i], acc->tq[j]);
   for (int c = 0; c < 3; c++) {
     acc->fs[sa][c] += f[c];
     acc->fs[sb][c] -= f[c];
@@ -700,6 +742,12 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
     st = reference_pairs(ff, &acc, ff->fast != NULL);
   }
   if (st) return st;
+  /* did any site pair interact?  (the first site force or torque that is not 0 says so) */
+  ff->last_pairs = 0;
+  for (int a = 0; a < ff->nsites && !ff->last_pairs; a++)
+    ff->last_pairs = ff->fs[a][0] != 0.0 || ff->fs[a][1] != 0.0 || ff->fs[a][2] != 0.0;
+  for (int i = 0; i < n && !ff->last_pairs; i++)
+    ff->last_pairs = ff->tq[i][0] != 0.0 || ff->tq[i][1] != 0.0 || ff->tq[i][2] != 0.0;
   double e_intra = ff->p.intramolecular_rf ? intramolecular_rf(ff) : 0.0;
   double V = rl_box_volume(&ff->box);
   double e_disp = 2.0 * M_PI / V * ff->disp_e;
@@ -735,4 +783,283 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
   for (int c = 0; c < 9; c++) out->virial[c] += acc.vir[c];
   for (int c = 0; c < 3; c++) out->virial[4 * c] += p_disp * V; /* tr = 3 V P_disp */
   return RL_OK;
+}
+
+/* ----------------------------------------------- setup warnings and the cutoff's discontinuities */
+
+/* Two bodies of species ka and kb can meet: both exist, and a species meets itself only with
+ * two bodies or more. */
+static int can_meet(const rl_forcefield *ff, int ka, int kb)
+{
+  return ff->sp_count[ka] > 0 && ff->sp_count[kb] > 0 && (ka != kb || ff->sp_count[ka] > 1);
+}
+
+static const char *unit_energy(const rl_forcefield *ff) { return ff->units == RL_UNITS_LJ ? "epsilon" : "kJ/mol"; }
+static const char *unit_length(const rl_forcefield *ff) { return ff->units == RL_UNITS_LJ ? "sigma" : "nm"; }
+static const char *unit_force(const rl_forcefield *ff) { return ff->units == RL_UNITS_LJ ? "epsilon/sigma" : "kJ/mol/nm"; }
+
+/* One line of text into buf (truncated to size - 1 characters). */
+static void line(char *buf, size_t size, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf, size, fmt, ap);
+  va_end(ap);
+}
+
+/* "water site 0" (or "species 2 site 0" for a species without a name) */
+static void site_label(const rl_forcefield *ff, int t, char *buf, size_t size)
+{
+  const int k = ff->type_species[t];
+  if (ff->sp_name[k][0]) snprintf(buf, size, "%s site %d", ff->sp_name[k], ff->type_site[t]);
+  else snprintf(buf, size, "species %d site %d", k, ff->type_site[t]);
+}
+
+/* The terms types ta and tb have between them (bits 1 << TERM_*), if their bodies can meet. */
+static unsigned pair_terms(const rl_forcefield *ff, int ta, int tb)
+{
+  if (!can_meet(ff, ff->type_species[ta], ff->type_species[tb])) return 0;
+  unsigned m = 0;
+  if (ff->lj[ta * ff->ntypes + tb].epsilon != 0.0) m |= 1u << TERM_LJ;
+  if (ff->q[ta] != 0.0 && ff->q[tb] != 0.0) m |= 1u << TERM_COUL;
+  if (ff->mu[ta] != 0.0 && ff->mu[tb] != 0.0) m |= 1u << TERM_DD;
+  if ((ff->q[ta] != 0.0 && ff->mu[tb] != 0.0) || (ff->mu[ta] != 0.0 && ff->q[tb] != 0.0)) m |= 1u << TERM_QD;
+  if (ff->Q[ta] != 0.0 && ff->Q[tb] != 0.0) m |= 1u << TERM_QQ;
+  return m;
+}
+
+int rl_forcefield_warnings(const rl_forcefield *ff, rl_ff_warning *out, int max)
+{
+  if (!ff) return 0;
+  int n = 0;
+  const double rc = ff->p.cutoff, well = pow(2.0, 1.0 / 6.0);
+  int wa = -1, wb = -1, count = 0;
+  unsigned any = 0;
+  for (int ta = 0; ta < ff->ntypes; ta++)
+    for (int tb = ta; tb < ff->ntypes; tb++) {
+      const unsigned m = pair_terms(ff, ta, tb);
+      any |= m;
+      const rl_lj_coef *c = &ff->lj[ta * ff->ntypes + tb];
+      if (!(m & 1u << TERM_LJ) || !(rc < well * c->sigma)) continue;
+      count++;
+      if (wa < 0 || c->sigma > ff->lj[wa * ff->ntypes + wb].sigma) { wa = ta; wb = tb; }
+    }
+  if (count) {
+    const rl_lj_coef *c = &ff->lj[wa * ff->ntypes + wb];
+    char la[48], lb[48], more[48] = "";
+    site_label(ff, wa, la, sizeof la);
+    site_label(ff, wb, lb, sizeof lb);
+    if (count > 1) snprintf(more, sizeof more, " (and %d more site pairs)", count - 1);
+    if (n < max)
+      line(out[n].text, sizeof out[n].text, "the cutoff %g %s is shorter than %s of the "
+               "Lennard-Jones pair %s - %s (sigma %g %s, epsilon %g %s)%s: %s", rc, unit_length(ff),
+               rc < c->sigma ? "the sigma" : "the minimum at 2^(1/6) sigma", la, lb, c->sigma,
+               unit_length(ff), c->epsilon, unit_energy(ff), more,
+               rc < c->sigma ? "the attractive well and most of the repulsion are cut"
+                             : "the attractive well is cut");
+    n++;
+  }
+  if (ff->last_pairs == 0 && any) {
+    if (n < max)
+      line(out[n].text, sizeof out[n].text, "no pair of sites was within the cutoff %g %s at "
+               "the last force computation: every intermolecular energy, force and torque is "
+               "zero (the cutoff is shorter than the distances between the molecules' sites)",
+               rc, unit_length(ff));
+    n++;
+  }
+  return n;
+}
+
+/* A rotation for sample k: the 24 rotations of the cube (k < 24), which turn a body's axis onto
+ * each lab axis (where the dipole and quadrupole extremes lie), then pseudo-random ones. */
+static void rotation_sample(int k, double R[9])
+{
+  static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+  if (k < 24) { /* signed permutation matrices with determinant +1 */
+    for (int idx = 0, found = 0; idx < 48; idx++) {
+      const int p = idx / 8, sg = idx % 8, odd = p >= 3;
+      const int neg = (sg & 1) + (sg >> 1 & 1) + (sg >> 2 & 1);
+      if ((odd + neg) % 2) continue; /* det = (-1)^(odd + neg) */
+      if (found++ < k) continue;
+      memset(R, 0, 9 * sizeof *R);
+      for (int r = 0; r < 3; r++) R[3 * r + perm[p][r]] = (sg >> r & 1) ? -1.0 : 1.0;
+      return;
+    }
+  }
+  uint64_t s = 0x243F6A8885A308D3ull * (uint64_t)(k + 1), z;
+  double q[4], n2;
+  do { /* uniform in the 4-ball, then onto the sphere: a uniform rotation */
+    n2 = 0.0;
+    for (int c = 0; c < 4; c++) {
+      s += 0x9E3779B97F4A7C15ull; /* splitmix64 */
+      z = (s ^ (s >> 30)) * 0xBF58476D1CE4E5B9ull;
+      z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+      q[c] = 2.0 * ((double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53) - 1.0;
+      n2 += q[c] * q[c];
+    }
+  } while (n2 > 1.0 || n2 < 1e-6);
+  const double w = q[0], x = q[1], y = q[2], zz = q[3], sc = 2.0 / n2;
+  R[0] = 1 - sc * (y * y + zz * zz); R[1] = sc * (x * y - w * zz);     R[2] = sc * (x * zz + w * y);
+  R[3] = sc * (x * y + w * zz);     R[4] = 1 - sc * (x * x + zz * zz); R[5] = sc * (y * zz - w * x);
+  R[6] = sc * (x * zz - w * y);     R[7] = sc * (y * zz + w * x);     R[8] = 1 - sc * (x * x + y * y);
+}
+
+enum { JUMP_SAMPLES = 64 }; /* rotations per body: 24 of the cube, 40 random */
+
+/* The largest |energy| and |force| of term `t` where a pair crosses the cutoff, over pairs of
+ * orientations: for the site cutoff, each site pair at r = rc (orientations move only the axes);
+ * for the molecule cutoff, each molecule pair at centre distance rc, summed over its site pairs
+ * (a sample with sites closer than min_distance is skipped). */
+static void jump_size(const rl_forcefield *ff, int t, double *emax, double *fmax_)
+{
+  const double rc = ff->p.cutoff;
+  const int mol = ff->p.scheme == RL_CUTOFF_MOLECULE;
+  const int isotropic = !mol && (t == TERM_LJ || t == TERM_COUL); /* one sample is enough */
+  double Ri[9], Rj[9], k1[3], k2[3];
+  *emax = *fmax_ = 0.0;
+  for (int ka = 0; ka < ff->nspecies; ka++)
+    for (int kb = ka; kb < ff->nspecies; kb++) {
+      const int oa = ff->type_off[ka], ob = ff->type_off[kb];
+      unsigned has = 0;
+      for (int a = 0; a < ff->sp_nsites[ka]; a++)
+        for (int b = 0; b < ff->sp_nsites[kb]; b++) has |= pair_terms(ff, oa + a, ob + b);
+      if (!(has & 1u << t)) continue;
+      const int ns = isotropic ? 1 : JUMP_SAMPLES;
+      for (int si = 0; si < ns; si++)
+        for (int sj = 0; sj < ns; sj++) {
+          rotation_sample(si, Ri);
+          rotation_sample(sj, Rj);
+          const double ea[3] = {Ri[2], Ri[5], Ri[8]}, eb[3] = {Rj[2], Rj[5], Rj[8]}; /* R z */
+          double e = 0.0, f[3] = {0.0, 0.0, 0.0};
+          double *const ep[NTERMS] = {&e, &e, &e, &e, &e};
+          int skip = 0;
+          for (int a = 0; a < ff->sp_nsites[ka] && !skip; a++)
+            for (int b = 0; b < ff->sp_nsites[kb] && !skip; b++) {
+              if (!(pair_terms(ff, oa + a, ob + b) & 1u << t)) continue;
+              double r[3] = {0.0, 0.0, rc};
+              if (mol) {
+                const double *da = ff->tsite[oa + a], *db = ff->tsite[ob + b];
+                for (int c = 0; c < 3; c++)
+                  r[c] += Ri[3 * c] * da[0] + Ri[3 * c + 1] * da[1] + Ri[3 * c + 2] * da[2] -
+                          (Rj[3 * c] * db[0] + Rj[3 * c + 1] * db[1] + Rj[3 * c + 2] * db[2]);
+              }
+              const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+              if (r2 < ff->min_distance * ff->min_distance) { skip = 1; break; }
+              if (!mol) { /* each site pair on its own */
+                e = 0.0;
+                f[0] = f[1] = f[2] = 0.0;
+              }
+              site_terms(ff, oa + a, ob + b, r, r2, ea, eb, 1u << t, ep, f, k1, k2);
+              if (!mol) {
+                *emax = fmax(*emax, fabs(e));
+                *fmax_ = fmax(*fmax_, sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+              }
+            }
+          if (mol && !skip) {
+            *emax = fmax(*emax, fabs(e));
+            *fmax_ = fmax(*fmax_, sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+          }
+        }
+    }
+}
+
+int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *out, int max)
+{
+  if (!ff) return 0;
+  static const char *const names[NTERMS] = {"lj", "coulomb", "dipole-dipole", "charge-dipole", "quadrupole"};
+  const rl_ff_params *p = &ff->p;
+  const int mol = p->scheme == RL_CUTOFF_MOLECULE, sf = p->dipole_method == RL_DIPOLE_SF;
+  const int inf = isinf(p->eps_rf);
+  const double tol = 1e-9 * p->cutoff;
+  unsigned present = 0, offcentre = 0;
+  for (int ta = 0; ta < ff->ntypes; ta++)
+    for (int tb = ta; tb < ff->ntypes; tb++) {
+      const unsigned m = pair_terms(ff, ta, tb);
+      present |= m;
+      const double *da = ff->tsite[ta], *db = ff->tsite[tb];
+      if (sqrt(da[0] * da[0] + da[1] * da[1] + da[2] * da[2]) > tol ||
+          sqrt(db[0] * db[0] + db[1] * db[1] + db[2] * db[2]) > tol)
+        offcentre |= m;
+    }
+  static const char *const trunc[4] = {"plain", "shifted", "shifted-force", "switched"};
+  const char *cut = mol ? ", molecule cutoff" : "", *pair = mol ? "molecule" : "site";
+  int n = 0;
+  for (int t = 0; t < NTERMS; t++) {
+    if (!(present & 1u << t)) continue;
+    /* the site pair's own form at r = rc (docs/interactions.md derives each) */
+    int ej = 0, fj = 0, aniso = t == TERM_DD || t == TERM_QD || t == TERM_QQ;
+    char label[96];
+    const char *fix = "";
+    switch (t) {
+    case TERM_LJ:
+      ej = p->lj_truncation == RL_LJ_PLAIN;
+      fj = ej || p->lj_truncation == RL_LJ_SHIFTED;
+      snprintf(label, sizeof label, "Lennard-Jones (%s%s)", trunc[p->lj_truncation], cut);
+      fix = "lj = shifted-force or switched";
+      break;
+    case TERM_COUL:
+      fj = !inf;
+      snprintf(label, sizeof label, "Coulomb reaction field (eps_rf = %g%s)", p->eps_rf, cut);
+      fix = inf ? "" : "eps_rf = inf";
+      break;
+    case TERM_DD:
+    case TERM_QD:
+      ej = !sf && (t == TERM_DD || !inf);
+      fj = !sf;
+      if (sf) snprintf(label, sizeof label, "%s shifted force%s", names[t], cut);
+      else snprintf(label, sizeof label, "%s reaction field (eps_rf = %g%s)", names[t], p->eps_rf, cut);
+      fix = sf ? "" : "dipole = sf";
+      break;
+    default:
+      ej = fj = 1;
+      snprintf(label, sizeof label, "quadrupole-quadrupole (plain truncation%s)", cut);
+      fix = NULL; /* none */
+      break;
+    }
+    char remedy[96];
+    if (!fix)
+      line(remedy, sizeof remedy, "no continuous form is offered (the jump falls as cutoff^-5)");
+    else if (mol && (offcentre & 1u << t)) /* whole molecules enter: sites at r != rc */
+      line(remedy, sizeof remedy, "interactions.scheme = site%s%s is continuous", *fix ? " with " : "", fix);
+    else
+      line(remedy, sizeof remedy, "interactions.%s is continuous", fix);
+    if (mol && (offcentre & 1u << t)) ej = fj = aniso = 1;
+    rl_ff_discontinuity d = {names[t], ej, ej && aniso, fj, 0.0, 0.0, ""};
+    if (ej || fj) {
+      double e, f;
+      jump_size(ff, t, &e, &f);
+      d.energy_jump = ej ? e : 0.0;
+      d.force_jump = fj ? f : 0.0;
+    }
+    if (d.heats)
+      line(d.text, sizeof d.text, "%s: the energy of a %s pair jumps at the cutoff by up to "
+               "%.3g %s, by orientation, so an NVE run heats at any time step; %s", label, pair,
+               d.energy_jump, unit_energy(ff), remedy);
+    else if (ej)
+      line(d.text, sizeof d.text, "%s: the energy of a %s pair jumps at the cutoff by %.3g %s at "
+               "every crossing: the run conserves the shifted energy and calE reads high; %s",
+               label, pair, d.energy_jump, unit_energy(ff), remedy);
+    else if (fj)
+      line(d.text, sizeof d.text, "%s: the force of a %s pair jumps at the cutoff by up to "
+               "%.3g %s (the energy is continuous): an energy error that falls with the time "
+               "step; %s", label, pair, d.force_jump, unit_force(ff), remedy);
+    else
+      line(d.text, sizeof d.text, "%s: energy and force are continuous at the cutoff", label);
+    if (n < max) out[n] = d;
+    n++;
+  }
+  int intra = 0;
+  for (int k = 0; k < ff->nspecies && p->intramolecular_rf; k++) {
+    int charged = 0;
+    for (int a = 0; a < ff->sp_nsites[k]; a++) charged += ff->q[ff->type_off[k] + a] != 0.0;
+    intra |= ff->sp_count[k] > 0 && charged > 1;
+  }
+  if (intra) {
+    rl_ff_discontinuity d = {"coulomb-intramolecular", 0, 0, 0, 0.0, 0.0, ""};
+    line(d.text, sizeof d.text, "intramolecular reaction field: a constant for rigid "
+             "molecules, with no cutoff: continuous");
+    if (n < max) out[n] = d;
+    n++;
+  }
+  return n;
 }

@@ -46,6 +46,13 @@ struct rl_forcefield {
                               the current ones)                                             */
   rl_ff_fast *fast;        /* NULL: the reference path (kernel = general or no list)       */
   rl_ff_energies e;
+  /* for rl_forcefield_warnings and rl_forcefield_discontinuities */
+  rl_units units;
+  char (*sp_name)[32];     /* [nspecies] species names (truncated)                         */
+  double (*tsite)[3];      /* [ntypes] site positions in a frame whose Z is the body axis (the
+                              species' first body at alloc; 0 for a species without bodies) */
+  int last_pairs;          /* -1 before the first compute; else 1 if some site pair
+                              interacted at the last compute, 0 if none did                 */
 };
 
 /* Accumulators of one pair loop (one per thread in the threaded driver). */

@@ -2,6 +2,8 @@
  * thermal water conditions and at the numerical extremes; the Cayley evolution; quaternions. */
 #include "testutil.h"
 
+#include <float.h>
+
 #include <rotleap/units.h>
 
 /* TIP4P principal moments (amu nm^2): O-H 0.09572 nm, H-O-H 104.52 deg, m_H = 1.008,
@@ -19,8 +21,9 @@ static void tip4p_moments(double J[3])
 }
 
 /* Guarded vs exact for water at h <= 5 fs with thermal angular momenta at 298 K, including the
- * 3-sigma tails of each component.  Tolerance 1e-12: both solve the same equation, so they may
- * differ only by round-off amplified by the conditioning of eq. 28 (close to 1 for h Omega << 1). */
+ * 3-sigma tails of each component.  Tolerance 2e-15 (about 10 ulp): both solve the same equation,
+ * so they may differ only by round-off amplified by the conditioning of eq. 28 (close to 1 for
+ * h Omega << 1).  The guard on the residual alone left up to 1e-13 here. */
 static void water_thermal(void **state)
 {
   (void)state;
@@ -53,7 +56,7 @@ static void water_thermal(void **state)
     }
   }
   printf("info  water thermal: %ld solves, %ld fallbacks\n", n, fallbacks);
-  CHECK_LE("water h<=5fs 3-sigma: |Omega_guarded - Omega_exact|/|Omega|", worst, 1e-12);
+  CHECK_LE("water h<=5fs 3-sigma: |Omega_guarded - Omega_exact|/|Omega|", worst, 2e-15);
   CHECK_LE("water h<=5fs 3-sigma: eq. 28 residual of guarded solve", worst_res, 1e-12);
   gsl_rng_free(r);
 }
@@ -373,6 +376,78 @@ static void branch_from_zero(void **state)
   assert_true(off > 0);
 }
 
+/* The guard bounds the root's error, not the residual of eq. 28.  Against eq. 28 solved in long
+ * double (3-D Newton from rl_omega_exact's root), the guarded root must be exact to round-off,
+ * i.e. within a few ulp times the condition number ||M^-1|| of eq. 28 at the root
+ * (M = I - h dP/dOmega), for near-linear bodies (J_X/J_Z = 1e-3, 1e-4), the other extremes of
+ * `extremes`, and water, at h|theta| = 0.5, 1, 2 and 4, with theta isotropic, thermal (component
+ * a ~ 1/sqrt(J_a)) and along each axis.  A guard on the residual (1e-13) left errors of 1e-13
+ * (60 ulp times the condition number) there. */
+static double cond28(const double J[3], double h, const double x[3])
+{
+  const double r0 = (J[1] - J[2]) / (2.0 * J[0]), r1 = (J[2] - J[0]) / (2.0 * J[1]),
+               r2 = (J[0] - J[1]) / (2.0 * J[2]);
+  const double M[9] = {1, -h * r0 * x[2], -h * r0 * x[1], -h * r1 * x[2], 1, -h * r1 * x[0],
+                       -h * r2 * x[1], -h * r2 * x[0], 1};
+  const double det = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+                     M[2] * (M[3] * M[7] - M[4] * M[6]);
+  const double inv[9] = {M[4] * M[8] - M[5] * M[7], M[2] * M[7] - M[1] * M[8], M[1] * M[5] - M[2] * M[4],
+                         M[5] * M[6] - M[3] * M[8], M[0] * M[8] - M[2] * M[6], M[2] * M[3] - M[0] * M[5],
+                         M[3] * M[7] - M[4] * M[6], M[1] * M[6] - M[0] * M[7], M[0] * M[4] - M[1] * M[3]};
+  double f = 0.0;
+  for (int i = 0; i < 9; i++) f += inv[i] * inv[i];
+  return fmax(1.0, sqrt(f) / fabs(det)); /* Frobenius, >= the 2-norm */
+}
+
+static void root_error_bound(void **state)
+{
+  (void)state;
+  double Jw[3];
+  tip4p_moments(Jw);
+  const double bodies[][3] = {
+      {1e-3, 1.0, 1.0 + 0.5e-3}, {1e-4, 1.0, 1.0 + 0.5e-4}, {1e-2, 0.7, 0.705}, {0.3, 0.6, 0.9},
+      {1.0, 1.0 + 1e-9, 1.0 + 2e-9}, {1.0, 1.0, 1.0 + 1e-7}, {0.5, 0.5 + 1e-8, 1.0},
+      {1.0, 2.0, 2.9}, {0.2, 1.0, 1.1}, {Jw[0], Jw[1], Jw[2]}};
+  const double hws[] = {0.5, 1.0, 2.0, 4.0};
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(r, 15);
+  double worst_g = 0.0, worst_e = 0.0, worst_rel = 0.0, worst_nl = 0.0;
+  long n = 0, fallbacks = 0, folds = 0;
+  for (size_t b = 0; b < sizeof bodies / sizeof *bodies; b++)
+    for (size_t k = 0; k < sizeof hws / sizeof *hws; k++)
+      for (int trial = 0; trial < 1500; trial++) {
+        const double *J = bodies[b];
+        double th[3];
+        for (int a = 0; a < 3; a++) th[a] = gsl_ran_gaussian(r, 1.0);
+        const int mode = trial % 5; /* 0 isotropic, 1 thermal, 2-4 mostly along axis X, Y, Z */
+        for (int a = 0; a < 3; a++) th[a] *= mode == 1 ? 1.0 / sqrt(J[a]) : mode >= 2 && a != mode - 2 ? 0.05 : 1.0;
+        const double h = hws[k] / norm3d(th);
+        double Og[3], Oe[3];
+        rl_omega_info gi;
+        assert_int_equal(rl_omega_guarded(J, th, h, 0.0, Og, &gi), RL_OK);
+        assert_int_equal(rl_omega_exact(J, th, h, Oe, NULL), RL_OK);
+        long double x[3] = {Oe[0], Oe[1], Oe[2]};
+        if (!ref_newton(J, th, h, x)) { folds++; continue; }
+        const double xr[3] = {(double)x[0], (double)x[1], (double)x[2]}, c = cond28(J, h, xr);
+        const double dg[3] = {Og[0] - xr[0], Og[1] - xr[1], Og[2] - xr[2]};
+        const double de[3] = {Oe[0] - xr[0], Oe[1] - xr[1], Oe[2] - xr[2]};
+        const double eg = norm3d(dg) / norm3d(xr), ee = norm3d(de) / norm3d(xr);
+        worst_g = fmax(worst_g, eg / c);
+        worst_e = fmax(worst_e, ee / c);
+        worst_rel = fmax(worst_rel, eg);
+        if (b < 2 && k < 3) worst_nl = fmax(worst_nl, eg);
+        fallbacks += gi.path == RL_OMEGA_PATH_NEWTON || gi.path == RL_OMEGA_PATH_BRACKET;
+        n++;
+      }
+  gsl_rng_free(r);
+  printf("info  root error: %ld solves, %ld polished by Newton (the cubic's correction above the "
+         "guard), %ld reference folds skipped; max |Omega - exact|/|Omega| %.2e (near-linear, "
+         "h|theta| <= 2: %.2e)\n", n, fallbacks, folds, worst_rel, worst_nl);
+  CHECK_LE("root error: guarded |dOmega|/(|Omega| cond) in ulp", worst_g / DBL_EPSILON, 8.0);
+  CHECK_LE("root error: exact |dOmega|/(|Omega| cond) in ulp", worst_e / DBL_EPSILON, 8.0);
+  CHECK_LE("root error: reference folds (the test needs the branch)", folds, 0);
+}
+
 /* The spherical-top path is the paper's A(t+h) = A(t) exp[phi W(omega)/omega] with the Cayley
  * angle phi = 2 atan(h omega/2) (section III.D; the paper's arcsin form), not the exact free
  * rotation by h omega: a free spherical top turns about its fixed axis at the rate phi/h, which
@@ -431,6 +506,7 @@ int main(void)
       cmocka_unit_test(cubic_root),         cmocka_unit_test(symmetric_and_linear),
       cmocka_unit_test(cayley_and_quaternions), cmocka_unit_test(quaternion_convention),
       cmocka_unit_test(cayley_overflow),    cmocka_unit_test(branch_from_zero),
+      cmocka_unit_test(root_error_bound),
       cmocka_unit_test(spherical_top_angle),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -210,6 +210,59 @@ double rl_forcefield_list_radius(const rl_forcefield *ff);
 int rl_forcefield_list_origin(const rl_forcefield *ff, double (*r0)[3]);
 int rl_forcefield_set_list_origin(rl_forcefield *ff, const double (*r0)[3]);
 
+/* ------------------------------------------------------------- setup warnings, cutoff checks
+ * The library never prints: these return text for the caller to show (rotleap prints them before
+ * a run).  Each line is one sentence, at most RL_FF_TEXT - 1 characters. */
+#define RL_FF_TEXT 256
+
+typedef struct {
+  char text[RL_FF_TEXT];
+} rl_ff_warning;
+
+/* Setup problems that are not errors: the cutoff is shorter than 2^(1/6) sigma (the LJ minimum)
+ * of some site pair with epsilon > 0 that can interact, so the attractive well is cut (and
+ * below sigma most of the repulsion too); and, after a compute, that no site pair at all was
+ * within the cutoff (every intermolecular energy and force is zero).  Writes the first `max`
+ * warnings to out (out may be NULL when max = 0) and returns how many there are. */
+int rl_forcefield_warnings(const rl_forcefield *ff, rl_ff_warning *out, int max);
+
+/* What the cutoff does to each interaction term of this force field (its species, parameters,
+ * LJ overrides, truncation, cutoff scheme, eps_rf and dipole method; docs/interactions.md has
+ * the derivation).  A pair energy that jumps where a pair crosses the cutoff by an amount that
+ * depends on orientation makes the dynamics non-conservative: an NVE run drifts (the dipolar
+ * reaction field heats) whatever the time step, and a thermostat hides it as heating.  A force
+ * that jumps while the energy is continuous gives an energy error that falls with the time
+ * step. */
+typedef struct {
+  const char *term;   /* "lj", "coulomb", "charge-dipole", "dipole-dipole", "quadrupole",
+                         "coulomb-intramolecular" (static strings)                        */
+  int energy_jumps;   /* 1: the pair energy is discontinuous at the cutoff                 */
+  int heats;          /* 1: and the jump depends on the orientations (dipoles, quadrupoles,
+                         off-centre sites cut by the molecule cutoff), so the forces and torques
+                         are not the gradient of any energy: an NVE run drifts (heats) at any
+                         time step.  0 with energy_jumps: the jump is the same at every crossing
+                         (plain LJ): the run conserves the shifted energy, and the reported one
+                         differs from it by the jump times the pairs within the cutoff (calE
+                         reads high, no drift)                                             */
+  int force_jumps;    /* 1: the pair force is discontinuous at the cutoff (whether or not the
+                         energy is: with energy_jumps = 0 only the force jumps)              */
+  double energy_jump; /* the largest jump of one pair's energy (a site pair under the site
+                         cutoff, a molecule pair under the molecule cutoff), energy units;
+                         0 if continuous.  Closed form for site pairs (orientations over the
+                         axis-aligned ones, where the dipole and quadrupole maxima lie);
+                         sampled over orientations for molecule pairs                       */
+  double force_jump;  /* the same for the force (energy / length)                          */
+  char text[RL_FF_TEXT]; /* one sentence: the term, what jumps and by how much, what that does
+                            to energy conservation, and the continuous alternative         */
+} rl_ff_discontinuity;
+
+/* One entry per interaction term present (a term needs two sites of bodies that can meet: of
+ * two species, or of one species with two bodies or more); continuous terms are listed too, with
+ * both flags 0.  Writes the first `max` entries to out (out may be NULL when max = 0) and returns
+ * how many there are.  The terms' order: lj, coulomb, dipole-dipole, charge-dipole, quadrupole,
+ * coulomb-intramolecular. */
+int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *out, int max);
+
 #ifdef __cplusplus
 }
 #endif

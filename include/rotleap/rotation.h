@@ -19,8 +19,10 @@ extern "C" {
 /* How the guarded solve reached its answer (rl_omega_info.path). */
 enum {
   RL_OMEGA_PATH_LINEAR = 0, /* eq. 28 is linear (two equal moments): solved in closed form  */
-  RL_OMEGA_PATH_CUBIC = 1,  /* quasi-analytic cubic root (eqs. 30-36) passed the residual check */
-  RL_OMEGA_PATH_NEWTON = 2, /* cubic failed the check: polished by Newton on the exact eq. 28 */
+  RL_OMEGA_PATH_CUBIC = 1,  /* quasi-analytic cubic root (eqs. 30-36) plus one Newton correction
+                               on the exact eq. 28, which was below guard_tol (the guard)     */
+  RL_OMEGA_PATH_NEWTON = 2, /* the correction was larger: polished by Newton on the exact eq. 28
+                               to round-off (a fallback)                                      */
   RL_OMEGA_PATH_BRACKET = 3, /* Newton failed too: safeguarded bisection/Newton in a bracket */
   RL_OMEGA_PATH_CONTINUATION = 4 /* beyond the certified range (h max|rho| |theta| > ~0.42): the
                                     root was checked against the branch continued in h from
@@ -29,20 +31,28 @@ enum {
 
 typedef struct {
   int path;          /* RL_OMEGA_PATH_*                                         */
-  int iterations;    /* Newton / fixed-point iterations used (0 for the cubic)  */
+  int iterations;    /* Newton / fixed-point iterations used (0 for the cubic and its one
+                        correction)                                             */
   double residual;   /* |eq. 28 residual| / |Omega| of the returned solution     */
   int three_real;    /* 1 if the cubic had three real roots (negative discriminant) */
   int off_branch;    /* 1 if the fast root was another solution of eq. 28, replaced by the
                         branch (path RL_OMEGA_PATH_CONTINUATION)                    */
 } rl_omega_info;
 
-/* Default relative residual of eq. 28 above which the cubic root is polished (a fallback).
- * 1e-13: about 500 ulp, far above the round-off of evaluating the residual (a few ulp of the
- * largest term) and far below the 1e-12 the solve promises. */
-#define RL_OMEGA_GUARD_TOL 1e-13
+/* The guard.  The cubic truncates eq. 28's quintic, so its root has an error that grows with
+ * h|Omega| and with inertial anisotropy.  One Newton step on the exact eq. 28 (reduced by eq. 29)
+ * from the cubic's root measures that error to first order: the step is residual over
+ * derivative, so it bounds the error of the root, not the residual (a small residual of an
+ * ill-conditioned equation can hide a larger error).  The step is applied; the error after it
+ * is of the order of the step's square times the equation's curvature over its derivative,
+ * i.e. round-off for a step below RL_OMEGA_GUARD_TOL |Omega|.  A larger step is a fallback:
+ * Newton iterated to round-off (then a bracketed solve if it fails).  With the default, the
+ * guarded root equals the exact one to a few ulp times the condition number of eq. 28
+ * (tests/test_rotation.c, root_error_bound), and TIP4P at 1-5 fs needs no fallback. */
+#define RL_OMEGA_GUARD_TOL 1e-10
 
 /* Relative residual of eq. 28: |Omega - theta - h (rho_X Omega_Y Omega_Z, ...)|_2 / |Omega|_2
- * (0 when Omega = theta = 0). */
+ * (0 when Omega = theta = 0).  A sanity check, not an error bound (see RL_OMEGA_GUARD_TOL). */
 double rl_omega_residual(const double J[3], const double theta[3], double h,
                          const double Omega[3]);
 
@@ -51,7 +61,9 @@ double rl_omega_residual(const double J[3], const double theta[3], double h,
  *               the largest moment as its Z, as the paper's J_XX < J_YY < J_ZZ)
  * in  theta[3]  J^-1 A(t) l(t+h/2)
  * in  h         time step (> 0)
- * in  guard_tol relative residual that triggers Newton polishing (<= 0: RL_OMEGA_GUARD_TOL)
+ * in  guard_tol largest relative size |dOmega|/|Omega| of the Newton correction to the cubic's
+ *               root that is applied as it is; larger ones trigger the Newton polish (a
+ *               fallback).  <= 0: RL_OMEGA_GUARD_TOL
  * out Omega[3]  mid-step principal angular velocity: the solution of eq. 28 that continues from
  *               Omega = theta at h = 0 (eq. 28 has up to five).  A contraction bound certifies
  *               the fast root up to h max|rho| |theta| ~ 0.42 (h|theta| ~ 0.84 for water, where
@@ -60,8 +72,9 @@ double rl_omega_residual(const double J[3], const double theta[3], double h,
  *               roots and the Newton polish can pick one from h|theta| ~ 3 on)
  * out info      how it was found (may be NULL)
  * Never returns NaN or Inf for finite input.  Returns RL_OK, or RL_ENOCONV if even the bracketed
- * solve could not meet 1e-12 (reported rather than hidden; seen only far beyond any usable step,
- * where the reduced equation overflows: Omega is then theta, finite, and must not be used). */
+ * solve could not bring the residual below 1e-12 (reported rather than hidden; seen only far
+ * beyond any usable step, where the reduced equation overflows: Omega is then theta, finite,
+ * and must not be used). */
 int rl_omega_guarded(const double J[3], const double theta[3], double h, double guard_tol,
                      double Omega[3], rl_omega_info *info);
 

@@ -93,8 +93,14 @@ static void test_params(void **state)
 
   u.p.eps_rf = 0.5;
   expect("eps_rf < 1", alloc_status(&u), RL_EINVAL, "eps_rf 0.5", NULL);
+  u.p.eps_rf = NAN;
+  expect("eps_rf NaN", alloc_status(&u), RL_EINVAL, "eps_rf nan", NULL);
+  u.p.eps_rf = -INFINITY;
+  expect("eps_rf -infinity", alloc_status(&u), RL_EINVAL, "eps_rf -inf", NULL);
   u.p.eps_rf = INFINITY;
   expect("eps_rf = infinity accepted", alloc_status(&u), RL_OK, NULL);
+  u.p.eps_rf = 1e308; /* the conducting limit, not an overflow (test_ff_kernels) */
+  expect("eps_rf = 1e308 accepted", alloc_status(&u), RL_OK, NULL);
   rl_system_free(u.sys);
 }
 

@@ -219,24 +219,32 @@ static double scaled_energy(rl_forcefield *ff, rl_system *sys, const double L0[3
   return e;
 }
 
-static void test_virial(void **state)
+/* 60 waters, 20 point dipoles and 6 ions (every charge and dipole term) in a random cluster. */
+static rl_system *mixed_system(ff_test_species sp[3], rl_species_ff sff[3], unsigned long seed)
 {
-  (void)state;
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, 9);
-  ff_test_species sp[3];
   ff_water(&sp[0]);
   ff_stockmayer(&sp[1], 0.04);
   ff_ion(&sp[2], 0.6);
   rl_system *sys = rl_system_alloc(RL_UNITS_REAL);
-  int cnt[3] = {60, 20, 6};
-  rl_species_ff sff[3];
+  const int cnt[3] = {60, 20, 6};
   for (int k = 0; k < 3; k++) {
     assert_int_equal(rl_system_add_species(sys, &sp[k].desc, cnt[k], NULL), RL_OK);
     sff[k] = ff_test_species_ff(&sp[k]);
   }
-  double c[3] = {0.8, 0.8, 0.8};
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, seed);
+  const double c[3] = {0.8, 0.8, 0.8};
   ff_place_cluster(sys, rng, c, 1.05, 0.26);
+  gsl_rng_free(rng);
+  return sys;
+}
+
+static void test_virial(void **state)
+{
+  (void)state;
+  ff_test_species sp[3];
+  rl_species_ff sff[3];
+  rl_system *sys = mixed_system(sp, sff, 9);
   for (int sc = 0; sc < 2; sc++) {
     rl_ff_params p;
     rl_ff_params_default(&p);
@@ -268,7 +276,69 @@ static void test_virial(void **state)
     rl_forcefield_free(ff);
   }
   rl_system_free(sys);
-  gsl_rng_free(rng);
+}
+
+/* The reaction field's conducting limit: every RF constant (charge-charge, charge-dipole,
+ * dipole-dipole, the intramolecular term) is formed so that a large eps_rf tends to eps_rf = Inf
+ * continuously and exactly.  Water, point dipoles and ions (every RF term, the tip4p and
+ * stockmayer kernels and the general path), both cutoff schemes: energies, forces and torques at
+ * eps_rf = 1e30, 1e300 and 1e308 equal those at Inf to round-off (1e308 overflowed 2 eps + 1 and
+ * gave krf = 0, the eps = 1 energy), and at 1e3 and 1e6 they differ from them by an amount that
+ * scales as 1/eps (E and F are linear in krf, and krf - krf(Inf) = -3/(2 (2 eps + 1) rc^3)). */
+static void test_rf_conducting_limit(void **state)
+{
+  (void)state;
+  ff_test_species sp[3];
+  rl_species_ff sff[3];
+  rl_system *sys = mixed_system(sp, sff, 21);
+  const double eps[5] = {1e3, 1e6, 1e30, 1e300, 1e308};
+  for (int sc = 0; sc < 2; sc++) {
+    rl_ff_params p;
+    rl_ff_params_default(&p);
+    p.box[0] = 1.9; p.box[1] = 2.0; p.box[2] = 2.1;
+    p.cutoff = 0.8;
+    p.scheme = (rl_cutoff_scheme)sc;
+    p.intramolecular_rf = 1;
+    p.eps_rf = INFINITY;
+    rl_forcefield *ff = rl_forcefield_alloc(sys, &p, sff, 3);
+    assert_non_null(ff);
+    ff_result ref;
+    ff_result_compute(&ref, ff, sys);
+    const double fn = ff_maxnorm((const double(*)[3])ref.f, ref.n);
+    const double kn = ff_maxnorm((const double(*)[3])ref.k, ref.nrot);
+    rl_forcefield_free(ff);
+    double d[5];
+    for (int k = 0; k < 5; k++) {
+      p.eps_rf = eps[k];
+      ff = rl_forcefield_alloc(sys, &p, sff, 3);
+      assert_non_null(ff);
+      ff_result res;
+      ff_result_compute(&res, ff, sys);
+      const double dE = fabs(res.out.energy - ref.out.energy) / fabs(ref.out.energy);
+      const double dF = ff_maxdiff((const double(*)[3])res.f, (const double(*)[3])ref.f, res.n) / fn;
+      const double dK = ff_maxdiff((const double(*)[3])res.k, (const double(*)[3])ref.k, res.nrot) / kn;
+      d[k] = fmax(dE, fmax(dF, dK));
+      printf("info  %s cutoff, eps_rf = %g: E = %.12g (Inf: %.12g); relative differences from "
+             "Inf: E %.2e, F %.2e, torque %.2e\n", sc ? "molecule" : "site", eps[k],
+             res.out.energy, ref.out.energy, dE, dF, dK);
+      ff_result_free(&res);
+      rl_forcefield_free(ff);
+    }
+    char name[120];
+    for (int k = 2; k < 5; k++) {
+      snprintf(name, sizeof name, "RF %s cutoff: eps_rf = %g vs Inf (E, F, torque, relative)",
+               sc ? "molecule" : "site", eps[k]);
+      FF_CHECK_LE(name, d[k], 1e-14);
+    }
+    /* 1/eps: the exact ratio of krf - krf(Inf) at 1e6 and 1e3 is (2e3 + 1)/(2e6 + 1) */
+    const double want = (2e3 + 1.0) / (2e6 + 1.0);
+    snprintf(name, sizeof name, "RF %s cutoff: difference from Inf at 1e6 / at 1e3, vs 1/eps",
+             sc ? "molecule" : "site");
+    FF_CHECK_LE(name, fabs(d[1] / d[0] / want - 1.0), 1e-6);
+    FF_CHECK_TRUE("RF: the difference at eps_rf = 1e6 is seen (> 1e-9)", d[1] > 1e-9);
+    ff_result_free(&ref);
+  }
+  rl_system_free(sys);
 }
 
 int main(void)
@@ -278,6 +348,7 @@ int main(void)
       cmocka_unit_test(test_truncations),
       cmocka_unit_test(test_dispersion),
       cmocka_unit_test(test_virial),
+      cmocka_unit_test(test_rf_conducting_limit),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
