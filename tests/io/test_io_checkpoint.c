@@ -106,8 +106,7 @@ static void round_trip(void **state)
   CHECK_TRUE("CRC-32 trailer equals zlib's crc32 of the preceding bytes", stored == crc32_ref(b, n - 4));
   free(b);
   char tmp[300];
-  snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-  CHECK_TRUE("atomic write leaves no temporary file", access(tmp, F_OK) != 0);
+  CHECK_TRUE("atomic write leaves no temporary file", !io_find_tmp(path, tmp, sizeof tmp));
   unlink(path);
   io_scene_free(&s);
   io_scene_free(&t);
@@ -188,7 +187,7 @@ static void crash(void **state)
   unlink(tmp);
 
   /* (b) a child writing large checkpoints (64 MB blob) is killed with SIGKILL while its temporary
-   *     file exists, i.e. between open and rename: the parent polls for NAME.tmp.<child pid> */
+   *     file exists, i.e. between open and rename: the parent polls for NAME.tmp.XXXXXX */
   size_t big = 64u << 20;
   char *blob = calloc(big, 1);
   assert_non_null(blob);
@@ -199,11 +198,11 @@ static void crash(void **state)
       rl_checkpoint_meta w = {2.0, 200, {2.5, 2.5, 2.5}, blob, big};
       for (;;) rl_checkpoint_write(path, s.sys, &w);
     }
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)pid);
     struct stat stt;
     int seen = 0;
+    tmp[0] = '\0';
     for (int poll = 0; poll < 20000 && !seen; poll++) { /* <= 20 s */
-      if (stat(tmp, &stt) == 0 && stt.st_size > (off_t)(attempt ? big / 2 : 0)) seen = 1;
+      if (io_find_tmp(path, tmp, sizeof tmp) && stat(tmp, &stt) == 0 && stt.st_size > (off_t)(attempt ? big / 2 : 0)) seen = 1;
       else {
         struct timespec ts = {0, 1000000L};
         nanosleep(&ts, NULL);
@@ -212,7 +211,7 @@ static void crash(void **state)
     kill(pid, SIGKILL);
     int ws;
     waitpid(pid, &ws, 0);
-    int left = stat(tmp, &stt) == 0;
+    int left = tmp[0] && stat(tmp, &stt) == 0;
     printf("info  attempt %d: child %ld killed while writing; temporary file left behind: %s (%ld bytes)\n",
            attempt + 1, (long)pid, left ? "yes" : "no", left ? (long)stt.st_size : 0L);
     CHECK_TRUE("child killed while its temporary file existed (mid-write)", seen);
