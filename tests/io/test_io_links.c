@@ -162,12 +162,59 @@ static void writers(void **state)
   io_scene_free(&s);
 }
 
+/* Readers: a start file linked to /dev/zero, a FIFO, a directory. */
+static void readers(void **state)
+{
+  (void)state;
+  io_scene s;
+  io_scene_build(&s, RL_UNITS_REAL, NAMES, COUNTS, 2, 1.2, 3);
+  char zero[256], fifo[256], dir[256];
+  io_path(zero, sizeof zero, "zero.pdb");
+  io_path(fifo, sizeof fifo, "fifo.xyz");
+  io_path(dir, sizeof dir, "dir.chk");
+  unlink(zero); unlink(fifo); rmdir(dir);
+  assert_int_equal(symlink("/dev/zero", zero), 0);
+  assert_int_equal(mkfifo(fifo, 0600), 0);
+  assert_int_equal(mkdir(dir, 0700), 0);
+  alarm(20); /* a reader that reads /dev/zero forever or blocks on the FIFO fails here */
+  const char *paths[3] = {zero, fifo, dir}, *kinds[3] = {"a character device", "a FIFO", "a directory"};
+  for (int k = 0; k < 3; k++) {
+    const char *p = paths[k];
+    char want[128], name[128];
+    snprintf(want, sizeof want, "not a regular file (%s)", kinds[k]);
+    int n;
+    double box[3];
+    long a, b, c;
+    rl_checkpoint_meta m;
+    snprintf(name, sizeof name, "rl_pdb_count: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_pdb_count(p, RL_UNITS_REAL, &n, box), RL_EINVAL, want);
+    snprintf(name, sizeof name, "rl_pdb_read_state: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_pdb_read_state(p, s.sys, s.mols, 0.0, NULL, NULL), RL_EINVAL, want);
+    snprintf(name, sizeof name, "rl_xyz_count: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_xyz_count(p, &n), RL_EINVAL, want);
+    snprintf(name, sizeof name, "rl_xyz_read_state: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_xyz_read_state(p, s.sys, box), RL_EINVAL, want);
+    snprintf(name, sizeof name, "rl_checkpoint_read: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_checkpoint_read(p, s.sys, &m), RL_EINVAL, want);
+    snprintf(name, sizeof name, "rl_checkpoint_load: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_checkpoint_load(p, &m) != NULL, 0, want);
+    snprintf(name, sizeof name, "rl_dcd_info: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_dcd_info(p, &a, &b, &c), RL_EINVAL, want);
+    snprintf(name, sizeof name, "rl_dcd_layout: %s refused", kinds[k]);
+    CHECK_MSG(name, rl_dcd_layout(p, &a, &b), RL_EINVAL, want);
+  }
+  alarm(0);
+  unlink(zero); unlink(fifo); rmdir(dir);
+  io_scene_free(&s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(create),
       cmocka_unit_test(open_existing),
       cmocka_unit_test(writers),
+      cmocka_unit_test(readers),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -66,7 +66,10 @@ static void header(void **state)
   assert_non_null(fgets(line, sizeof line, fp));
   CHECK_TRUE("extxyz line 2 has Lattice= and the OVITO/ASE Properties= string",
              contains(line, "Lattice=\"2.0000000000 0 0 0 2.0000000000 0 0 0 2.0000000000\"") &&
-             contains(line, "Properties=species:S:1:pos:R:3:orientation:R:3"));
+             contains(line, "Properties=species:S:1:pos:R:3:orientation:R:3:name:S:1"));
+  assert_non_null(fgets(line, sizeof line, fp));
+  CHECK_TRUE("extxyz body line: X (ASE's dummy element), centre, axis, species name",
+             strncmp(line, "X ", 2) == 0 && contains(line, " stockmayer\n"));
   fclose(fp);
 
   /* bad inputs */
@@ -94,6 +97,7 @@ static void header(void **state)
             ":4: column 3 is not a number: 'zero'");
   fp = fopen(path, "w");
   fprintf(fp, "5\ncomment\n");
+  for (int i = 0; i < 5; i++) fprintf(fp, "stockmayer %d 0 0 0 0 1\n", i);
   fclose(fp);
   CHECK_MSG("count mismatch", rl_xyz_read_state(path, s.sys, NULL), RL_EINVAL, ":1: 5 particles, the system has 4");
   unlink(path);
