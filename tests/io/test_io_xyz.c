@@ -104,11 +104,42 @@ static void header(void **state)
   io_scene_free(&s);
 }
 
+/* io_ase.xyz (two frames of a Stockmayer + 2CLJ trajectory written as `rotleap run` writes one)
+ * and io_ase_ref.txt (what was written, full precision) for ase_read.py (test_io_ase). */
+static void for_ase(void **state)
+{
+  (void)state;
+  const char *lj[2] = {"stockmayer", "2clj"};
+  int c[2] = {6, 4};
+  io_scene s;
+  io_scene_build(&s, RL_UNITS_LJ, lj, c, 2, 3.0, 5);
+  FILE *fp = fopen("io_ase.xyz", "w"), *ref = fopen("io_ase_ref.txt", "w");
+  assert_non_null(fp);
+  assert_non_null(ref);
+  for (int f = 0; f < 2; f++) {
+    if (f) assert_int_equal(rl_system_lattice(s.sys, s.box, RL_LATTICE_FCC, 1, 77), RL_OK);
+    assert_int_equal(rl_xyz_write_frame(fp, "io_ase.xyz", s.sys, s.box, 0.25 * f, 50L * f), RL_OK);
+    fprintf(ref, "frame %ld %.17g %.17g %.17g %.17g\n", 50L * f, 0.25 * f, s.box[0], s.box[1], s.box[2]);
+    for (int i = 0; i < rl_system_count(s.sys); i++) {
+      double r[3], o[3];
+      rl_system_get_position(s.sys, i, r);
+      rl_system_get_axis(s.sys, i, o);
+      fprintf(ref, "%s %.17g %.17g %.17g %.17g %.17g %.17g\n", lj[rl_system_species_of(s.sys, i)], r[0], r[1], r[2],
+              o[0], o[1], o[2]);
+    }
+  }
+  fclose(fp);
+  fclose(ref);
+  printf("info  wrote io_ase.xyz and io_ase_ref.txt (%d bodies, 2 frames)\n", rl_system_count(s.sys));
+  io_scene_free(&s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(round_trip),
       cmocka_unit_test(header),
+      cmocka_unit_test(for_ase),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
