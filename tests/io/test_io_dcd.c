@@ -16,24 +16,23 @@ static long file_size(const char *path)
   return stat(path, &st) == 0 ? (long)st.st_size : -1L;
 }
 
-static long header_nset(const char *path)
+/* The 32-bit little-endian word at byte `off` of a file's header. */
+static uint32_t header_word(const char *path, int off)
 {
   FILE *fp = fopen(path, "rb");
   assert_non_null(fp);
-  unsigned char b[12];
-  assert_int_equal(fread(b, 1, 12, fp), 12);
+  unsigned char b[4];
+  assert_int_equal(fseek(fp, off, SEEK_SET), 0);
+  assert_int_equal(fread(b, 1, 4, fp), 4);
   fclose(fp);
-  return (long)b[8] | (long)b[9] << 8 | (long)b[10] << 16 | (long)b[11] << 24;
+  return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
 }
+
+static long header_nset(const char *path) { return (long)header_word(path, 8); }
 
 static float header_delta(const char *path)
 {
-  FILE *fp = fopen(path, "rb");
-  assert_non_null(fp);
-  unsigned char b[48];
-  assert_int_equal(fread(b, 1, 48, fp), 48);
-  fclose(fp);
-  uint32_t u = (uint32_t)b[44] | (uint32_t)b[45] << 8 | (uint32_t)b[46] << 16 | (uint32_t)b[47] << 24;
+  uint32_t u = header_word(path, 44);
   float f;
   memcpy(&f, &u, 4);
   return f;
