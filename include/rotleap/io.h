@@ -113,7 +113,9 @@ int rl_dcd_info(const char *path, long *first_step, long *interval, long *frames
  * and the bytes of one frame.  Frame k occupies [header + k frame, header + (k + 1) frame); the
  * header is rewritten in place after each frame (NSET, NSTEP), the frames never are. */
 int rl_dcd_layout(const char *path, long *header_bytes, long *frame_bytes);
-/* Append one frame.  box: orthorhombic edge lengths in system units (NULL: no box, zeros). */
+/* Append one frame (one pwrite at the end, then the header's frame count).  box: orthorhombic
+ * edge lengths in system units (NULL: no box, zeros).  After a failed write, this and
+ * rl_dcd_sync return the status of that failure again without a new message. */
 int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys, const double box[3]);
 long rl_dcd_frames(const rl_dcd *d);
 /* Make the frames written so far durable: rewrite the header's frame count, fsync.  (Frames are
