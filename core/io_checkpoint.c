@@ -19,7 +19,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
+#include <stdint.h>
+#include <unistd.h>
 
 static const unsigned char MAGIC[8] = {'R', 'L', 'C', 'H', 'K', 'P', 'T', 0};
 #define HDR 24
@@ -101,14 +102,9 @@ int rl_checkpoint_write(const char *path, const rl_system *sys, const rl_checkpo
   rl_atomic_file af;
   int st = rl_atomic_open(&af, path);
   if (st) { free(b.p); return st; }
-  if (fwrite(b.p, 1, b.n, af.fp) != b.n) {
-    int e = errno;
-    free(b.p);
-    rl_atomic_abort(&af);
-    return rl_error(RL_EINVAL, "%s: writing the checkpoint failed: %s", path, strerror(e));
-  }
+  const int short_write = fwrite(b.p, 1, b.n, af.fp) != b.n;
   free(b.p);
-  return rl_atomic_commit(&af);
+  return short_write ? rl_atomic_fail(&af) : rl_atomic_commit(&af);
 }
 
 /* ---------------------------------------------------------------------------- reading */
@@ -170,22 +166,95 @@ static void ck_free(ck_data *c)
   memset(c, 0, sizeof *c);
 }
 
+/* Every field read is checked as the deck checks its keys: a checkpoint with a valid CRC may still
+ * have been crafted, or written by a run that went wrong.  Bodies are counted from 1. */
+static int ck_validate(const char *path, const ck_data *c)
+{
+#define BAD(...) rl_error(RL_EINVAL, __VA_ARGS__)
+  if (c->units != RL_UNITS_REAL && c->units != RL_UNITS_LJ)
+    return BAD("%s: checkpoint field 'units' is %d: 0 (real) or 1 (lj) expected", path, c->units);
+  if (c->removed_dof < 0 || c->removed_dof > 3)
+    return BAD("%s: checkpoint field 'removed_dof' is %d: 0 to 3 expected", path, c->removed_dof);
+  if (!isfinite(c->time)) return BAD("%s: checkpoint field 'time' is %g: not finite", path, c->time);
+  if (c->step < 0) return BAD("%s: checkpoint field 'step' is %ld: negative", path, c->step);
+  for (int d = 0; d < 3; d++)
+    if (!(isfinite(c->box[d]) && c->box[d] > 0.0))
+      return BAD("%s: checkpoint field 'box' edge %d is %g: must be finite and > 0", path, d + 1, c->box[d]);
+  long long n = 0, nrot = 0, nmat = 0, naxis = 0;
+  for (int k = 0; k < c->nspecies; k++) {
+    const ck_species *s = &c->sp[k];
+#define BADSP(fmt, ...) BAD("%s: species %d ('%s'): checkpoint field " fmt, path, k + 1, s->name, __VA_ARGS__)
+    if (s->kind < RL_KIND_POINT || s->kind > RL_KIND_ASYMMETRIC)
+      return BADSP("'kind' is %d: not a known kind (0 to 5)", s->kind);
+    const rl_kind kind = (rl_kind)s->kind;
+    if (!(isfinite(s->mass) && s->mass > 0.0)) return BADSP("'mass' is %g: must be finite and > 0", s->mass);
+    for (int a = 0; a < 3; a++) {
+      const int needed = rl_kind_is_matrix(kind) || (rl_kind_is_axis(kind) && a < 2);
+      if (!isfinite(s->J[a]) || s->J[a] < 0.0 || (needed && !(s->J[a] > 0.0)))
+        return BADSP("'J[%d]' is %g: must be finite and %s", a, s->J[a], needed ? "> 0 for this kind" : ">= 0");
+    }
+    for (int q = 0; q < 3 * s->nsites; q++)
+      if (!isfinite(s->sites[q])) return BADSP("'sites': site %d is not finite", q / 3 + 1);
+    if (s->count < 0) return BADSP("'count' is %d: negative", s->count);
+#undef BADSP
+    n += s->count;
+    nrot += kind != RL_KIND_POINT ? s->count : 0;
+    nmat += rl_kind_is_matrix(kind) ? s->count : 0;
+    naxis += rl_kind_is_axis(kind) ? s->count : 0;
+  }
+  if (n != c->n || nrot != c->nrot || nmat != c->nmat || naxis != c->naxis)
+    return BAD("%s: checkpoint fields 'n', 'nrot', 'nmat', 'naxis' (%d, %d, %d, %d) do not match its species table "
+               "(%lld, %lld, %lld, %lld)", path, c->n, c->nrot, c->nmat, c->naxis, n, nrot, nmat, naxis);
+  char who[512];
+  snprintf(who, sizeof who, "%.400s: checkpoint field 'A'", path);
+  int i = 0, ir = 0, im = 0, ia = 0;
+  for (int k = 0; k < c->nspecies; k++) {
+    const rl_kind kind = (rl_kind)c->sp[k].kind;
+    for (int b = 0; b < c->sp[k].count; b++, i++) {
+      const double *r = c->r + 3 * i, *v = c->v + 3 * i;
+      if (!(isfinite(r[0]) && isfinite(r[1]) && isfinite(r[2])))
+        return BAD("%s: checkpoint field 'r' of body %d is not finite (%g %g %g)", path, i + 1, r[0], r[1], r[2]);
+      if (!(isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2])))
+        return BAD("%s: checkpoint field 'v' of body %d is not finite (%g %g %g)", path, i + 1, v[0], v[1], v[2]);
+      if (kind != RL_KIND_POINT) {
+        const double *l = c->l + 3 * ir++;
+        if (!(isfinite(l[0]) && isfinite(l[1]) && isfinite(l[2])))
+          return BAD("%s: checkpoint field 'l' of body %d is not finite (%g %g %g)", path, i + 1, l[0], l[1], l[2]);
+      }
+      if (rl_kind_is_matrix(kind) && rl_check_rotation(c->A + 9 * im++, who, i + 1)) return RL_EINVAL;
+      if (rl_kind_is_axis(kind)) {
+        const double *u = c->rho + 3 * ia++, nu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        if (!(fabs(nu - 1.0) <= 1e-10))
+          return BAD("%s: checkpoint field 'rho' of body %d is not a unit vector (%g %g %g, |rho| - 1 = %.3g)", path,
+                     i + 1, u[0], u[1], u[2], nu - 1.0);
+      }
+    }
+  }
+#undef BAD
+  return RL_OK;
+}
+
 static int ck_parse(const char *path, ck_data *c)
 {
   memset(c, 0, sizeof *c);
-  FILE *fp = fopen(path, "rb");
-  if (!fp) {
-    int e = errno;
-    return rl_error(RL_EINVAL, "%s: cannot open checkpoint: %s", path, strerror(e));
+  int fd;
+  long long fsize;
+  int st = rl_io_open_read(path, " checkpoint", &fd, &fsize);
+  if (st) return st;
+  if (fsize < 0 || (unsigned long long)fsize > SIZE_MAX - 1) {
+    close(fd);
+    return rl_error(RL_EINVAL, "%s: checkpoint of %lld bytes is too large", path, fsize);
   }
-  struct stat stt;
-  if (fstat(fileno(fp), &stt) != 0) { fclose(fp); return rl_error(RL_EINVAL, "%s: cannot stat", path); }
-  size_t size = (size_t)stt.st_size;
+  size_t size = (size_t)fsize;
   c->file = malloc(size ? size : 1);
-  if (!c->file) { fclose(fp); return rl_error(RL_ENOMEM, "%s: out of memory for %zu bytes", path, size); }
-  size_t got = fread(c->file, 1, size, fp);
-  fclose(fp);
-  if (got != size) { ck_free(c); return rl_error(RL_EINVAL, "%s: read error", path); }
+  if (!c->file) { close(fd); return rl_error(RL_ENOMEM, "%s: out of memory for %zu bytes", path, size); }
+  int e = rl_io_read_at(fd, c->file, size, 0);
+  close(fd);
+  if (e) {
+    ck_free(c);
+    return e > 0 ? rl_io_sys_error(e, path, "cannot read the checkpoint")
+                 : rl_error(RL_EINVAL, "%s: the checkpoint shrank while it was read", path);
+  }
   const unsigned char *f = c->file;
   if (size < 8 || memcmp(f, MAGIC, 8) != 0) {
     ck_free(c);
@@ -224,8 +293,11 @@ static int ck_parse(const char *path, ck_data *c)
   get_f64s(&b, &c->time, 1, "time");
   c->step = (long)(int64_t)get_u64(&b, "step");
   get_f64s(&b, c->box, 3, "box");
+  /* every count is bounded by the bytes left before anything is allocated for it: a species
+   * entry takes at least 48 bytes (name length, kind, mass, J, nsites, count), a site 24 */
   uint32_t ns = get_u32(&b, "species count");
-  if (!b.bad && ns > 1000000) b.bad = rl_error(RL_EINVAL, "%s: implausible species count %u", path, ns);
+  if (!b.bad && ns > (b.n - b.at) / 48)
+    b.bad = rl_error(RL_EINVAL, "%s: checkpoint species count %u does not fit in the %zu bytes left", path, ns, b.n - b.at);
   if (!b.bad) {
     c->sp = calloc(ns ? ns : 1, sizeof *c->sp);
     if (!c->sp) b.bad = rl_error(RL_ENOMEM, "%s: out of memory", path);
@@ -234,13 +306,18 @@ static int ck_parse(const char *path, ck_data *c)
   for (int k = 0; k < c->nspecies && !b.bad; k++) {
     ck_species *s = &c->sp[k];
     uint32_t nl = get_u32(&b, "species name");
+    if (!b.bad && nl >= sizeof s->name)
+      b.bad = rl_error(RL_EINVAL, "%s: species %d: checkpoint field 'name' is %u bytes long (at most %zu)", path,
+                       k + 1, nl, sizeof s->name - 1);
     const unsigned char *nm = take(&b, nl, "species name");
-    if (nm) snprintf(s->name, sizeof s->name, "%.*s", (int)(nl < 63 ? nl : 63), (const char *)nm);
+    if (nm) snprintf(s->name, sizeof s->name, "%.*s", (int)nl, (const char *)nm);
     s->kind = (int)get_u32(&b, "species kind");
     get_f64s(&b, &s->mass, 1, "species mass");
     get_f64s(&b, s->J, 3, "species moments");
     uint32_t nsites = get_u32(&b, "species sites");
-    if (!b.bad && nsites > RL_MOLECULE_MAX_SITES * 64) b.bad = rl_error(RL_EINVAL, "%s: implausible site count %u", path, nsites);
+    if (!b.bad && nsites > (b.n - b.at) / 24)
+      b.bad = rl_error(RL_EINVAL, "%s: species %d: checkpoint site count %u does not fit in the %zu bytes left", path,
+                       k + 1, nsites, b.n - b.at);
     if (b.bad) break;
     s->nsites = (int)nsites;
     s->sites = malloc(sizeof(double) * 3 * (nsites ? nsites : 1));
@@ -274,7 +351,8 @@ static int ck_parse(const char *path, ck_data *c)
   c->blob = take(&b, (size_t)bs, "blob");
   c->blob_size = (size_t)bs;
   if (!b.bad && b.at != b.n) b.bad = rl_error(RL_EINVAL, "%s: %zu unexpected bytes after the blob", path, b.n - b.at);
-  if (b.bad) { int st = b.bad; ck_free(c); return st; }
+  if (!b.bad) b.bad = ck_validate(path, c);
+  if (b.bad) { st = b.bad; ck_free(c); return st; }
   return RL_OK;
 }
 
@@ -355,12 +433,7 @@ rl_system *rl_checkpoint_load(const char *path, rl_checkpoint_meta *meta)
   if (!path) { rl_error(RL_EINVAL, "rl_checkpoint_load: NULL path"); return NULL; }
   ck_data c;
   if (ck_parse(path, &c)) return NULL;
-  rl_system *sys = NULL;
-  if (c.units != RL_UNITS_REAL && c.units != RL_UNITS_LJ) {
-    rl_error(RL_EINVAL, "%s: unknown unit system %d", path, c.units);
-    goto fail;
-  }
-  sys = rl_system_alloc((rl_units)c.units);
+  rl_system *sys = rl_system_alloc((rl_units)c.units); /* units validated by ck_parse */
   if (!sys) goto fail;
   for (int k = 0; k < c.nspecies; k++) {
     const ck_species *s = &c.sp[k];

@@ -49,9 +49,12 @@ int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *cons
   int st = rl_atomic_open(&af, path);
   if (st) { free(x); return st; }
   FILE *fp = af.fp;
-  fprintf(fp, "REMARK   1 rotleap %s; lengths in %s\n", "structure",
-          sys->units == RL_UNITS_REAL ? "Angstrom" : "reduced units (sigma)");
-  if (box) fprintf(fp, "CRYST1%9.3f%9.3f%9.3f%7.2f%7.2f%7.2f P 1           1\n", box[0] * s, box[1] * s, box[2] * s, 90.0, 90.0, 90.0);
+  /* every call checked: the first failure (its errno, kept by the atomic file) is the message */
+  if (fprintf(fp, "REMARK   1 rotleap %s; lengths in %s\n", "structure",
+              sys->units == RL_UNITS_REAL ? "Angstrom" : "reduced units (sigma)") < 0 ||
+      (box && fprintf(fp, "CRYST1%9.3f%9.3f%9.3f%7.2f%7.2f%7.2f P 1           1\n", box[0] * s, box[1] * s,
+                      box[2] * s, 90.0, 90.0, 90.0) < 0))
+    goto fail;
   int o = 0;
   for (int k = 0; k < sys->nspecies; k++) {
     const rl_species *sp = &sys->sp[k];
@@ -66,15 +69,19 @@ int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *cons
         element_of(sys, mols, k, a, nm, el);
         if (strlen(nm) < 4) snprintf(field, sizeof field, " %-3.3s", nm);
         else snprintf(field, sizeof field, "%-4.4s", nm);
-        fprintf(fp, "ATOM  %5d %-4s %-3s A%4d    %8.3f%8.3f%8.3f%6.2f%6.2f          %2s\n",
-                (o + 1) % 100000, field, res, (i + 1) % 10000, x[o][0] * s, x[o][1] * s, x[o][2] * s,
-                1.0, 0.0, el);
+        if (fprintf(fp, "ATOM  %5d %-4s %-3s A%4d    %8.3f%8.3f%8.3f%6.2f%6.2f          %2s\n",
+                    (o + 1) % 100000, field, res, (i + 1) % 10000, x[o][0] * s, x[o][1] * s, x[o][2] * s,
+                    1.0, 0.0, el) < 0)
+          goto fail;
       }
     }
   }
-  fprintf(fp, "TER\nEND\n");
+  if (fputs("TER\nEND\n", fp) < 0) goto fail;
   free(x);
   return rl_atomic_commit(&af);
+fail:
+  free(x);
+  return rl_atomic_fail(&af);
 }
 
 /* ---------------------------------------------------------------------------- reading */
@@ -129,25 +136,23 @@ static int number(const char *path, int lineno, const char *line, size_t len, in
   return RL_OK;
 }
 
+/* PDB records are 80 columns; longer lines (some writers pad them) are accepted up to this. */
+#define PDB_MAX_LINE 1024
+
 static int parse_pdb(const char *path, pdb_data *p)
 {
   memset(p, 0, sizeof *p);
-  FILE *fp = fopen(path, "r");
-  if (!fp) {
-    int e = errno;
-    return rl_error(RL_EINVAL, "%s: cannot open: %s", path, strerror(e));
-  }
-  char line[512];
-  int lineno = 0, st = RL_OK, new_res = 1;
+  FILE *fp;
+  long long size;
+  int st = rl_io_fopen_read(path, "", &fp, &size);
+  if (st) return st;
+  char *line = NULL;
+  size_t cap = 0;
+  int lineno = 0, new_res = 1, got;
   char prev_key[16] = "";
-  while (fgets(line, sizeof line, fp)) {
+  while (!(st = rl_io_getline(fp, path, lineno + 1, PDB_MAX_LINE, &line, &cap, &got)) && got) {
     lineno++;
     size_t len = strlen(line);
-    if (len == sizeof line - 1 && line[len - 1] != '\n') {
-      st = rl_error(RL_EINVAL, "%s:%d: line longer than %d characters", path, lineno, (int)sizeof line - 2);
-      break;
-    }
-    while (len && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
     if (strncmp(line, "ENDMDL", 6) == 0 || strncmp(line, "END", 3) == 0) break; /* first model */
     if (strncmp(line, "TER", 3) == 0) { new_res = 1; continue; }
     if (strncmp(line, "CRYST1", 6) == 0) {
@@ -207,7 +212,7 @@ static int parse_pdb(const char *path, pdb_data *p)
     p->res[p->nres - 1].count++;
     p->natoms++;
   }
-  if (!st && ferror(fp)) st = rl_error(RL_EINVAL, "%s: read error", path);
+  free(line);
   fclose(fp);
   if (st) pdb_data_free(p);
   return st;

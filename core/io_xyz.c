@@ -4,6 +4,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,24 +15,27 @@ int rl_xyz_write_frame(FILE *fp, const char *path, const rl_system *sys, const d
 {
   if (!fp || !sys) return rl_error(RL_EINVAL, "rl_xyz_write_frame: NULL argument");
   if (!path) path = "(stream)";
+  if (ferror(fp)) return rl_error(RL_EINVAL, "%s: not written: an earlier write to it failed", path);
   double s = rl_io_length_scale(sys);
-  fprintf(fp, "%d\n", sys->n);
-  if (box)
-    fprintf(fp, "Lattice=\"%.10f 0 0 0 %.10f 0 0 0 %.10f\" ", box[0] * s, box[1] * s, box[2] * s);
-  fprintf(fp, "Properties=species:S:1:pos:R:3:orientation:R:3 Time=%.17g Step=%ld Units=%s", time, step,
-          sys->units == RL_UNITS_REAL ? "Angstrom" : "sigma");
-  if (box) fprintf(fp, " pbc=\"T T T\"");
-  fputc('\n', fp);
+  /* every call checked: the errno of the first failing one is the message */
+  if (fprintf(fp, "%d\n", sys->n) < 0) goto fail;
+  if (box && fprintf(fp, "Lattice=\"%.10f 0 0 0 %.10f 0 0 0 %.10f\" ", box[0] * s, box[1] * s, box[2] * s) < 0) goto fail;
+  if (fprintf(fp, "Properties=species:S:1:pos:R:3:orientation:R:3:name:S:1 Time=%.17g Step=%ld Units=%s%s\n", time,
+              step, sys->units == RL_UNITS_REAL ? "Angstrom" : "sigma", box ? " pbc=\"T T T\"" : "") < 0)
+    goto fail;
   for (int i = 0; i < sys->n; i++) {
     int k = sys->species_of[i];
     double rho[3] = {0, 0, 0};
     if (sys->sp[k].kind != RL_KIND_POINT) rl_system_get_axis(sys, i, rho);
     const char *nm = sys->sp[k].name[0] ? sys->sp[k].name : "X";
-    fprintf(fp, "%s %.10f %.10f %.10f %.17g %.17g %.17g\n", nm, sys->r[i][0] * s, sys->r[i][1] * s,
-            sys->r[i][2] * s, rho[0], rho[1], rho[2]);
+    if (fprintf(fp, "X %.10f %.10f %.10f %.17g %.17g %.17g %s\n", sys->r[i][0] * s, sys->r[i][1] * s,
+                sys->r[i][2] * s, rho[0], rho[1], rho[2], nm) < 0)
+      goto fail;
   }
-  if (ferror(fp)) return rl_error(RL_EINVAL, "%s: write error", path);
+  if (fflush(fp) != 0) goto fail;
   return RL_OK;
+fail:
+  return rl_io_sys_error(errno, path, "cannot write");
 }
 
 int rl_xyz_write(const char *path, const rl_system *sys, const double box[3], double time, long step)
@@ -46,30 +50,8 @@ int rl_xyz_write(const char *path, const rl_system *sys, const double box[3], do
 
 /* ---------------------------------------------------------------------------- reading */
 
-/* Read one line (any length) into *buf; 0 at EOF. */
-static int get_line(FILE *fp, char **buf, size_t *cap)
-{
-  size_t n = 0;
-  int c;
-  while ((c = fgetc(fp)) != EOF) {
-    if (n + 2 > *cap) {
-      size_t nc = *cap ? 2 * *cap : 256;
-      char *b = realloc(*buf, nc);
-      if (!b) return -1;
-      *buf = b;
-      *cap = nc;
-    }
-    if (c == '\n') break;
-    (*buf)[n++] = (char)c;
-  }
-  if (c == EOF && n == 0) return 0;
-  if (n && (*buf)[n - 1] == '\r') n--;
-  (*buf)[n] = '\0';
-  return 1;
-}
-
-/* Find key=value in an extxyz comment line (value possibly "quoted"); copies value. */
-static int find_key(const char *line, const char *key, char *val, size_t valsz)
+/* Find key=value in an extxyz comment line (value possibly "quoted"); *val: a malloc'd copy. */
+static int find_key(const char *line, const char *key, char **val)
 {
   size_t kl = strlen(key);
   const char *p = line;
@@ -93,61 +75,107 @@ static int find_key(const char *line, const char *key, char *val, size_t valsz)
       }
     }
     if (klen == kl && strncasecmp(k0, key, kl) == 0 && v0) {
-      size_t n = (size_t)(v1 - v0);
-      if (n >= valsz) n = valsz - 1;
-      memcpy(val, v0, n);
-      val[n] = '\0';
-      return 1;
+      *val = strndup(v0, (size_t)(v1 - v0));
+      return *val ? 1 : -1;
     }
     if (klen == 0 && !v0 && *p) p++;
   }
   return 0;
 }
 
+/* Open path (a regular file) and read its first line, the number of bodies: at most one per 6
+ * bytes of the file (a body's line holds at least three numbers). */
+static int open_count(const char *path, FILE **fp, int *n, char **buf, size_t *cap)
+{
+  long long size;
+  int st = rl_io_fopen_read(path, "", fp, &size), got = 0;
+  if (st) return st;
+  if ((st = rl_io_getline(*fp, path, 1, RL_IO_MAX_LINE, buf, cap, &got))) goto fail;
+  char *end;
+  errno = 0;
+  long long v = got ? strtoll(*buf, &end, 10) : -1;
+  if (!got || end == *buf || v < 0 || errno) {
+    st = rl_error(RL_EINVAL, "%s:1: expected the number of particles", path);
+    goto fail;
+  }
+  while (isspace((unsigned char)*end)) end++;
+  if (*end) { st = rl_error(RL_EINVAL, "%s:1: expected the number of particles, found '%s'", path, *buf); goto fail; }
+  if (v > size / 6 || v > INT_MAX) {
+    st = rl_error(RL_EINVAL, "%s:1: %lld particles announced, but a file of %lld bytes holds at most %lld", path, v,
+                  size, size / 6);
+    goto fail;
+  }
+  *n = (int)v;
+  return RL_OK;
+fail:
+  fclose(*fp);
+  *fp = NULL;
+  return st;
+}
+
 int rl_xyz_count(const char *path, int *n)
 {
-  FILE *fp = fopen(path, "r");
-  if (!fp) {
-    int e = errno;
-    return rl_error(RL_EINVAL, "%s: cannot open: %s", path, strerror(e));
-  }
+  if (!path || !n) return rl_error(RL_EINVAL, "rl_xyz_count: NULL argument");
+  FILE *fp;
   char *buf = NULL;
   size_t cap = 0;
-  int st = RL_OK, got = get_line(fp, &buf, &cap);
-  fclose(fp);
-  char *end;
-  long v = got > 0 ? strtol(buf, &end, 10) : -1;
-  if (got <= 0 || end == buf || v < 0 || v > 1000000000) st = rl_error(RL_EINVAL, "%s:1: expected the number of particles", path);
-  else {
-    while (isspace((unsigned char)*end)) end++;
-    if (*end) st = rl_error(RL_EINVAL, "%s:1: expected the number of particles, found '%s'", path, buf);
-    else *n = (int)v;
-  }
+  int st = open_count(path, &fp, n, &buf, &cap);
+  if (!st) fclose(fp);
   free(buf);
   return st;
+}
+
+/* Columns of a Properties= value (name:type:count triplets). */
+typedef struct {
+  int sp, name, pos, orient, n;
+} xyz_cols;
+
+static int parse_properties(const char *path, char *val, xyz_cols *c)
+{
+  c->sp = c->name = c->pos = c->orient = -1;
+  long col = 0;
+  char *save = NULL;
+  for (char *nm = strtok_r(val, ":", &save); nm; nm = strtok_r(NULL, ":", &save)) {
+    char *ty = strtok_r(NULL, ":", &save), *ct = strtok_r(NULL, ":", &save), *end = NULL;
+    long k = ct ? strtol(ct, &end, 10) : 0;
+    if (!ty || !ct || *end || k < 1)
+      return rl_error(RL_EINVAL, "%s:2: malformed Properties= (name:type:count triplets)", path);
+    /* a line of at most RL_IO_MAX_LINE characters holds at most half as many columns */
+    if (k > RL_IO_MAX_LINE / 2 || col + k > RL_IO_MAX_LINE / 2)
+      return rl_error(RL_EINVAL, "%s:2: Properties= announces %ld columns for '%.64s' after %ld others; a line of at "
+                      "most %d characters holds at most %d", path, k, nm, col, RL_IO_MAX_LINE, RL_IO_MAX_LINE / 2);
+    if (!strcmp(nm, "species") && k == 1) c->sp = (int)col;
+    else if (!strcmp(nm, "name") && k == 1) c->name = (int)col;
+    else if (!strcmp(nm, "pos") && k == 3) c->pos = (int)col;
+    else if ((!strcmp(nm, "orientation") || !strcmp(nm, "dipoles") || !strcmp(nm, "axis") || !strcmp(nm, "rho")) && k == 3)
+      c->orient = (int)col;
+    col += k;
+  }
+  c->n = (int)col;
+  if (c->pos < 0) return rl_error(RL_EINVAL, "%s:2: Properties= has no pos:R:3 column", path);
+  return RL_OK;
 }
 
 int rl_xyz_read_state(const char *path, rl_system *sys, double box[3])
 {
   if (!path || !sys) return rl_error(RL_EINVAL, "rl_xyz_read_state: NULL argument");
-  int n, st = rl_xyz_count(path, &n);
-  if (st) return st;
-  if (n != sys->n) return rl_error(RL_EINVAL, "%s:1: %d particles, the system has %d", path, n, sys->n);
-  FILE *fp = fopen(path, "r");
-  if (!fp) return rl_error(RL_EINVAL, "%s: cannot reopen", path);
-  char *buf = NULL;
+  FILE *fp;
+  char *buf = NULL, *val = NULL, **tok = NULL;
   size_t cap = 0;
+  int n = 0, got, st = open_count(path, &fp, &n, &buf, &cap);
+  if (st) { free(buf); return st; }
   double s = rl_io_length_scale(sys), L[3] = {0, 0, 0};
-  int col_sp = 0, col_pos = 1, col_or = 4, ncols = 4; /* without Properties=: species x y z [o] */
-  get_line(fp, &buf, &cap);
-  if (get_line(fp, &buf, &cap) <= 0) { st = rl_error(RL_EINVAL, "%s:2: missing comment line", path); goto done; }
-  char val[4096];
-  if (find_key(buf, "Lattice", val, sizeof val)) {
+  xyz_cols col = {0, -1, 1, 4, 4}; /* without Properties=: species x y z [ox oy oz] */
+  if (n != sys->n) { st = rl_error(RL_EINVAL, "%s:1: %d particles, the system has %d", path, n, sys->n); goto done; }
+  if ((st = rl_io_getline(fp, path, 2, RL_IO_MAX_LINE, &buf, &cap, &got))) goto done;
+  if (!got) { st = rl_error(RL_EINVAL, "%s:2: missing comment line", path); goto done; }
+  int f = find_key(buf, "Lattice", &val);
+  if (f > 0) {
     double h[9];
     char *p = val, *end;
     for (int k = 0; k < 9; k++) {
       h[k] = strtod(p, &end);
-      if (end == p) { st = rl_error(RL_EINVAL, "%s:2: Lattice needs 9 numbers: \"%s\"", path, val); goto done; }
+      if (end == p) { st = rl_error(RL_EINVAL, "%s:2: Lattice needs 9 numbers: \"%.200s\"", path, val); goto done; }
       p = end;
     }
     for (int k = 0; k < 9; k++)
@@ -157,49 +185,41 @@ int rl_xyz_read_state(const char *path, rl_system *sys, double box[3])
       }
     for (int c = 0; c < 3; c++) L[c] = h[4 * c] / s;
   }
-  if (find_key(buf, "Properties", val, sizeof val)) {
-    col_sp = col_pos = col_or = -1;
-    int col = 0;
-    char *save = NULL;
-    for (char *nm = strtok_r(val, ":", &save); nm; nm = strtok_r(NULL, ":", &save)) {
-      char *ty = strtok_r(NULL, ":", &save), *ct = strtok_r(NULL, ":", &save);
-      if (!ty || !ct || atoi(ct) < 1) { st = rl_error(RL_EINVAL, "%s:2: malformed Properties= (name:type:count triplets)", path); goto done; }
-      int c = atoi(ct);
-      if (!strcmp(nm, "species") && c == 1) col_sp = col;
-      else if (!strcmp(nm, "pos") && c == 3) col_pos = col;
-      else if ((!strcmp(nm, "orientation") || !strcmp(nm, "dipoles") || !strcmp(nm, "axis") || !strcmp(nm, "rho")) && c == 3) col_or = col;
-      col += c;
-    }
-    ncols = col;
-    if (col_pos < 0) { st = rl_error(RL_EINVAL, "%s:2: Properties= has no pos:R:3 column", path); goto done; }
-  }
-  char **tok = malloc(sizeof *tok * (size_t)(ncols + 8));
+  free(val);
+  val = NULL;
+  if (f >= 0) f = find_key(buf, "Properties", &val);
+  if (f < 0) { st = rl_error(RL_ENOMEM, "%s:2: out of memory", path); goto done; }
+  if (f > 0 && (st = parse_properties(path, val, &col))) goto done;
+  tok = malloc(sizeof *tok * (size_t)(col.n + 8));
   if (!tok) { st = rl_error(RL_ENOMEM, "%s: out of memory", path); goto done; }
+  const int label = col.name >= 0 ? col.name : col.sp; /* the species name */
+  int need = col.pos + 3;
+  if (col.orient >= 0 && col.orient + 3 > need) need = col.orient + 3;
+  if (label >= 0 && label + 1 > need) need = label + 1;
   for (int i = 0; i < n && !st; i++) {
     int lineno = i + 3;
-    if (get_line(fp, &buf, &cap) <= 0) { st = rl_error(RL_EINVAL, "%s:%d: file ends after %d of %d particles", path, lineno, i, n); break; }
+    if ((st = rl_io_getline(fp, path, lineno, RL_IO_MAX_LINE, &buf, &cap, &got))) break;
+    if (!got) { st = rl_error(RL_EINVAL, "%s:%d: file ends after %d of %d particles", path, lineno, i, n); break; }
     int nt = 0;
     char *save = NULL;
-    for (char *t = strtok_r(buf, " \t", &save); t && nt < ncols + 7; t = strtok_r(NULL, " \t", &save)) tok[nt++] = t;
-    int need = col_pos + 3;
-    if (col_or >= 0 && col_or + 3 > need) need = col_or + 3;
-    if (col_sp >= 0 && col_sp + 1 > need) need = col_sp + 1;
+    for (char *t = strtok_r(buf, " \t", &save); t && nt < col.n + 7; t = strtok_r(NULL, " \t", &save)) tok[nt++] = t;
     if (nt < need) { st = rl_error(RL_EINVAL, "%s:%d: %d columns, expected %d", path, lineno, nt, need); break; }
     int k = sys->species_of[i];
     const rl_species *sp = &sys->sp[k];
-    if (col_sp >= 0 && sp->name[0] && strcmp(tok[col_sp], sp->name) != 0) {
-      st = rl_error(RL_EINVAL, "%s:%d: species '%s', but body %d is a '%s'", path, lineno, tok[col_sp], i + 1, sp->name);
+    if (label >= 0 && sp->name[0] && strcmp(tok[label], sp->name) != 0) {
+      st = rl_error(RL_EINVAL, "%s:%d: species '%.64s', but body %d is a '%s'", path, lineno, tok[label], i + 1, sp->name);
       break;
     }
     double x[6];
-    int has_or = col_or >= 0 && (col_or + 3 <= nt);
+    int has_or = col.orient >= 0 && (col.orient + 3 <= nt);
     for (int c = 0; c < (has_or ? 6 : 3); c++) {
-      const char *t = tok[c < 3 ? col_pos + c : col_or + c - 3];
+      const int cc = c < 3 ? col.pos + c : col.orient + c - 3;
+      const char *t = tok[cc];
       char *end;
       errno = 0;
       x[c] = strtod(t, &end);
       if (end == t || *end || errno || !isfinite(x[c])) {
-        st = rl_error(RL_EINVAL, "%s:%d: column %d is not a number: '%s'", path, lineno, (c < 3 ? col_pos + c : col_or + c - 3) + 1, t);
+        st = rl_error(RL_EINVAL, "%s:%d: column %d is not a number: '%.64s'", path, lineno, cc + 1, t);
         break;
       }
     }
@@ -220,9 +240,10 @@ int rl_xyz_read_state(const char *path, rl_system *sys, double box[3])
     double rho[3] = {x[3] / nr, x[4] / nr, x[5] / nr};
     if ((st = rl_system_set_axis(sys, i, rho))) { st = rl_error_wrap(st, "%s:%d", path, lineno); break; }
   }
-  free(tok);
   if (!st && box) for (int c = 0; c < 3; c++) box[c] = L[c];
 done:
+  free(tok);
+  free(val);
   free(buf);
   fclose(fp);
   return st;

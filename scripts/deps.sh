@@ -3,7 +3,9 @@
 # everything is already installed.  Usage: scripts/deps.sh [build|example|test|validate|bench]
 set -euo pipefail
 build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMake, GSL, INI decks
-testdeps=(libcmocka-dev python3 python3-mdtraj)               # unit tests; JSON check; MDTraj reads our DCD
+testdeps=(libcmocka-dev python3 python3-mdtraj python3-mdanalysis python3-ase strace)
+# unit tests; JSON check; MDTraj and MDAnalysis read our DCD, ASE our extended XYZ; strace
+# injects failed writes (tests/io/inject_tests.sh)
 example=(python3 python3-matplotlib)                          # PNG plots of the default job
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
 bench=(lammps openmpi-bin python3-mdtraj)                     # LAMMPS side by side; sampling_speed's RDFs

@@ -15,8 +15,18 @@
  *    and entries may be NULL: the names are then "S1", "S2", ...).  A massless site called "M"
  *    (TIP4P's charge site) is written "MW" (the GROMACS/CHARMM name).
  *  - Files written whole (PDB, extended XYZ snapshots, checkpoints) are written atomically:
- *    NAME.tmp.<pid>, fsync, rename over NAME, fsync of the directory.  A crash leaves either the
- *    old or the new file, never a partial one. */
+ *    a new NAME.tmp.XXXXXX beside NAME (six random characters; created with O_CREAT | O_EXCL |
+ *    O_NOFOLLOW, mode 0666 minus the umask), fsync, rename over NAME, fsync of the directory.  A
+ *    crash leaves either the old or the new file, never a partial one.  Nothing is ever written
+ *    through a symbolic or hard link planted at an output's name: whole files and new files
+ *    (rl_file_create) replace the name, files continued in place (rl_file_open_existing, a DCD
+ *    appended to) are refused if the name is a link.
+ *  - Every write, flush, fsync, seek, rename and close is checked; the first failure is returned
+ *    with a message naming the file and the system's reason for that failure ("No space left on
+ *    device"), once.
+ *  - Readers follow links but accept only regular files (a FIFO or /dev/zero is "not a regular
+ *    file"), bound every count read from a file by the file's size, and refuse text lines longer
+ *    than 65,536 characters (PDB: 1,024) and NUL bytes, naming file:line. */
 #ifndef ROTLEAP_IO_H
 #define ROTLEAP_IO_H
 
@@ -35,16 +45,37 @@ extern "C" {
 typedef struct {
   FILE *fp;          /* write here                                              */
   char *path;        /* final name                                              */
-  char *tmp;         /* NAME.tmp.<pid>                                          */
+  char *tmp;         /* NAME.tmp.XXXXXX                                         */
+  void *io;          /* internal: the stream's descriptor and first write error */
 } rl_atomic_file;
 
-/* Open NAME.tmp.<pid> for writing ("wb").  On success a->fp is the stream. */
+/* Create a new NAME.tmp.XXXXXX beside path and open a stream on it for writing.  On success
+ * a->fp is the stream; the errno of its first failed write is kept for rl_atomic_commit's
+ * message. */
 int rl_atomic_open(rl_atomic_file *a, const char *path);
-/* Flush, fsync, close, rename over the final name, fsync the directory.  On any failure the
- * temporary file is removed and the previous NAME is untouched.  Frees a's strings. */
+/* Flush, fsync, close, rename over the final name, fsync the directory.  The first failure is
+ * returned, with the file and the system's reason ("out.chk: cannot write out.chk.tmp.q3Xz9A: No
+ * space left on device"); up to the rename the temporary file is then removed and the previous
+ * NAME is untouched (a failed sync of the directory after the rename is reported too: NAME is
+ * then the new file).  Frees a's strings. */
 int rl_atomic_commit(rl_atomic_file *a);
 /* Close and remove the temporary file (accepts a never-opened, zeroed a). */
 void rl_atomic_abort(rl_atomic_file *a);
+
+/* ------------------------------------------------------------ working files written in place */
+
+/* A NEW empty regular file at path, open for reading and writing (*fd, close-on-exec): created
+ * as a temporary beside it (O_CREAT | O_EXCL | O_NOFOLLOW, mode 0666 minus the umask) and
+ * renamed over path, so that whatever had that name (a file, a symbolic link, a hard link to
+ * another file) is replaced, never followed or written through; the directory is then synced.
+ * For files a run writes as it goes (trajectories, thermo rows, journals). */
+int rl_file_create(const char *path, int *fd);
+/* Open an existing file (flags: O_RDONLY, O_WRONLY or O_RDWR, optionally O_APPEND, O_TRUNC; not
+ * O_CREAT) without following a symbolic link at path (O_NOFOLLOW: "is a symbolic link: refusing
+ * to follow it"), refusing anything but a regular file ("not a regular file (a FIFO)") and, when
+ * writing, a file with more than one hard link ("has 2 hard links: refusing to write through a
+ * link"); O_TRUNC is applied only after these checks.  *fd is close-on-exec. */
+int rl_file_open_existing(const char *path, int flags, int *fd);
 
 /* Number of atoms the trajectory/topology writers emit for sys (see "Atoms" above). */
 int rl_io_natoms(const rl_system *sys);
@@ -59,21 +90,40 @@ double rl_io_length_scale(const rl_system *sys);
  * short by a crash stays readable up to its last complete frame. */
 typedef struct rl_dcd rl_dcd;
 
-/* Create (truncate) a DCD for sys's atoms.  first_step: step of the first frame; interval: steps
- * between frames; dt: time step (system time unit; stored in the header as float32, AKMA units
- * are not converted: readers use only NSET/NATOM/cell/coordinates).  title may be NULL. */
+/* AKMA time unit in ps (CHARMM's internal unit, 4.888821e-14 s), in which CHARMM and NAMD store a
+ * DCD's time step and MDAnalysis reads it. */
+#define RL_DCD_AKMA_PS 0.04888821
+
+/* Create a DCD for sys's atoms as a new file (rl_file_create: a link at path is replaced, never
+ * written through).  first_step: step of the first frame (ISTART); interval: steps between frames
+ * (NSAVC); dt: the integration time step in the system's time unit, stored in the header (DELTA,
+ * float32) in AKMA units for a real system (dt / RL_DCD_AKMA_PS) and as it is (reduced time) for
+ * an lj system.  title may be NULL. */
 rl_dcd *rl_dcd_create(const char *path, const rl_system *sys, long first_step, long interval,
                       double dt, const char *title);
-/* Reopen an existing DCD for appending after a restart: checks NATOM against sys, keeps the first
- * `keep_frames` frames (fewer present is an error) and discards the rest. */
+/* Reopen an existing DCD for appending after a restart (rl_file_open_existing: a symbolic link,
+ * a non-regular file or a file with other hard links is refused): checks the layout and NATOM
+ * against sys, keeps the first `keep_frames` frames (fewer present is an error) and discards the
+ * rest. */
 rl_dcd *rl_dcd_append(const char *path, const rl_system *sys, long keep_frames);
 /* Of an existing DCD: the step of its first frame (ISTART), the steps between frames (NSAVC) and
  * the number of complete frames in the file.  Any pointer may be NULL. */
 int rl_dcd_info(const char *path, long *first_step, long *interval, long *frames);
-/* Append one frame.  box: orthorhombic edge lengths in system units (NULL: no box, zeros). */
+/* Of an existing DCD: the bytes before its first frame (header, title and atom-count records)
+ * and the bytes of one frame.  Frame k occupies [header + k frame, header + (k + 1) frame); the
+ * header is rewritten in place after each frame (NSET, NSTEP), the frames never are. */
+int rl_dcd_layout(const char *path, long *header_bytes, long *frame_bytes);
+/* Append one frame (one pwrite at the end, then the header's frame count).  box: orthorhombic
+ * edge lengths in system units (NULL: no box, zeros).  After a failed write, this and
+ * rl_dcd_sync return the status of that failure again without a new message. */
 int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys, const double box[3]);
 long rl_dcd_frames(const rl_dcd *d);
-/* Flush and close; returns the first error met while writing, if any.  Accepts NULL. */
+/* Make the frames written so far durable: rewrite the header's frame count, fsync.  (Frames are
+ * written with write(2), without a user-space buffer: there is nothing to flush.)  An error names
+ * the file and the system's reason. */
+int rl_dcd_sync(rl_dcd *d);
+/* Close; returns the first error met while writing or closing, if any.  An error met earlier is
+ * returned as it is (its message is not repeated or replaced).  Accepts NULL. */
 int rl_dcd_close(rl_dcd *d);
 
 /* ------------------------------------------------------------------------------ PDB */

@@ -3,6 +3,7 @@
 #define ROTLEAP_IO_TESTUTIL_H
 #include "../testutil.h"
 
+#include <dirent.h>
 #include <rotleap/io.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -57,6 +58,31 @@ static inline void io_scene_free(io_scene *s) { rl_system_free(s->sys); }
 static inline void io_path(char *out, size_t n, const char *name)
 {
   snprintf(out, n, "io_scratch_%ld_%s", (long)getpid(), name);
+}
+
+static inline void put_text(const char *path, const char *text)
+{
+  FILE *fp = fopen(path, "w");
+  assert_non_null(fp);
+  fputs(text, fp);
+  fclose(fp);
+}
+
+/* The name of a temporary file PATH.tmp.XXXXXX beside path (path in the working directory), if one
+ * exists: 1 and its name in out, else 0. */
+static inline int io_find_tmp(const char *path, char *out, size_t n)
+{
+  char prefix[512];
+  snprintf(prefix, sizeof prefix, "%s.tmp.", path);
+  DIR *dir = opendir(".");
+  int found = 0;
+  for (struct dirent *e; dir && !found && (e = readdir(dir));)
+    if (strncmp(e->d_name, prefix, strlen(prefix)) == 0) {
+      snprintf(out, n, "%s", e->d_name);
+      found = 1;
+    }
+  if (dir) closedir(dir);
+  return found;
 }
 
 static inline int contains(const char *hay, const char *needle) { return strstr(hay, needle) != NULL; }

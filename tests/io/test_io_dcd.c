@@ -1,5 +1,6 @@
 /* DCD + PDB topology for MDTraj/VMD: writes io_traj.dcd, io_traj.pdb and io_traj_ref.txt (the
- * coordinates and boxes written, in Angstrom, full precision) for mdtraj_read.py (test_io_mdtraj),
+ * coordinates and boxes written, in Angstrom, full precision, and the time step) for
+ * mdtraj_read.py (test_io_mdtraj) and mdanalysis_read.py (test_io_mdanalysis),
  * after checking the DCD's layout here: header frame count, file size per frame, and that a
  * restart (rl_dcd_append keeping 2 of 4 frames) continues the file correctly. */
 #include "io_testutil.h"
@@ -15,14 +16,26 @@ static long file_size(const char *path)
   return stat(path, &st) == 0 ? (long)st.st_size : -1L;
 }
 
-static long header_nset(const char *path)
+/* The 32-bit little-endian word at byte `off` of a file's header. */
+static uint32_t header_word(const char *path, int off)
 {
   FILE *fp = fopen(path, "rb");
   assert_non_null(fp);
-  unsigned char b[12];
-  assert_int_equal(fread(b, 1, 12, fp), 12);
+  unsigned char b[4];
+  assert_int_equal(fseek(fp, off, SEEK_SET), 0);
+  assert_int_equal(fread(b, 1, 4, fp), 4);
   fclose(fp);
-  return (long)b[8] | (long)b[9] << 8 | (long)b[10] << 16 | (long)b[11] << 24;
+  return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
+static long header_nset(const char *path) { return (long)header_word(path, 8); }
+
+static float header_delta(const char *path)
+{
+  uint32_t u = header_word(path, 44);
+  float f;
+  memcpy(&f, &u, 4);
+  return f;
 }
 
 static void ref_frame(FILE *ref, const rl_system *sys, const double box[3])
@@ -56,7 +69,13 @@ static void write_files(void **state)
     assert_int_equal(rl_dcd_write_frame(d, s.sys, boxes[f]), RL_OK);
   }
   CHECK_TRUE("DCD header NSET counts frames as they are written", header_nset(dcd) == 4);
+  assert_int_equal(rl_dcd_sync(d), RL_OK);
   assert_int_equal(rl_dcd_close(d), RL_OK);
+  CHECK_TRUE("DCD DELTA: 0.002 ps in AKMA units (/ 0.04888821), as CHARMM and NAMD store it",
+             header_delta(dcd) == (float)(0.002 / 0.04888821));
+  long hb = 0, fbl = 0;
+  assert_int_equal(rl_dcd_layout(dcd, &hb, &fbl), RL_OK);
+  CHECK_TRUE("rl_dcd_layout: 276-byte header, frames of 56 + 3 (8 + 4 natom) bytes", hb == 276 && fbl == fb);
   CHECK_TRUE("DCD size = 276-byte header + 4 frames x (56 + 3 (8 + 4 natom))", file_size(dcd) == 276 + 4 * fb);
   long istart = -1, nsavc = -1, nframes = -1;
   assert_int_equal(rl_dcd_info(dcd, &istart, &nsavc, &nframes), RL_OK);
@@ -83,11 +102,21 @@ static void write_files(void **state)
   CHECK_MSG("DCD append: a different atom count is an error", rl_dcd_append(dcd, t.sys, 1) == NULL, 1,
             "DCD has 113 atoms, the system writes 114");
   io_scene_free(&t);
+  const char *lj[1] = {"stockmayer"};
+  int one[1] = {8};
+  io_scene_build(&t, RL_UNITS_LJ, lj, one, 1, 3.0, 1);
+  rl_dcd *e = rl_dcd_create("io_lj.dcd", t.sys, 0, 5, 0.004, NULL);
+  assert_non_null(e);
+  assert_int_equal(rl_dcd_close(e), RL_OK);
+  CHECK_TRUE("DCD DELTA of an lj system: the reduced time step as it is", header_delta("io_lj.dcd") == 0.004f);
+  unlink("io_lj.dcd");
+  io_scene_free(&t);
 
   /* the reference: frames 0, 1 (kept) and 4, 5 (appended) */
   FILE *ref = fopen("io_traj_ref.txt", "w");
   assert_non_null(ref);
   fprintf(ref, "natoms %d\nnframes 4\nnresidues %d\n", na, rl_system_count(s.sys));
+  fprintf(ref, "timestep_ps 0.002\ninterval 10\nfirst_step 30\n"); /* as given to rl_dcd_create */
   fprintf(ref, "names O H1 H2 MW AR\n");
   for (int f = 0; f < 6; f++) {
     if (f == 2 || f == 3) continue;

@@ -66,7 +66,10 @@ static void header(void **state)
   assert_non_null(fgets(line, sizeof line, fp));
   CHECK_TRUE("extxyz line 2 has Lattice= and the OVITO/ASE Properties= string",
              contains(line, "Lattice=\"2.0000000000 0 0 0 2.0000000000 0 0 0 2.0000000000\"") &&
-             contains(line, "Properties=species:S:1:pos:R:3:orientation:R:3"));
+             contains(line, "Properties=species:S:1:pos:R:3:orientation:R:3:name:S:1"));
+  assert_non_null(fgets(line, sizeof line, fp));
+  CHECK_TRUE("extxyz body line: X (ASE's dummy element), centre, axis, species name",
+             strncmp(line, "X ", 2) == 0 && contains(line, " stockmayer\n"));
   fclose(fp);
 
   /* bad inputs */
@@ -94,9 +97,40 @@ static void header(void **state)
             ":4: column 3 is not a number: 'zero'");
   fp = fopen(path, "w");
   fprintf(fp, "5\ncomment\n");
+  for (int i = 0; i < 5; i++) fprintf(fp, "stockmayer %d 0 0 0 0 1\n", i);
   fclose(fp);
   CHECK_MSG("count mismatch", rl_xyz_read_state(path, s.sys, NULL), RL_EINVAL, ":1: 5 particles, the system has 4");
   unlink(path);
+  io_scene_free(&s);
+}
+
+/* io_ase.xyz (two frames of a Stockmayer + 2CLJ trajectory written as `rotleap run` writes one)
+ * and io_ase_ref.txt (what was written, full precision) for ase_read.py (test_io_ase). */
+static void for_ase(void **state)
+{
+  (void)state;
+  const char *lj[2] = {"stockmayer", "2clj"};
+  int c[2] = {6, 4};
+  io_scene s;
+  io_scene_build(&s, RL_UNITS_LJ, lj, c, 2, 3.0, 5);
+  FILE *fp = fopen("io_ase.xyz", "w"), *ref = fopen("io_ase_ref.txt", "w");
+  assert_non_null(fp);
+  assert_non_null(ref);
+  for (int f = 0; f < 2; f++) {
+    if (f) assert_int_equal(rl_system_lattice(s.sys, s.box, RL_LATTICE_FCC, 1, 77), RL_OK);
+    assert_int_equal(rl_xyz_write_frame(fp, "io_ase.xyz", s.sys, s.box, 0.25 * f, 50L * f), RL_OK);
+    fprintf(ref, "frame %ld %.17g %.17g %.17g %.17g\n", 50L * f, 0.25 * f, s.box[0], s.box[1], s.box[2]);
+    for (int i = 0; i < rl_system_count(s.sys); i++) {
+      double r[3], o[3];
+      rl_system_get_position(s.sys, i, r);
+      rl_system_get_axis(s.sys, i, o);
+      fprintf(ref, "%s %.17g %.17g %.17g %.17g %.17g %.17g\n", lj[rl_system_species_of(s.sys, i)], r[0], r[1], r[2],
+              o[0], o[1], o[2]);
+    }
+  }
+  fclose(fp);
+  fclose(ref);
+  printf("info  wrote io_ase.xyz and io_ase_ref.txt (%d bodies, 2 frames)\n", rl_system_count(s.sys));
   io_scene_free(&s);
 }
 
@@ -105,6 +139,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(round_trip),
       cmocka_unit_test(header),
+      cmocka_unit_test(for_ase),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
