@@ -799,7 +799,7 @@ int rl_app_run(const rl_deck *d)
   if (traj_bad) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   /* results, RDF and TCF files: each is written (atomically) whatever happened to the others; a
    * failure is named on stderr and makes the exit status 1, like a failed thermo or trajectory */
-  const int results_bad = an && done > 0 && analysis_write(an, d->prefix, d->sample_every * d->timestep);
+  const int results_bad = an && done > 0 && analysis_write(an, d->prefix, NULL, d->sample_every * d->timestep);
   if (results_bad) fprintf(stderr, "rotleap run: cannot write the results: %s\n", rl_last_error());
   analysis_free(an);
   free(fsnap_store.f);

@@ -241,7 +241,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     char pre[700];
     snprintf(pre, sizeof pre, "%s.%s.h%g", o->prefix, rl_deck_integrators[r->integ].name,
              r->h * (d->units == RL_UNITS_REAL ? 1e3 : 1.0));
-    if (analysis_write(an, pre, (sample ? sample : 1) * r->h)) {
+    if (analysis_write(an, pre, NULL, (sample ? sample : 1) * r->h)) {
       fprintf(stderr, "rotleap scan: writing %s.*: %s\n", pre, rl_last_error());
       r->analysis_bad = 1;
     }
