@@ -798,8 +798,9 @@ static window equilibrate(const analysis *a, FILE *f)
                  "its correlation time, or relaxing throughout; the averages and error bars are unreliable: run "
                  "longer\n", neff);
   } else {
-    const double x = ceil(((double)d->discard - 0.5) * d->timestep / w.dt_rec);
-    w.i0 = d->discard == 0 ? 0 : x >= (double)a->nstep ? a->nstep : (long)x;
+    /* the first record at or after step `discard`, counted from the run's step 0 */
+    const double x = ceil((((double)d->discard - 0.5) * d->timestep - a->t_first) / w.dt_rec);
+    w.i0 = d->discard == 0 || x <= 0.0 ? 0 : x >= (double)a->nstep ? a->nstep : (long)x;
     w.i0 = rl_trace_align(a->v[V_U], w.i0);
     fprintf(f, "equilibration = output.discard = %ld steps\n", d->discard);
   }
@@ -1051,11 +1052,16 @@ static void fluctuation_lines(FILE *f, const analysis *a, long i0, long per)
                            : "relative rms fluctuation of the conserved quantity: the total energy plus the energy the "
                              "thermostat took out (not of the total energy, which a thermostat does not conserve)",
                        "relative rms fluctuation of the potential energy", "the paper's accuracy ratio"};
+  const long n = rl_trace_moments(a->v[V_U], i0).n;
   for (int k = 0; k < 3; k++) {
+    if (n == 0) {
+      fprintf(f, "%s = n/a (no step averaged)\n", what[k]);
+      continue;
+    }
     jackknife(eu + (k == 1), k == 2 ? 2 : 1, i0, k == 2 ? rel_fluct_ratio : rel_fluct, NULL, &r);
     jk_text(&r, per, "steps", es, sizeof es, note, sizeof note);
-    fprintf(f, "%s = %s%s (%s; %s)\n", what[k], rel_fluct_text(v, sizeof v, r.value), isfinite(r.value) ? es : "",
-            of[k], note);
+    if (isfinite(r.value)) fprintf(f, "%s = %s%s (%s; %s)\n", what[k], rel_fluct_text(v, sizeof v, r.value), es, of[k], note);
+    else fprintf(f, "%s = %s [%s]\n", what[k], rel_fluct_text(v, sizeof v, r.value), of[k]);
   }
   /* The temperature of the fluctuation formulas: under a thermostat its target T0, the T of the
    * canonical (and isokinetic) distribution; the on-step T reads low at large steps (12 K for

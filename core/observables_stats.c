@@ -313,7 +313,7 @@ rl_moments rl_trace_moments(const rl_trace *t, long from)
   rl_moments m = {0, 0.0, 0.0};
   if (!t) return m;
   const long a = rl_trace_align(t, from);
-  if (a == rl_trace_count(t)) return a == t->nb * t->B ? t->part : m;
+  if (a == rl_trace_count(t)) return m;
   for (long k = a / t->B; k < t->nb; k++) m = rl_moments_merge(m, t->blk[k]);
   return rl_moments_merge(m, t->part);
 }

@@ -619,6 +619,7 @@ static void journal_refused(void **state)
     assert_int_equal(analysis_journal_sync(probe.a, &hdr), RL_OK);
     fclose(pf);
     teardown(&probe);
+    assert_int_equal(hdr, 236); /* docs/observables.md, "The analysis journal" */
     memcpy(buf + hdr + 16 + 88, "XXXX", 4);
     fwrite(buf, 1, (size_t)nbytes, out);
     fclose(in);
