@@ -1,27 +1,47 @@
-/* rotleap run's analysis: a thin layer over include/rotleap/observables.h. */
+/* rotleap run's analysis: a thin layer over include/rotleap/observables.h.
+ *
+ * Every input is a record: analysis_step and analysis_sample turn what they read (the step's
+ * report, the configuration) into one, append it to the journal when there is one, and consume
+ * it; analysis_replay consumes the records of a journal.  So the accumulators of a continuation
+ * that replays the journal are those of the uninterrupted run, bit for bit.  The journal's
+ * format is in docs/observables.md ("The analysis journal"). */
 #include "analysis.h"
 
 #include <errno.h>
+#include <inttypes.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define MAX_RDF RL_DECK_MAX_RDF
+#define RDF_BINS 200
+
+/* The values of a step record, after its time t. */
+enum { V_U, V_T, V_TT, V_TR, V_P, V_E, V_EC, V_K, V_F2, V_K2, NV };
 
 struct analysis {
   const rl_deck *d;
   const rl_molecule *mol;
   int n;
-  rl_series *U, *T, *Tt, *Tr, *P, *E, *K, *F2, *K2, *M2; /* M2: |M|^2 per sample */
+  rl_trace *v[NV];       /* the step series (V_U: U per molecule, V_E: total, V_EC: conserved)   */
+  long nstep;            /* step records consumed                                                */
+  double t_first, t_last; /* their first and last times                                          */
+  rl_trace *M[3], *M2;   /* per sample: the total dipole's components and |M|^2 (dipolar)       */
+  long *mark_c;          /* step records consumed before sample k S (k < nmarks): where the
+                            samples of the equilibrated part start, on the RDFs' marks           */
+  long mark_every;       /* S                                                                    */
+  int nmarks;
   int nrdf;
   rl_rdf *rdf[MAX_RDF];
   int rdf_site[MAX_RDF][2];
   char rdf_name[MAX_RDF][24];
   rl_vec_series *axis, *vel, *omega, *pos;
   double (*unwrapped)[3], (*buf)[3], (*dip)[3]; /* unwrapped: the centres of the last sample */
-  rl_dipole_acc *M;
   rl_species_ff sff;
   int dipolar;       /* the molecules have a net dipole: M, its fluctuation, the dielectric constant */
   int orient;        /* the vector of P1/P2: ORIENT_DIPOLE, ORIENT_AXIS or ORIENT_NONE              */
@@ -29,6 +49,14 @@ struct analysis {
   int point_dipoles; /* sites with a point dipole: their boundary is dipole_method's */
   long tcf_cap;      /* samples kept for the correlation functions and the MSD (memory bound) */
   long samples;      /* samples taken                                                        */
+  unsigned char *rec; /* one record (its largest size)                                        */
+  uint32_t *hist;     /* [nrdf][RDF_BINS] one frame's pair counts                             */
+  FILE *jfp;          /* the journal, or NULL                                                 */
+  char *jpath;
+  long jbytes;        /* bytes of the journal written or replayed                             */
+  long seq;           /* records written or replayed                                          */
+  int jbad;           /* a write failed: the journal is no longer a prefix of the run         */
+  int replayed;
 };
 
 /* The correlation functions and the MSD keep whole configurations (four vectors per body and
@@ -39,6 +67,10 @@ struct analysis {
  * dipole fluctuation and the block averages use every sample. */
 #define RL_TCF_MEMORY (256.0 * 1024 * 1024)
 #define RL_TCF_MAX_LAG 1000
+/* Chodera's detection runs on at most this many block means of U (rl_trace_equilibration) */
+#define EQUIL_POINTS 1000
+/* The self-diffusion's block error: D of this many consecutive parts of the samples */
+#define D_BLOCKS 5
 
 enum { ORIENT_DIPOLE, ORIENT_AXIS, ORIENT_NONE };
 
@@ -81,6 +113,120 @@ static void choose_orientation(analysis *a, const char *model)
   }
 }
 
+
+/* ------------------------------------------------------------------ the journal's header */
+
+#define JOURNAL_MAGIC "rotleapJ"
+#define JOURNAL_VERSION 1u
+#define JOURNAL_BOM 0x01020304u
+#define TAG_STEP 0x50455453u   /* "STEP" in little-endian byte order */
+#define TAG_SAMPLE 0x504d4153u /* "SAMP" */
+#define RECORD_HEAD 16         /* tag (u32), payload bytes (u32), sequence number (i64) */
+
+typedef struct {
+  char magic[8];
+  uint32_t version, bom, bytes;
+  int32_t n, units, orient, dipolar, nrdf, nbins, site[MAX_RDF][2];
+  double rmax, box[3], timestep;
+  int64_t energy_every, sample_every, tcf_cap;
+  char model[64];
+} jheader;
+
+/* Copy k bytes between *x and buf + *off, in the direction `out` (1: x to buf). */
+static void io(unsigned char *buf, size_t *off, void *x, size_t k, int out)
+{
+  if (out) memcpy(buf + *off, x, k);
+  else memcpy(x, buf + *off, k);
+  *off += k;
+}
+
+/* The header to or from buf (JOURNAL_HEADER_MAX bytes at most); returns its size. */
+#define JOURNAL_HEADER_MAX 512
+static size_t header_io(jheader *h, unsigned char *buf, int out)
+{
+  size_t o = 0;
+  io(buf, &o, h->magic, sizeof h->magic, out);
+  io(buf, &o, &h->version, 4, out);
+  io(buf, &o, &h->bom, 4, out);
+  io(buf, &o, &h->bytes, 4, out);
+  int32_t *ints[] = {&h->n, &h->units, &h->orient, &h->dipolar, &h->nrdf, &h->nbins};
+  for (size_t k = 0; k < sizeof ints / sizeof ints[0]; k++) io(buf, &o, ints[k], 4, out);
+  io(buf, &o, h->site, sizeof h->site, out);
+  io(buf, &o, &h->rmax, 8, out);
+  io(buf, &o, h->box, sizeof h->box, out);
+  io(buf, &o, &h->timestep, 8, out);
+  io(buf, &o, &h->energy_every, 8, out);
+  io(buf, &o, &h->sample_every, 8, out);
+  io(buf, &o, &h->tcf_cap, 8, out);
+  io(buf, &o, h->model, sizeof h->model, out);
+  return o;
+}
+
+/* The header a journal of this analysis has. */
+static void header_of(const analysis *a, jheader *h)
+{
+  memset(h, 0, sizeof *h);
+  memcpy(h->magic, JOURNAL_MAGIC, 8);
+  h->version = JOURNAL_VERSION;
+  h->bom = JOURNAL_BOM;
+  unsigned char scratch[JOURNAL_HEADER_MAX];
+  h->bytes = (uint32_t)header_io(h, scratch, 1);
+  h->n = a->n;
+  h->units = (int32_t)a->d->units;
+  h->orient = a->orient;
+  h->dipolar = a->dipolar;
+  h->nrdf = a->nrdf;
+  h->nbins = RDF_BINS;
+  for (int q = 0; q < a->nrdf; q++) {
+    h->site[q][0] = a->rdf_site[q][0];
+    h->site[q][1] = a->rdf_site[q][1];
+  }
+  h->rmax = a->nrdf ? rl_rdf_rmax(a->rdf[0]) : 0.0;
+  memcpy(h->box, a->d->box, sizeof h->box);
+  h->timestep = a->d->timestep;
+  h->energy_every = a->d->energy_every;
+  h->sample_every = a->d->sample_every;
+  h->tcf_cap = a->tcf_cap;
+  snprintf(h->model, sizeof h->model, "%s", a->d->model ? a->d->model->name : a->mol->name);
+}
+
+/* RL_OK if a journal's header `got` is the one this analysis writes, else the first difference. */
+static int header_check(const jheader *got, const jheader *want, const char *path)
+{
+  if (memcmp(got->magic, want->magic, 8))
+    return rl_error(RL_EINVAL, "%s is not a rotleap analysis journal (no '%s' at its start)", path, JOURNAL_MAGIC);
+  if (got->bom != want->bom)
+    return rl_error(RL_EINVAL, "%s was written on a machine of another byte order", path);
+  if (got->version != want->version || got->bytes != want->bytes)
+    return rl_error(RL_EINVAL, "%s is an analysis journal of version %u (%u header bytes); this rotleap reads "
+                    "version %u (%u bytes)", path, got->version, got->bytes, want->version, want->bytes);
+#define SAME(f, what, fmt) \
+  if (got->f != want->f) \
+    return rl_error(RL_EINVAL, "%s was written for " what " " fmt ", this run has " fmt, path, got->f, want->f)
+  SAME(n, "a system of", "%d molecules");
+  SAME(units, "units", "%d");
+  SAME(energy_every, "output.energy_every =", "%" PRId64);
+  SAME(sample_every, "output.sample_every =", "%" PRId64);
+  SAME(timestep, "run.timestep =", "%.17g");
+  SAME(nrdf, "output.rdf with", "%d pairs");
+  SAME(orient, "orientation vector", "%d");
+  SAME(dipolar, "dipolar =", "%d");
+  SAME(nbins, "RDFs of", "%d bins");
+  SAME(rmax, "RDFs up to", "%.17g");
+  SAME(tcf_cap, "a correlation-function bound of", "%" PRId64 " samples");
+#undef SAME
+  if (strncmp(got->model, want->model, sizeof got->model))
+    return rl_error(RL_EINVAL, "%s was written for model %.64s, this run has %.64s", path, got->model, want->model);
+  if (memcmp(got->box, want->box, sizeof got->box))
+    return rl_error(RL_EINVAL, "%s was written for a box of %.17g x %.17g x %.17g, this run has %.17g x %.17g x %.17g",
+                    path, got->box[0], got->box[1], got->box[2], want->box[0], want->box[1], want->box[2]);
+  if (memcmp(got->site, want->site, sizeof got->site))
+    return rl_error(RL_EINVAL, "%s was written for other output.rdf site pairs", path);
+  return RL_OK;
+}
+
+/* ------------------------------------------------------------------ alloc, free */
+
 analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
   analysis *a = calloc(1, sizeof *a);
@@ -88,13 +234,15 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->d = d;
   a->mol = mol;
   a->n = rl_system_count(sys);
-  rl_series **ser[] = {&a->U, &a->T, &a->Tt, &a->Tr, &a->P, &a->E, &a->K, &a->F2, &a->K2, &a->M2};
-  for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) *ser[k] = rl_series_alloc();
+  int ok = 1;
+  for (int k = 0; k < NV; k++) ok = (a->v[k] = rl_trace_alloc(0)) && ok;
+  for (int k = 0; k < 3; k++) ok = (a->M[k] = rl_trace_alloc(0)) && ok;
+  ok = (a->M2 = rl_trace_alloc(0)) && ok;
   /* output.rdf: "O-O, H-H" */
   double rmax = 0.5 * fmin(d->box[0], fmin(d->box[1], d->box[2]));
   const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
   if (nrdf < 0) { analysis_free(a); return NULL; }
-  for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, 200);
+  for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, RDF_BINS);
   a->tcf_cap = (long)(RL_TCF_MEMORY / (4.0 * sizeof(double[3]) * (a->n > 0 ? a->n : 1)));
   if (a->tcf_cap < 8) a->tcf_cap = 8;
   a->axis = rl_vec_series_alloc(a->n);
@@ -104,9 +252,13 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->unwrapped = calloc((size_t)a->n, sizeof *a->unwrapped);
   a->buf = calloc((size_t)a->n, sizeof *a->buf);
   a->dip = calloc((size_t)a->n, sizeof *a->dip);
-  a->M = rl_dipole_acc_alloc();
-  int ok = a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->M;
-  for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) ok = ok && *ser[k];
+  a->mark_c = calloc(RL_RDF_MARKS, sizeof *a->mark_c);
+  a->mark_every = 1;
+  /* the largest record: a sample that still feeds the correlation functions */
+  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV));
+  a->hist = malloc(sizeof *a->hist * RDF_BINS);
+  ok = ok && a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->mark_c && a->rec &&
+       a->hist;
   for (int k = 0; k < a->nrdf; k++) ok = ok && a->rdf[k];
   if (!ok) { /* the samplers would dereference NULL */
     analysis_free(a);
@@ -123,74 +275,367 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
 void analysis_free(analysis *a)
 {
   if (!a) return;
-  rl_series *ser[] = {a->U, a->T, a->Tt, a->Tr, a->P, a->E, a->K, a->F2, a->K2, a->M2};
-  for (size_t k = 0; k < sizeof ser / sizeof ser[0]; k++) rl_series_free(ser[k]);
+  for (int k = 0; k < NV; k++) rl_trace_free(a->v[k]);
+  for (int k = 0; k < 3; k++) rl_trace_free(a->M[k]);
+  rl_trace_free(a->M2);
   for (int k = 0; k < a->nrdf; k++) rl_rdf_free(a->rdf[k]);
   rl_vec_series_free(a->axis);
   rl_vec_series_free(a->vel);
   rl_vec_series_free(a->omega);
   rl_vec_series_free(a->pos);
-  free(a->unwrapped); free(a->buf); free(a->dip);
-  rl_dipole_acc_free(a->M);
+  free(a->unwrapped); free(a->buf); free(a->dip); free(a->mark_c); free(a->rec); free(a->hist); free(a->jpath);
   free(a);
+}
+
+/* ------------------------------------------------------------------ records */
+
+/* Bytes of the next sample record's payload (it feeds the correlation functions or not). */
+static size_t sample_bytes(const analysis *a)
+{
+  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0);
+  if (a->samples < a->tcf_cap) len += (size_t)(3 + (a->orient != ORIENT_NONE)) * sizeof(double[3]) * (size_t)a->n;
+  return len;
+}
+
+static int consume_step(analysis *a, const unsigned char *p)
+{
+  double x[1 + NV];
+  memcpy(x, p, sizeof x);
+  for (int k = 0; k < 1 + NV; k++)
+    if (!isfinite(x[k])) return rl_error(RL_ENONFINITE, "analysis: a step record with a non-finite value (%d)", k);
+  if (a->nstep == 0) a->t_first = x[0];
+  a->t_last = x[0];
+  for (int k = 0; k < NV; k++) {
+    int st = rl_trace_add(a->v[k], x[1 + k]);
+    if (st) return st;
+  }
+  a->nstep++;
+  return RL_OK;
+}
+
+/* Before sample j = k S, the step records consumed so far (RL_RDF_MARKS marks, as rl_rdf's). */
+static void mark_sample(analysis *a)
+{
+  if (a->samples % a->mark_every) return;
+  if (a->nmarks == RL_RDF_MARKS) {
+    for (int k = 0; k < RL_RDF_MARKS / 2; k++) a->mark_c[k] = a->mark_c[2 * k];
+    a->nmarks = RL_RDF_MARKS / 2;
+    a->mark_every *= 2;
+    if (a->samples % a->mark_every) return;
+  }
+  a->mark_c[a->nmarks++] = a->nstep;
+}
+
+/* Copy n x 3 doubles from p into a->buf; returns p after them. */
+static const unsigned char *get_vectors(analysis *a, const unsigned char *p)
+{
+  memcpy(a->buf, p, sizeof(double[3]) * (size_t)a->n);
+  return p + sizeof(double[3]) * (size_t)a->n;
+}
+
+static int consume_sample(analysis *a, const unsigned char *p)
+{
+  int st = RL_OK;
+  mark_sample(a);
+  for (int q = 0; q < a->nrdf && !st; q++) {
+    double pairs;
+    int32_t na;
+    memcpy(&pairs, p, 8);
+    memcpy(&na, p + 8, 4);
+    memcpy(a->hist, p + 16, 4 * RDF_BINS);
+    p += 16 + 4 * RDF_BINS;
+    st = rl_rdf_add_counts(a->rdf[q], a->d->box, a->hist, pairs, na);
+  }
+  if (a->dipolar && !st) {
+    double M[3];
+    memcpy(M, p, sizeof M);
+    p += sizeof M;
+    for (int k = 0; k < 3 && !st; k++) st = rl_trace_add(a->M[k], M[k]);
+    if (!st) st = rl_trace_add(a->M2, M[0] * M[0] + M[1] * M[1] + M[2] * M[2]);
+  }
+  if (st || a->samples++ >= a->tcf_cap) return st; /* the correlation functions have their samples */
+  if (a->orient != ORIENT_NONE) {
+    p = get_vectors(a, p);
+    if ((st = rl_vec_series_add(a->axis, (const double(*)[3])a->buf))) return st;
+  }
+  rl_vec_series *vs[2] = {a->vel, a->omega};
+  for (int k = 0; k < 2; k++) {
+    p = get_vectors(a, p);
+    if ((st = rl_vec_series_add(vs[k], (const double(*)[3])a->buf))) return st;
+  }
+  get_vectors(a, p);
+  /* each centre is the image nearest its previous *unwrapped* position (rl_unwrap's contract):
+   * nearest the previous raw position, a body would lose its image one sample after crossing */
+  if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
+  else rl_unwrap(a->d->box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
+  return rl_vec_series_add(a->pos, (const double(*)[3])a->unwrapped);
+}
+
+/* RL_OK unless a write of the journal failed (then nothing more is taken: the journal would no
+ * longer hold what the analysis consumed). */
+static int journal_ok(const analysis *a)
+{
+  return a->jbad ? rl_error(RL_EINVAL, "%s: an earlier write of the analysis journal failed", a->jpath) : RL_OK;
+}
+
+/* Journal a record (when there is a journal), then consume it. */
+static int feed(analysis *a, uint32_t tag, size_t len)
+{
+  if (a->jfp) {
+    unsigned char head[RECORD_HEAD];
+    const uint32_t bytes = (uint32_t)len;
+    const int64_t seq = a->seq;
+    memcpy(head, &tag, 4);
+    memcpy(head + 4, &bytes, 4);
+    memcpy(head + 8, &seq, 8);
+    errno = 0;
+    if (fwrite(head, 1, sizeof head, a->jfp) != sizeof head || fwrite(a->rec, 1, len, a->jfp) != len) {
+      a->jbad = 1;
+      return rl_error(RL_EINVAL, "%s: cannot write the analysis journal: %s", a->jpath,
+                      errno ? strerror(errno) : "write error");
+    }
+    a->jbytes += (long)(sizeof head + len);
+  }
+  a->seq++;
+  return tag == TAG_STEP ? consume_step(a, a->rec) : consume_sample(a, a->rec);
 }
 
 int analysis_step(analysis *a, const rl_step_info *info, double pressure, const rl_forces *F, const rl_system *sys)
 {
-  rl_series_add(a->U, info->potential / a->n);
-  rl_series_add(a->T, info->temperature);
-  rl_series_add(a->Tt, info->t_trans);
-  rl_series_add(a->Tr, info->t_rot);
-  rl_series_add(a->P, pressure);
-  rl_series_add(a->E, info->total);
-  rl_series_add(a->K, info->ke_trans + info->ke_rot);
+  int st = journal_ok(a);
+  if (st) return st;
   double f2 = 0.0, k2 = 0.0;
   for (int i = 0; i < a->n; i++) {
     f2 += F->f[i][0] * F->f[i][0] + F->f[i][1] * F->f[i][1] + F->f[i][2] * F->f[i][2];
     int r = rl_system_rot_index(sys, i);
     if (r >= 0) k2 += F->k[r][0] * F->k[r][0] + F->k[r][1] * F->k[r][1] + F->k[r][2] * F->k[r][2];
   }
-  rl_series_add(a->F2, f2 / a->n);
-  rl_series_add(a->K2, k2 / a->n);
-  return RL_OK;
+  double x[1 + NV];
+  x[0] = info->t;
+  x[1 + V_U] = info->potential / a->n;
+  x[1 + V_T] = info->temperature;
+  x[1 + V_TT] = info->t_trans;
+  x[1 + V_TR] = info->t_rot;
+  x[1 + V_P] = pressure;
+  x[1 + V_E] = info->total;
+  x[1 + V_EC] = info->conserved;
+  x[1 + V_K] = info->ke_trans + info->ke_rot;
+  x[1 + V_F2] = f2 / a->n;
+  x[1 + V_K2] = k2 / a->n;
+  for (int k = 0; k < 1 + NV; k++) /* a record is whole or not at all */
+    if (!isfinite(x[k])) return rl_error(RL_ENONFINITE, "analysis_step: a non-finite value at t = %g (%d)", info->t, k);
+  memcpy(a->rec, x, sizeof x);
+  return feed(a, TAG_STEP, sizeof x);
+}
+
+/* Append n x 3 doubles at p; returns p after them. */
+static unsigned char *put_vectors(unsigned char *p, const double (*v)[3], int n)
+{
+  memcpy(p, v, sizeof(double[3]) * (size_t)n);
+  return p + sizeof(double[3]) * (size_t)n;
 }
 
 int analysis_sample(analysis *a, const rl_system *sys)
 {
-  for (int k = 0; k < a->nrdf; k++)
-    if (rl_rdf_add_sites(a->rdf[k], sys, a->d->box, 0, a->rdf_site[k][0], 0, a->rdf_site[k][1])) return 1;
+  int st = journal_ok(a);
+  if (st) return st;
+  unsigned char *p = a->rec;
+  for (int q = 0; q < a->nrdf; q++) {
+    double pairs;
+    int na;
+    if ((st = rl_rdf_count_sites(a->rdf[q], sys, a->d->box, 0, a->rdf_site[q][0], 0, a->rdf_site[q][1], a->hist,
+                                 &pairs, &na)))
+      return st;
+    const int32_t na32 = na, pad = 0;
+    memcpy(p, &pairs, 8);
+    memcpy(p + 8, &na32, 4);
+    memcpy(p + 12, &pad, 4);
+    memcpy(p + 16, a->hist, 4 * RDF_BINS);
+    p += 16 + 4 * RDF_BINS;
+  }
   if (a->dipolar) {
     double M[3];
-    if (rl_system_dipoles(sys, &a->sff, 1, a->dip, M) || rl_dipole_acc_add(a->M, M) ||
-        rl_series_add(a->M2, M[0] * M[0] + M[1] * M[1] + M[2] * M[2]))
-      return 1;
+    if ((st = rl_system_dipoles(sys, &a->sff, 1, a->dip, M))) return st;
+    memcpy(p, M, sizeof M);
+    p += sizeof M;
   }
-  if (a->samples++ >= a->tcf_cap) return 0; /* the correlation functions have their samples */
-  if (a->orient == ORIENT_DIPOLE) { if (rl_vec_series_add(a->axis, (const double (*)[3])a->dip)) return 1; }
-  else if (a->orient == ORIENT_AXIS) {
-    rl_system_axes(sys, a->buf);
-    if (rl_vec_series_add(a->axis, (const double (*)[3])a->buf)) return 1;
+  if (a->samples < a->tcf_cap) {
+    if (a->orient == ORIENT_DIPOLE) p = put_vectors(p, (const double(*)[3])a->dip, a->n);
+    else if (a->orient == ORIENT_AXIS) {
+      rl_system_axes(sys, a->buf);
+      p = put_vectors(p, (const double(*)[3])a->buf, a->n);
+    }
+    rl_system_velocities(sys, a->buf);
+    p = put_vectors(p, (const double(*)[3])a->buf, a->n);
+    rl_system_angular_velocities(sys, a->buf);
+    p = put_vectors(p, (const double(*)[3])a->buf, a->n);
+    rl_system_positions(sys, a->buf);
+    p = put_vectors(p, (const double(*)[3])a->buf, a->n);
   }
-  rl_system_velocities(sys, a->buf);
-  if (rl_vec_series_add(a->vel, (const double (*)[3])a->buf)) return 1;
-  rl_system_angular_velocities(sys, a->buf);
-  if (rl_vec_series_add(a->omega, (const double (*)[3])a->buf)) return 1;
-  rl_system_positions(sys, a->buf);
-  /* each centre is the image nearest its previous *unwrapped* position (rl_unwrap's contract):
-   * nearest the previous raw position, a body would lose its image one sample after crossing */
-  if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
-  else rl_unwrap(a->d->box, (const double (*)[3])a->unwrapped, (const double (*)[3])a->buf, a->n, a->unwrapped);
-  return rl_vec_series_add(a->pos, (const double (*)[3])a->unwrapped);
+  return feed(a, TAG_SAMPLE, (size_t)(p - a->rec));
 }
 
-static void line_block(FILE *f, const char *name, rl_series *s, const char *unit)
+/* ------------------------------------------------------------------ journal and replay */
+
+int analysis_set_journal(analysis *a, FILE *fp, const char *path)
 {
-  rl_block_result b;
-  if (rl_series_count(s) < 2 || rl_series_block_average(s, &b)) {
-    fprintf(f, "%s = %.8g %s\n", name, rl_series_mean(s), unit);
-    return;
+  if (!a || !fp || !path) return rl_error(RL_EINVAL, "analysis_set_journal: NULL argument");
+  if (a->jfp) return rl_error(RL_ESTATE, "%s: the analysis already has a journal (%s)", path, a->jpath);
+  if (a->seq > 0 && !a->replayed)
+    return rl_error(RL_ESTATE, "%s: the journal must be set before the analysis's first step or sample (it has "
+                    "consumed %ld records)", path, a->seq);
+  errno = 0;
+  const long pos = ftell(fp);
+  if (pos < 0) return rl_error(RL_EINVAL, "%s: cannot tell the journal's position: %s", path, strerror(errno));
+  if (!(a->jpath = strdup(path))) return rl_error(RL_ENOMEM, "out of memory");
+  if (a->replayed) { /* appending to the journal just replayed, cut to what was replayed */
+    if (pos != a->jbytes) {
+      free(a->jpath);
+      a->jpath = NULL;
+      return rl_error(RL_EINVAL, "%s: the journal is positioned at byte %ld but the analysis replayed its first %ld "
+                      "bytes: cut it to %ld bytes and append from there", path, pos, a->jbytes, a->jbytes);
+    }
+  } else {
+    if (pos != 0) {
+      free(a->jpath);
+      a->jpath = NULL;
+      return rl_error(RL_EINVAL, "%s: a new journal must start empty (it is at byte %ld)", path, pos);
+    }
+    jheader h;
+    unsigned char buf[JOURNAL_HEADER_MAX];
+    header_of(a, &h);
+    const size_t len = header_io(&h, buf, 1);
+    errno = 0;
+    if (fwrite(buf, 1, len, fp) != len) {
+      free(a->jpath);
+      a->jpath = NULL;
+      return rl_error(RL_EINVAL, "%s: cannot write the analysis journal: %s", path, errno ? strerror(errno) : "write error");
+    }
+    a->jbytes = (long)len;
   }
-  fprintf(f, "%s = %.8g +- %.2g %s%s\n", name, b.mean, b.sem, unit, b.converged ? "" : " (error bar a lower bound: run longer)");
+  a->jfp = fp;
+  return RL_OK;
+}
+
+int analysis_journal_sync(analysis *a, long *nbytes)
+{
+  if (!a || !a->jfp) return rl_error(RL_ESTATE, "analysis_journal_sync: the analysis has no journal");
+  int st = journal_ok(a);
+  if (st) return st;
+  errno = 0;
+  if (fflush(a->jfp) || fsync(fileno(a->jfp))) {
+    a->jbad = 1;
+    return rl_error(RL_EINVAL, "%s: cannot write the analysis journal: %s", a->jpath,
+                    errno ? strerror(errno) : "write error");
+  }
+  if (nbytes) *nbytes = a->jbytes;
+  return RL_OK;
+}
+
+/* Read k bytes at the journal's current position: RL_OK, or a message naming what was cut. */
+static int read_exact(FILE *f, void *buf, size_t k, const char *path, long at)
+{
+  errno = 0;
+  if (fread(buf, 1, k, f) == k) return RL_OK;
+  return rl_error(RL_EINVAL, "%s: cannot read %zu bytes at byte %ld: %s", path, k, at,
+                  ferror(f) && errno ? strerror(errno) : "the file ends there");
+}
+
+int analysis_replay(analysis *a, const char *path, long nbytes)
+{
+  if (!a || !path) return rl_error(RL_EINVAL, "analysis_replay: NULL argument");
+  if (a->seq > 0 || a->jfp || a->replayed)
+    return rl_error(RL_ESTATE, "%s: a journal is replayed into a fresh analysis, before its journal is set", path);
+  FILE *f = fopen(path, "rb");
+  if (!f) return rl_error(RL_EINVAL, "cannot open the analysis journal %s: %s", path, strerror(errno));
+  struct stat sb;
+  int st = RL_OK;
+  jheader want, got;
+  header_of(a, &want);
+  unsigned char hbuf[JOURNAL_HEADER_MAX];
+  char magic[8] = "";
+  if (fstat(fileno(f), &sb) || !S_ISREG(sb.st_mode))
+    st = rl_error(RL_EINVAL, "%s: not a regular file", path);
+  else if (fread(magic, 1, 8, f) != 8 || memcmp(magic, JOURNAL_MAGIC, 8))
+    st = rl_error(RL_EINVAL, "%s is not a rotleap analysis journal (no '%s' at its start)", path, JOURNAL_MAGIC);
+  else if (rewind(f), (st = read_exact(f, hbuf, want.bytes, path, 0)))
+    ;
+  else if (header_io(&got, hbuf, 0), (st = header_check(&got, &want, path)))
+    ;
+  else if ((long)sb.st_size < nbytes)
+    st = rl_error(RL_EINVAL, "%s holds %ld bytes, fewer than the %ld the checkpoint counts: it was cut short or "
+                  "replaced", path, (long)sb.st_size, nbytes);
+  else if (nbytes < (long)want.bytes)
+    st = rl_error(RL_EINVAL, "%s: the checkpoint counts %ld bytes of it, fewer than its %u-byte header", path, nbytes,
+                  want.bytes);
+  long at = (long)want.bytes;
+  while (!st && at < nbytes) {
+    unsigned char head[RECORD_HEAD];
+    uint32_t tag, len;
+    int64_t seq;
+    if (nbytes - at < RECORD_HEAD) {
+      st = rl_error(RL_EINVAL, "%s: byte %ld, where the checkpoint's part of it ends, is not at a record boundary "
+                    "(a record starts at byte %ld)", path, nbytes, at);
+      break;
+    }
+    if ((st = read_exact(f, head, sizeof head, path, at))) break;
+    memcpy(&tag, head, 4);
+    memcpy(&len, head + 4, 4);
+    memcpy(&seq, head + 8, 8);
+    const size_t want_len = tag == TAG_STEP ? 8 * (1 + NV) : tag == TAG_SAMPLE ? sample_bytes(a) : 0;
+    if (!want_len || len != want_len || seq != a->seq) {
+      st = rl_error(RL_EINVAL, "%s: the record at byte %ld is damaged or of another run (tag %08x, %u bytes, number "
+                    "%" PRId64 "; expected record number %ld%s)", path, at, tag, len, seq, a->seq,
+                    tag == TAG_SAMPLE ? " of the sample size this run writes" : "");
+      break;
+    }
+    if (nbytes - at - RECORD_HEAD < (long)len) {
+      st = rl_error(RL_EINVAL, "%s: byte %ld, where the checkpoint's part of it ends, is not at a record boundary "
+                    "(the record at byte %ld ends at byte %ld)", path, nbytes, at, at + RECORD_HEAD + (long)len);
+      break;
+    }
+    if ((st = read_exact(f, a->rec, len, path, at + RECORD_HEAD))) break;
+    a->seq++;
+    st = tag == TAG_STEP ? consume_step(a, a->rec) : consume_sample(a, a->rec);
+    if (st) st = rl_error_wrap(st, "%s: the record at byte %ld cannot be replayed", path, at);
+    at += RECORD_HEAD + (long)len;
+  }
+  fclose(f);
+  if (!st) {
+    a->replayed = 1;
+    a->jbytes = nbytes;
+  }
+  return st;
+}
+
+/* ------------------------------------------------------------------ results */
+
+/* The units of the results and of the CSV columns, by unit system (lj: reduced units of
+ * epsilon, sigma and the mass; tau = sigma sqrt(m / epsilon)). */
+typedef struct {
+  const char *E, *T, *P, *F2, *K2, *D, *time, *t_col, *r_col, *vacf_col, *wacf_col, *msd_col;
+} units_text;
+
+static units_text units_of(rl_units u)
+{
+  if (u == RL_UNITS_LJ)
+    return (units_text){"epsilon", "epsilon/k_B", "epsilon/sigma^3", "(epsilon/sigma)^2", "epsilon^2", "sigma^2/tau",
+                        "tau", "lag_time_tau", "r_sigma", "vacf_sigma2_per_tau2", "omega_acf_per_tau2", "msd_sigma2"};
+  return (units_text){"kJ/mol", "K", "bar", "(kJ/mol/nm)^2", "(kJ/mol)^2", "nm^2/ps",
+                      "ps", "lag_time_ps", "r_nm", "vacf_nm2_per_ps2", "omega_acf_per_ps2", "msd_nm2"};
+}
+
+/* "NAME = mean +- sem UNIT": the blocked mean of the samples from `from` on. */
+static void line_mean(FILE *f, const char *name, const rl_trace *t, long from, const char *unit)
+{
+  const rl_moments m = rl_trace_moments(t, from);
+  rl_block_result b;
+  if (m.n == 0) fprintf(f, "%s = n/a (no step averaged)\n", name);
+  else if (m.n < 4 || rl_trace_block_average(t, from, &b))
+    fprintf(f, "%s = %.8g %s (no error bar: %ld samples)\n", name, m.mean, unit, m.n);
+  else
+    fprintf(f, "%s = %.8g +- %.2g %s%s\n", name, b.mean, b.sem, unit,
+            b.converged ? "" : " (error bar a lower bound: no blocking plateau; run longer)");
 }
 
 const char *rel_fluct_text(char *buf, size_t n, double x)
@@ -200,34 +645,212 @@ const char *rel_fluct_text(char *buf, size_t n, double x)
   return buf;
 }
 
-/* The dielectric constant eps (from <dM^2> at volume V, temperature T) with its error and, when the
- * run is too short for it, a note.  The error is the blocked standard error of <M^2>
- * (Flyvbjerg-Petersen, as for U and P) carried through Neumann's formula; it leaves out the
- * error of |<M>|^2, which is smaller.  M relaxes on the collective dipole time, tens of ps for
- * water, so a short run gives a value that can be far off (the default TIP4P job, 10 ps: 9.5 +- 11
- * with no plateau) and must not stand as a bare number. */
-static void dielectric_lines(FILE *f, const analysis *a, double dM2, double V, double T, double eps, const char *Tname,
-                             double dt_sample)
+/* ---- jackknife errors of fluctuation quantities */
+
+/* An estimator of the moments m[k] of k = 0, 1, ... series (NaN where undefined). */
+typedef double (*estimator)(const rl_moments *m, const void *ctx);
+
+typedef struct {
+  double value, err; /* over every sample from the start; jackknife error (NaN: none)        */
+  long groups, len;  /* jackknife blocks and their length in samples                           */
+  int plateau;       /* the blocking of every series found a plateau (else err is a lower bound) */
+} jk_result;
+
+/* value = f(moments of tr[k] from `from`), err = the jackknife standard error over blocks as
+ * long as the longest Lee-Needs-Towler block of the series (their means' correlation time). */
+static void jackknife(rl_trace *const *tr, int ntr, long from, estimator f, const void *ctx, jk_result *r)
+{
+  rl_moments all[4];
+  for (int k = 0; k < ntr; k++) all[k] = rl_trace_moments(tr[k], from);
+  r->value = f(all, ctx);
+  r->err = NAN;
+  r->groups = 0;
+  r->len = rl_trace_block(tr[0]);
+  r->plateau = 1;
+  for (int k = 0; k < ntr; k++) {
+    rl_block_result b;
+    if (rl_trace_block_average(tr[k], from, &b)) return;
+    r->plateau &= b.converged;
+    if (1L << b.level > r->len) r->len = 1L << b.level;
+  }
+  const long m = rl_trace_groups(tr[0], from, r->len, NULL, 0);
+  if (m < 2) return;
+  rl_moments *g = malloc(sizeof *g * (size_t)(2 * ntr) * (size_t)m), *loo = g ? g + (size_t)ntr * (size_t)m : NULL;
+  double *theta = malloc(sizeof *theta * (size_t)m);
+  if (g && theta) {
+    for (int k = 0; k < ntr; k++) {
+      rl_trace_groups(tr[k], from, r->len, g + (size_t)k * (size_t)m, m);
+      rl_moments_leave_one_out(g + (size_t)k * (size_t)m, m, loo + (size_t)k * (size_t)m);
+    }
+    for (long i = 0; i < m; i++) {
+      rl_moments mi[4];
+      for (int k = 0; k < ntr; k++) mi[k] = loo[(size_t)k * (size_t)m + (size_t)i];
+      theta[i] = f(mi, ctx);
+    }
+    r->err = rl_jackknife_error(theta, m);
+    r->groups = m;
+  }
+  free(g);
+  free(theta);
+}
+
+/* " +- ERR" and the note of a jackknife result, its blocks in `what` (scale of them per sample). */
+static void jk_text(const jk_result *r, long scale, const char *what, char *err, size_t n1, char *note, size_t n2)
+{
+  if (isnan(r->err)) {
+    snprintf(err, n1, "%s", "");
+    snprintf(note, n2, "no error bar: too few samples for 2 blocks");
+    return;
+  }
+  snprintf(err, n1, " +- %.2g", r->err);
+  snprintf(note, n2, "jackknife over %ld blocks of %ld %s%s", r->groups, r->len * scale, what,
+           r->plateau ? "" : "; error bar a lower bound: no blocking plateau, run longer");
+}
+
+static double rel_fluct(const rl_moments *m, const void *ctx)
+{
+  (void)ctx;
+  return m[0].n > 0 && m[0].mean != 0.0 ? sqrt(m[0].m2 / (double)m[0].n) / fabs(m[0].mean) : NAN;
+}
+
+static double rel_fluct_ratio(const rl_moments *m, const void *ctx)
+{
+  return rel_fluct(m, ctx) / rel_fluct(m + 1, ctx);
+}
+
+typedef struct {
+  int nve, n, dof;
+  double kB, T;
+} cv_ctx;
+
+/* C_V per molecule in k_B: from (K, U per molecule) moments */
+static double heat_capacity(const rl_moments *m, const void *ctx)
+{
+  const cv_ctx *c = ctx;
+  double cv;
+  if (m[0].n < 2) return NAN;
+  const double varK = m[0].m2 / (double)m[0].n, varU = m[1].m2 / (double)m[1].n * (double)c->n * (double)c->n;
+  const int st = c->nve ? rl_heat_capacity_nve(m[0].mean, varK, c->dof, c->kB, &cv)
+                        : rl_heat_capacity_isokinetic(varU, c->T, c->dof, c->kB, &cv);
+  return st ? NAN : cv / (c->n * c->kB);
+}
+
+typedef struct {
+  const rl_deck *d;
+  double V, T;
+} eps_ctx;
+
+/* The dielectric constant from the moments of M's three components: <dM^2> = sum of their variances */
+static double dielectric(const rl_moments *m, const void *ctx)
+{
+  const eps_ctx *c = ctx;
+  double eps, dM2 = 0.0;
+  for (int k = 0; k < 3; k++) dM2 += m[k].n > 0 ? m[k].m2 / (double)m[k].n : NAN;
+  return rl_dielectric_constant(dM2, c->V, c->T, c->d->ff.eps_rf, c->d->units, c->d->ff.coulomb_constant, &eps)
+             ? NAN : eps;
+}
+
+/* ---- the equilibrated part */
+
+typedef struct {
+  long i0, j0;     /* first step record and first sample averaged */
+  double dt_rec;   /* time between step records                    */
+} window;
+
+static long step_of(const analysis *a, double t) { return llround(t / a->d->timestep); }
+
+/* The first sample at a mark with at least i0 step records before it (samples if none). */
+static long sample_start(const analysis *a, long i0)
+{
+  for (int k = 0; k < a->nmarks; k++)
+    if (a->mark_c[k] >= i0) return k * a->mark_every;
+  return a->samples;
+}
+
+/* Where the averages start (output.discard: auto, or a number of steps), and the lines that say so. */
+static window equilibrate(const analysis *a, FILE *f)
+{
+  const rl_deck *d = a->d;
+  const char *tu = units_of(d->units).time;
+  window w = {0, 0, a->nstep > 1 ? (a->t_last - a->t_first) / (double)(a->nstep - 1) : d->timestep};
+  if (a->nstep == 0) {
+    fprintf(f, "averages_from = n/a (no step with energies)\n");
+    return w;
+  }
+  const long per = lround(w.dt_rec / d->timestep); /* steps per record */
+  if (d->discard < 0) {
+    long len = 1;
+    double g = NAN, neff = NAN;
+    int limit = 0;
+    if (rl_trace_equilibration(a->v[V_U], EQUIL_POINTS, 0.5, &w.i0, &len, &g, &neff, &limit)) w.i0 = 0;
+    if (isnan(neff))
+      fprintf(f, "equilibration = auto (output.discard): too few steps to detect, nothing discarded\n");
+    else
+      fprintf(f, "equilibration = auto (output.discard): the start in the first half of the run that maximises the "
+                 "number of uncorrelated samples of U_per_molecule (Chodera, J. Chem. Theory Comput. 12, 1799 "
+                 "(2016)), searched over its means of %ld steps: statistical inefficiency %.3g means, %.4g "
+                 "uncorrelated means from there\n", len * per, g, neff);
+    if (limit)
+      fprintf(f, "equilibration_warning = the start found is at the end of the search (the first half of the run): the relaxation may "
+                 "last longer; run longer (run.steps, run.equilibrate) or set output.discard\n");
+    else if (neff < 10.0) /* every window drifts or the run is a few correlation times long */
+      fprintf(f, "equilibration_warning = only %.3g uncorrelated samples of U_per_molecule: the run is too short for "
+                 "its correlation time, or relaxing throughout; the averages and error bars are unreliable: run "
+                 "longer\n", neff);
+  } else {
+    /* the first record at or after step `discard`, counted from the run's step 0 */
+    const double x = ceil((((double)d->discard - 0.5) * d->timestep - a->t_first) / w.dt_rec);
+    w.i0 = d->discard == 0 || x <= 0.0 ? 0 : x >= (double)a->nstep ? a->nstep : (long)x;
+    w.i0 = rl_trace_align(a->v[V_U], w.i0);
+    fprintf(f, "equilibration = output.discard = %ld steps\n", d->discard);
+  }
+  w.j0 = sample_start(a, w.i0);
+  const long first = step_of(a, a->t_first);
+  if (w.i0 >= a->nstep) {
+    fprintf(f, "averages_from = n/a: the discarded steps cover the whole run (steps %ld to %ld); nothing is averaged\n",
+            first, step_of(a, a->t_last));
+    return w;
+  }
+  const double t0 = a->t_first + (double)w.i0 * w.dt_rec;
+  fprintf(f, "averages_from = step %ld (t = %.6g %s): %ld steps discarded; %ld of %ld steps with energies and %ld of "
+             "%ld sampled configurations averaged, in every result below, PREFIX.rdf.csv and PREFIX.tcf.csv\n",
+          step_of(a, t0), t0, tu, step_of(a, t0) - first, a->nstep - w.i0, a->nstep, a->samples - w.j0, a->samples);
+  return w;
+}
+
+/* The dielectric constant (from <dM^2> at volume V, temperature T) with its jackknife error over
+ * blocks of the samples and, when the run is too short for it, a note.  M relaxes on the
+ * collective dipole time, tens of ps for water, so a short run gives a value that can be far off
+ * (the default TIP4P job, 10 ps) and must not stand as a bare number. */
+static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, const char *Tname, double dt_sample)
 {
   const rl_deck *d = a->d;
   const int real = d->units == RL_UNITS_REAL;
-  const long n = rl_series_count(a->M2);
+  const eps_ctx c = {d, d->box[0] * d->box[1] * d->box[2], T};
+  double dM2 = 0.0, eps;
+  for (int k = 0; k < 3; k++) {
+    const rl_moments m = rl_trace_moments(a->M[k], j0);
+    dM2 += m.m2 / (double)m.n;
+  }
+  if (rl_dielectric_constant(dM2, c.V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps)) {
+    fprintf(f, "dielectric_constant = n/a (%s)\n", rl_last_error());
+    return;
+  }
+  jk_result r;
+  jackknife((rl_trace *const *)a->M, 3, j0, dielectric, &c, &r);
+  const long n = rl_trace_moments(a->M2, j0).n;
+  char es[32], note[200];
+  jk_text(&r, 1, "samples", es, sizeof es, note, sizeof note);
+  fprintf(f, "dielectric_constant = %.4g%s (dipole fluctuations, reaction-field boundary eps_rf = %g, T = %g%s %s; "
+             "%s)\n", eps, es, d->ff.eps_rf, T, real ? " K" : "", Tname, note);
+  /* what the estimate needs: a plateau of the blocking of |M|^2 (more samples than a few
+   * correlation times of M) and an error of at most 10 % of eps - 1, the part the fluctuation
+   * measures */
   rl_block_result b;
-  const int blocked = n >= 4 && !rl_series_block_average(a->M2, &b);
-  double err = NAN, e2;
-  const double h = 1e-6 * dM2; /* d eps / d<dM^2> by a one-sided difference */
-  if (blocked && h > 0.0)
-    err = rl_dielectric_constant(dM2 + h, V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &e2)
-              ? INFINITY : fabs(e2 - eps) / h * b.sem;
-  char es[32] = "n/a";
-  if (!isnan(err)) snprintf(es, sizeof es, "%.2g", err);
-  fprintf(f, "dielectric_constant = %.4g +- %s (dipole fluctuations, reaction-field boundary eps_rf = %g, T = %g%s "
-             "%s; error from the blocked <M^2>)\n", eps, es, d->ff.eps_rf, T, real ? " K" : "", Tname);
-  /* what the estimate needs: a plateau of the blocking (more samples than a few correlation
-   * times of M) and an error of at most 10 % of eps - 1, the part the fluctuation measures */
-  const double rel = err / fabs(eps - 1.0), span = n * dt_sample;
-  const char *tu = real ? "ps" : "time units";
-  if (!blocked)
+  const int blocked = n >= 4 && !rl_trace_block_average(a->M2, j0, &b);
+  const double rel = r.err / fabs(eps - 1.0), span = n * dt_sample;
+  const char *tu = units_of(d->units).time;
+  if (!blocked || isnan(r.err))
     fprintf(f, "dielectric_note = unreliable: %ld samples are too few for an error bar; run longer\n", n);
   else if (!b.converged)
     fprintf(f, "dielectric_note = unreliable: the run is shorter than the estimate needs: blocking <M^2> over its %ld "
@@ -237,6 +860,12 @@ static void dielectric_lines(FILE *f, const analysis *a, double dM2, double V, d
     fprintf(f, "dielectric_note = unreliable: the run is shorter than the estimate needs: the error is %.0f %% of "
                "eps - 1; about %.2g %s of sampling (%.2g times this run's %.3g %s) would bring it to 10 %%\n",
             100.0 * rel, span * (rel / 0.1) * (rel / 0.1), tu, (rel / 0.1) * (rel / 0.1), span, tu);
+  if (a->point_dipoles && d->ff.dipole_method == RL_DIPOLE_RF)
+    fprintf(f, "dielectric_heating_note = the point dipoles interact by the dipolar reaction field (interactions.dipole "
+               "= rf), whose energy jumps at the cutoff: it heats an NVE run, and a thermostat holds the temperature "
+               "only by taking that heat out, so the run does not sample the canonical distribution the fluctuation "
+               "formula assumes; read the dielectric constant as approximate (interactions.dipole = sf conserves "
+               "energy but has no reaction-field boundary for the formula)\n");
 }
 
 /* The correlation functions of one run, as PREFIX.tcf.csv holds them (a NULL column is n/a). */
@@ -249,8 +878,9 @@ typedef struct {
 static void write_tcf(FILE *fp, const void *ctx)
 {
   const tcf_table *t = ctx;
+  const units_text u = units_of(t->a->d->units);
   const char *vec = t->a->orient == ORIENT_AXIS ? "axis" : "dipole";
-  fprintf(fp, "lag_time,%s_P1,%s_P2,vacf,omega_acf,msd\n", vec, vec);
+  fprintf(fp, "%s,%s_P1,%s_P2,%s,%s,%s\n", u.t_col, vec, vec, u.vacf_col, u.wacf_col, u.msd_col);
   for (long k = 0; k <= t->lag; k++) {
     fprintf(fp, "%.6g", k * t->dt);
     for (int q = 0; q < 5; q++)
@@ -270,7 +900,7 @@ typedef struct {
 static void write_rdf(FILE *fp, const void *ctx)
 {
   const rdf_table *t = ctx;
-  fprintf(fp, "r");
+  fprintf(fp, "%s", units_of(t->a->d->units).r_col);
   for (int q = 0; q < t->a->nrdf; q++) fprintf(fp, ",g_%s", t->a->rdf_name[q]);
   fprintf(fp, "\n");
   for (int b = 0; b < t->nb; b++) {
@@ -279,7 +909,6 @@ static void write_rdf(FILE *fp, const void *ctx)
     fprintf(fp, "\n");
   }
 }
-
 static void write_text(FILE *fp, const void *ctx) { fputs(ctx, fp); }
 
 /* Append one failure to the "; "-separated list errs[n]. */
@@ -308,119 +937,215 @@ static int write_file(const char *path, void (*fill)(FILE *, const void *), cons
   return 1;
 }
 
-int analysis_write(analysis *a, const char *prefix, double dt_sample)
+
+/* PREFIX EXT SUFFIX, allocated (NULL: out of memory). */
+static char *file_name(const char *prefix, const char *ext, const char *suffix)
+{
+  const size_t n = strlen(prefix) + strlen(ext) + strlen(suffix) + 1;
+  char *p = malloc(n);
+  if (p) snprintf(p, n, "%s%s%s", prefix, ext, suffix);
+  return p;
+}
+
+/* Self-diffusion from the MSD c[lag + 1] of the nf frames from j0, with a block error: the
+ * standard error of D over D_BLOCKS consecutive parts of those frames, each fitted alike. */
+static void diffusion_line(FILE *f, const analysis *a, const double *msd, long j0, long nf, long lag, double dt)
+{
+  const units_text u = units_of(a->d->units);
+  double D, Dfit;
+  if (rl_diffusion_einstein(msd, lag + 1, dt, lag / 5, lag, &D, &Dfit)) return;
+  const long part = nf / D_BLOCKS, plag = part / 2 < RL_TCF_MAX_LAG ? part / 2 : RL_TCF_MAX_LAG;
+  double Db[D_BLOCKS], *c = plag >= 5 ? malloc(sizeof(double) * (size_t)(plag + 1)) : NULL;
+  int ok = c != NULL;
+  for (int b = 0; b < D_BLOCKS && ok; b++)
+    ok = !rl_tcf_compute_range(a->pos, j0 + b * part, part, RL_TCF_MSD, plag, 1, c) &&
+         !rl_diffusion_einstein(c, plag + 1, dt, plag / 5, plag, &Db[b], NULL);
+  free(c);
+  if (ok) {
+    double mean = 0.0, s = 0.0;
+    for (int b = 0; b < D_BLOCKS; b++) mean += Db[b] / D_BLOCKS;
+    for (int b = 0; b < D_BLOCKS; b++) s += (Db[b] - mean) * (Db[b] - mean);
+    fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples; error: standard error of D over "
+               "%d consecutive parts of the samples, each fitted alike (lags %ld-%ld); the fit's own error, %.2g, is a "
+               "lower bound: it ignores the correlation between lags)\n", D, sqrt(s / (D_BLOCKS * (D_BLOCKS - 1.0))),
+            u.D, lag / 5, lag, D_BLOCKS, plag / 5, plag, Dfit);
+  } else
+    fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples; error: the fit's error of the "
+               "slope, a lower bound: it ignores the correlation between lags; too few samples for a block error)\n",
+            D, Dfit, u.D, lag / 5, lag);
+}
+
+/* The correlation functions of the nf stored frames from j0, their file and the diffusion. */
+static void correlation_lines(FILE *f, const analysis *a, long j0, const char *path, double dt_sample, char *errs,
+                              size_t nerrs)
+{
+  const long stored = rl_vec_series_frames(a->pos), nf = stored - j0;
+  if (a->samples - j0 >= 4 && nf < 4)
+    fprintf(f, "correlation_functions = n/a (the %ld samples kept for them, memory bound %.0f MB: analysis.c, lie in the "
+               "discarded part)\n", stored, RL_TCF_MEMORY / (1024.0 * 1024.0));
+  if (nf < 4) return;
+  const long lag = nf / 2 < RL_TCF_MAX_LAG ? nf / 2 : RL_TCF_MAX_LAG;
+  if (a->samples > stored || nf / 2 > lag)
+    fprintf(f, "correlation_functions = from the first %ld of %ld samples, lags up to %ld samples (memory bound %.0f MB, "
+               "lag bound %d: analysis.c)%s\n", stored, a->samples, lag, RL_TCF_MEMORY / (1024.0 * 1024.0),
+            RL_TCF_MAX_LAG, j0 ? ", averaged over those after the discarded part" : "");
+  fprintf(f, "orientation_vector = %s\n", a->orient_text);
+  /* a column that cannot be computed is n/a in the file, with the reason here; never zeros */
+  static const char *col[5] = {"P1", "P2", "vacf", "omega_acf", "msd"};
+  double *c[5] = {NULL, NULL, NULL, NULL, NULL};
+  rl_tcf_kind kinds[5] = {RL_TCF_P1, RL_TCF_P2, RL_TCF_DOT, RL_TCF_DOT, RL_TCF_MSD};
+  rl_vec_series *src[5] = {a->axis, a->axis, a->vel, a->omega, a->pos};
+  for (int k = a->orient == ORIENT_NONE ? 2 : 0; k < 5; k++) {
+    if (!(c[k] = calloc((size_t)lag + 1, sizeof(double))))
+      fprintf(f, "correlation_error = %s: out of memory\n", col[k]);
+    else if (rl_tcf_compute_range(src[k], j0, nf, kinds[k], lag, 1, c[k])) {
+      fprintf(f, "correlation_error = %s: %s\n", col[k], rl_last_error());
+      free(c[k]);
+      c[k] = NULL;
+    }
+  }
+  if (c[4]) diffusion_line(f, a, c[4], j0, nf, lag, dt_sample);
+  tcf_table t = {a, lag, dt_sample, {c[0], c[1], c[2], c[3], c[4]}};
+  if (!path) add_failure(errs, nerrs, "tcf.csv: out of memory for its name");
+  else if (write_file(path, write_tcf, &t, errs, nerrs)) fprintf(f, "# could not write %s\n", rl_last_error());
+  for (int k = 0; k < 5; k++) free(c[k]);
+}
+
+/* The RDFs of the samples from j0 and their file. */
+static void rdf_lines(FILE *f, const analysis *a, long j0, const char *path, char *errs, size_t nerrs)
+{
+  if (a->nrdf == 0) return;
+  if (rl_rdf_frames(a->rdf[0]) == 0) { /* nothing to normalise: no file, not garbage */
+    fprintf(f, "rdf = n/a (no configuration was sampled: output.sample_every)\n");
+    return;
+  }
+  if (j0 >= rl_rdf_frames(a->rdf[0])) {
+    fprintf(f, "rdf = n/a (no sampled configuration after the discarded steps)\n");
+    return;
+  }
+  const int nb = rl_rdf_nbins(a->rdf[0]);
+  double *r = malloc(sizeof(double) * (size_t)nb), *g = malloc(sizeof(double) * (size_t)nb * (size_t)a->nrdf);
+  int bad = !r || !g || !path;
+  for (int q = 0; q < a->nrdf && !bad; q++)
+    bad = rl_rdf_get_from(a->rdf[q], j0, r, g + (size_t)q * (size_t)nb, NULL) != RL_OK;
+  rdf_table t = {a, nb, r, g};
+  if (bad) {
+    const char *why = !r || !g || !path ? "out of memory" : rl_last_error();
+    add_failure(errs, nerrs, "%s: %s", path ? path : "rdf.csv", why);
+    fprintf(f, "# could not write %s: %s\n", path ? path : "rdf.csv", why);
+  } else if (write_file(path, write_rdf, &t, errs, nerrs))
+    fprintf(f, "# could not write %s\n", rl_last_error());
+  free(r);
+  free(g);
+}
+
+/* calE, calU, their ratio and the heat capacity of the step records from i0. */
+static void fluctuation_lines(FILE *f, const analysis *a, long i0, long per)
 {
   const rl_deck *d = a->d;
-  int real = d->units == RL_UNITS_REAL;
-  const char *E = real ? "kJ/mol" : "";
-  /* results.txt is composed in memory and written last, so that it can report the other files;
-   * every file is attempted whatever happened to the others, and any failure is the return */
-  char errs[1024] = "", path[700], *text = NULL;
-  size_t text_len = 0;
-  FILE *f = open_memstream(&text, &text_len);
-  if (!f) return rl_error(RL_ENOMEM, "%s.results.txt: cannot compose the results: %s", prefix, strerror(errno));
-  if (d->energy_every > 1)
-    fprintf(f, "# rotleap results over %ld of this invocation's steps, one in %ld (output.energy_every; "
-               "block-averaged standard errors, Flyvbjerg-Petersen)\n", rl_series_count(a->U), d->energy_every);
-  else
-    fprintf(f, "# rotleap results over this invocation's %ld steps (block-averaged standard errors, "
-               "Flyvbjerg-Petersen)\n", rl_series_count(a->U));
-  line_block(f, "U_per_molecule", a->U, E);
-  line_block(f, "temperature", a->T, real ? "K" : "");
-  line_block(f, "temperature_translational", a->Tt, real ? "K" : "");
-  line_block(f, "temperature_rotational", a->Tr, real ? "K" : "");
-  line_block(f, "pressure", a->P, real ? "bar" : "");
-  line_block(f, "mean_square_force", a->F2, real ? "(kJ/mol/nm)^2" : "");
-  line_block(f, "mean_square_torque", a->K2, real ? "(kJ/mol)^2" : "");
-  char ce[64], cu[64];
-  fprintf(f, "calE = %s\ncalU = %s\n", rel_fluct_text(ce, sizeof ce, rl_series_rel_fluct(a->E)),
-          rel_fluct_text(cu, sizeof cu, rl_series_rel_fluct(a->U)));
+  const int nve = d->thermostat == RL_THERMO_NONE, real = d->units == RL_UNITS_REAL;
+  jk_result r;
+  char v[64], es[32], note[200];
+  rl_trace *eu[2] = {a->v[V_EC], a->v[V_U]};
+  static const char *what[3] = {"calE", "calU", "calE_over_calU"};
+  const char *of[3] = {nve ? "relative rms fluctuation of the total energy, the conserved quantity of NVE"
+                           : "relative rms fluctuation of the conserved quantity: the total energy plus the energy the "
+                             "thermostat took out (not of the total energy, which a thermostat does not conserve)",
+                       "relative rms fluctuation of the potential energy", "the paper's accuracy ratio"};
+  const long n = rl_trace_moments(a->v[V_U], i0).n;
+  for (int k = 0; k < 3; k++) {
+    if (n == 0) {
+      fprintf(f, "%s = n/a (no step averaged)\n", what[k]);
+      continue;
+    }
+    jackknife(eu + (k == 1), k == 2 ? 2 : 1, i0, k == 2 ? rel_fluct_ratio : rel_fluct, NULL, &r);
+    jk_text(&r, per, "steps", es, sizeof es, note, sizeof note);
+    if (isfinite(r.value)) fprintf(f, "%s = %s%s (%s; %s)\n", what[k], rel_fluct_text(v, sizeof v, r.value), es, of[k], note);
+    else fprintf(f, "%s = %s [%s]\n", what[k], rel_fluct_text(v, sizeof v, r.value), of[k]);
+  }
   /* The temperature of the fluctuation formulas: under a thermostat its target T0, the T of the
    * canonical (and isokinetic) distribution; the on-step T reads low at large steps (12 K for
-   * water at 5 fs), which would bias C_V ~ 1/T^2 and y ~ 1/T.  In NVE the mean on-step T. */
-  const int nve = d->thermostat == RL_THERMO_NONE;
-  const double kB = rl_units_kB(d->units), Tm = rl_series_mean(a->T), sdK = rl_series_sd(a->K),
-               sdU = rl_series_sd(a->U) * a->n, T = nve ? Tm : d->thermostat_temperature;
-  const int dof = (int)llround(2.0 * rl_series_mean(a->K) / (kB * Tm)); /* T = 2K/(g kB) defines g */
-  /* NVE: Lebowitz-Percus-Verlet from <dK^2>.  Any NVT: K and U are independent in the canonical
+   * water at 5 fs), which would bias C_V ~ 1/T^2 and y ~ 1/T.  In NVE the mean on-step T.
+   * NVE: Lebowitz-Percus-Verlet from <dK^2>.  Any NVT: K and U are independent in the canonical
    * ensemble (and K is fixed in the isokinetic one), so the kinetic part is exactly f kB/2 and only
    * the configurational <dU^2>/(kB T0^2) is sampled: <dE^2>/(kB T^2) would add the noise of <dK^2>
    * and of cov(K, U), which converges slowly under Bussi, and the on-step K's step-size bias */
-  double cv = NAN;
-  const int st = nve ? rl_heat_capacity_nve(rl_series_mean(a->K), sdK * sdK, dof, kB, &cv)
-                     : rl_heat_capacity_isokinetic(sdU * sdU, T, dof, kB, &cv);
-  if (st) fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
-  else if (nve)
-    fprintf(f, "heat_capacity_per_molecule = %.6g %s (NVE, Lebowitz-Percus-Verlet formula)\n", cv / (a->n * kB),
-            real ? "k_B" : "");
-  else
-    fprintf(f, "heat_capacity_per_molecule = %.6g %s (%s formula) [f k_B/2 + <dU^2>/(k_B T0^2), f = %d, T0 = %g%s "
-               "the thermostat's target]\n", cv / (a->n * kB), real ? "k_B" : "",
-            d->thermostat == RL_THERMO_ISOKINETIC ? "isokinetic" : "canonical", dof, T, real ? " K" : "");
-  long nf = rl_vec_series_frames(a->pos);
-  if (nf >= 4) {
-    long lag = nf / 2 < RL_TCF_MAX_LAG ? nf / 2 : RL_TCF_MAX_LAG;
-    if (a->samples > nf || nf / 2 > lag)
-      fprintf(f, "correlation_functions = from the first %ld of %ld samples, lags up to %ld samples "
-                 "(memory bound %.0f MB, lag bound %d: analysis.c)\n", nf, a->samples, lag,
-              RL_TCF_MEMORY / (1024.0 * 1024.0), RL_TCF_MAX_LAG);
-    fprintf(f, "orientation_vector = %s\n", a->orient_text);
-    /* a column that cannot be computed is n/a in the file, with the reason here; never zeros */
-    static const char *col[5] = {"P1", "P2", "vacf", "omega_acf", "msd"};
-    double *c[5] = {NULL, NULL, NULL, NULL, NULL};
-    rl_tcf_kind kinds[5] = {RL_TCF_P1, RL_TCF_P2, RL_TCF_DOT, RL_TCF_DOT, RL_TCF_MSD};
-    rl_vec_series *src[5] = {a->axis, a->axis, a->vel, a->omega, a->pos};
-    for (int k = a->orient == ORIENT_NONE ? 2 : 0; k < 5; k++) {
-      if (!(c[k] = calloc((size_t)lag + 1, sizeof(double))))
-        fprintf(f, "correlation_error = %s: out of memory\n", col[k]);
-      else if (rl_tcf_compute(src[k], kinds[k], lag, 1, c[k])) {
-        fprintf(f, "correlation_error = %s: %s\n", col[k], rl_last_error());
-        free(c[k]);
-        c[k] = NULL;
-      }
-    }
-    double D, Derr;
-    if (c[4] && !rl_diffusion_einstein(c[4], lag + 1, dt_sample, lag / 5, lag, &D, &Derr))
-      fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples)\n", D, Derr,
-              real ? "nm^2/ps" : "", lag / 5, lag);
-    tcf_table t = {a, lag, dt_sample, {c[0], c[1], c[2], c[3], c[4]}};
-    snprintf(path, sizeof path, "%s.tcf.csv", prefix);
-    if (write_file(path, write_tcf, &t, errs, sizeof errs)) fprintf(f, "# could not write %s\n", rl_last_error());
-    for (int k = 0; k < 5; k++) free(c[k]);
+  const rl_moments mK = rl_trace_moments(a->v[V_K], i0), mU = rl_trace_moments(a->v[V_U], i0);
+  if (mK.n == 0) {
+    fprintf(f, "heat_capacity_per_molecule = n/a (no step averaged)\n");
+    return;
   }
-  if (a->dipolar && rl_dipole_acc_count(a->M) >= 2) {
-    double mean[3], dM2 = rl_dipole_acc_fluct(a->M, mean), eps;
-    double V = d->box[0] * d->box[1] * d->box[2];
+  const double kB = rl_units_kB(d->units), Tm = rl_trace_moments(a->v[V_T], i0).mean;
+  const cv_ctx c = {nve, a->n, (int)llround(2.0 * mK.mean / (kB * Tm)), kB, nve ? Tm : d->thermostat_temperature};
+  double cv;
+  const double sdU = sqrt(mU.m2 / (double)mU.n) * a->n;
+  const int st = nve ? rl_heat_capacity_nve(mK.mean, mK.m2 / (double)mK.n, c.dof, kB, &cv)
+                     : rl_heat_capacity_isokinetic(sdU * sdU, c.T, c.dof, kB, &cv);
+  if (st) {
+    fprintf(f, "heat_capacity_per_molecule = n/a (%s)\n", rl_last_error());
+    return;
+  }
+  rl_trace *ku[2] = {a->v[V_K], a->v[V_U]};
+  jackknife(ku, 2, i0, heat_capacity, &c, &r);
+  jk_text(&r, per, "steps", es, sizeof es, note, sizeof note);
+  if (nve)
+    fprintf(f, "heat_capacity_per_molecule = %.6g%s k_B (NVE, Lebowitz-Percus-Verlet formula; %s)\n", cv / (a->n * kB),
+            es, note);
+  else
+    fprintf(f, "heat_capacity_per_molecule = %.6g%s k_B (%s formula) [f k_B/2 + <dU^2>/(k_B T0^2), f = %d, T0 = %g%s "
+               "the thermostat's target; %s]\n", cv / (a->n * kB), es,
+            d->thermostat == RL_THERMO_ISOKINETIC ? "isokinetic" : "canonical", c.dof, c.T, real ? " K" : "", note);
+}
+
+int analysis_write(analysis *a, const char *prefix, const char *suffix, double dt_sample)
+{
+  const rl_deck *d = a->d;
+  const units_text u = units_of(d->units);
+  if (!suffix) suffix = "";
+  /* results.txt is composed in memory and written last, so that it can report the other files;
+   * every file is attempted whatever happened to the others, and any failure is the return */
+  char errs[1024] = "", *text = NULL;
+  size_t text_len = 0;
+  FILE *f = open_memstream(&text, &text_len);
+  if (!f) return rl_error(RL_ENOMEM, "%s.results.txt%s: cannot compose the results: %s", prefix, suffix, strerror(errno));
+  const long per = a->nstep > 1 ? lround((a->t_last - a->t_first) / (double)(a->nstep - 1) / d->timestep) : 1;
+  /* nothing here may tell a continuation from the uninterrupted run: the files are the same */
+  fprintf(f, "# rotleap results of steps %ld to %ld (t = %.6g to %.6g %s): %ld steps with energies, one in %ld, and %ld "
+             "sampled configurations\n", step_of(a, a->t_first), step_of(a, a->t_last), a->t_first, a->t_last, u.time,
+          a->nstep, per, a->samples);
+  fprintf(f, "# errors: +- one standard error; of a mean: blocked (Flyvbjerg-Petersen, at the Lee-Needs-Towler level); of "
+             "a fluctuation quantity (calE, calU, calE_over_calU, heat capacity, dielectric constant): jackknife over "
+             "blocks at least that long\n");
+  const window w = equilibrate(a, f);
+  line_mean(f, "U_per_molecule", a->v[V_U], w.i0, u.E);
+  line_mean(f, "temperature", a->v[V_T], w.i0, u.T);
+  line_mean(f, "temperature_translational", a->v[V_TT], w.i0, u.T);
+  line_mean(f, "temperature_rotational", a->v[V_TR], w.i0, u.T);
+  line_mean(f, "pressure", a->v[V_P], w.i0, u.P);
+  line_mean(f, "mean_square_force", a->v[V_F2], w.i0, u.F2);
+  line_mean(f, "mean_square_torque", a->v[V_K2], w.i0, u.K2);
+  fluctuation_lines(f, a, w.i0, per);
+  char *tcf_path = file_name(prefix, ".tcf.csv", suffix), *rdf_path = file_name(prefix, ".rdf.csv", suffix);
+  correlation_lines(f, a, w.j0, tcf_path, dt_sample, errs, sizeof errs);
+  if (a->dipolar && rl_trace_moments(a->M2, w.j0).n >= 2) {
     if (a->point_dipoles && d->ff.dipole_method == RL_DIPOLE_SF)
       fprintf(f, "dielectric_constant = n/a (dipole = sf has no reaction-field boundary for the "
                  "fluctuation formula; dipole = rf with eps_rf gives one)\n");
-    else if (rl_dielectric_constant(dM2, V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps))
-      fprintf(f, "dielectric_constant = n/a (%s)\n", rl_last_error());
-    else
-      dielectric_lines(f, a, dM2, V, T, eps, nve ? "the mean temperature" : "the thermostat's target", dt_sample);
+    else {
+      const int nve = d->thermostat == RL_THERMO_NONE;
+      const double T = nve ? rl_trace_moments(a->v[V_T], w.i0).mean : d->thermostat_temperature;
+      dielectric_lines(f, a, w.j0, T, nve ? "the mean temperature" : "the thermostat's target", dt_sample);
+    }
   }
-  if (a->nrdf > 0 && rl_rdf_frames(a->rdf[0]) == 0) /* nothing to normalise: no file, not garbage */
-    fprintf(f, "rdf = n/a (no configuration was sampled: output.sample_every)\n");
-  else if (a->nrdf > 0) {
-    const int nb = rl_rdf_nbins(a->rdf[0]);
-    double *r = malloc(sizeof(double) * (size_t)nb), *g = malloc(sizeof(double) * (size_t)nb * (size_t)a->nrdf);
-    snprintf(path, sizeof path, "%s.rdf.csv", prefix);
-    int bad = !r || !g;
-    for (int q = 0; q < a->nrdf && !bad; q++) bad = rl_rdf_get(a->rdf[q], r, g + (size_t)q * (size_t)nb) != RL_OK;
-    rdf_table t = {a, nb, r, g};
-    if (bad) {
-      add_failure(errs, sizeof errs, "%s: %s", path, !r || !g ? "out of memory" : rl_last_error());
-      fprintf(f, "# could not write %s: %s\n", path, !r || !g ? "out of memory" : "the RDF could not be normalised");
-    } else if (write_file(path, write_rdf, &t, errs, sizeof errs))
-      fprintf(f, "# could not write %s\n", rl_last_error());
-    free(r);
-    free(g);
-  }
+  rdf_lines(f, a, w.j0, rdf_path, errs, sizeof errs);
+  free(tcf_path);
+  free(rdf_path);
   /* the results file itself */
   const int composed = fclose(f) == 0 && text;
-  snprintf(path, sizeof path, "%s.results.txt", prefix);
-  if (!composed) add_failure(errs, sizeof errs, "%s: out of memory composing it", path);
+  char *path = file_name(prefix, ".results.txt", suffix);
+  if (!composed || !path) add_failure(errs, sizeof errs, "%s.results.txt%s: out of memory composing it", prefix, suffix);
   else write_file(path, write_text, text, errs, sizeof errs);
+  free(path);
   free(text);
   return errs[0] ? rl_error(RL_EINVAL, "%s", errs) : RL_OK;
 }

@@ -31,7 +31,7 @@ enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
-  K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_PROGRESS, NKEYS
+  K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_PROGRESS, NKEYS
 };
 
 static const key_def keys[NKEYS] = {
@@ -73,6 +73,7 @@ static const key_def keys[NKEYS] = {
     [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none; at most 2147483647, DCD's 32-bit interval): PREFIX.dcd + PREFIX.pdb for models with several sites (water, CO2, 2CLJ, ...), whose DCD also limits run.steps to 2147483647; PREFIX.xyz (with orientations) for point dipoles and atoms"},
     [K_SAMPLE] = {"output", "sample_every", K_INT, Q_NONE, "10", NULL, "steps between configurations sampled for RDFs, correlation functions, diffusion and the dielectric constant (0: none)"},
     [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites)"},
+    [K_DISCARD] = {"output", "discard", K_STRING, Q_NONE, "auto", NULL, "steps left out of every average in PREFIX.results.txt, .rdf.csv and .tcf.csv, counted from the run's first step: auto (the equilibrated region detected from U per molecule: Chodera's start that maximises the uncorrelated samples, docs/observables.md) or a whole number of steps (0: average everything)"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
 };
 
@@ -649,6 +650,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       else fclose(t);
     }
   }
+  d->discard = strcmp(val(&r, K_DISCARD), "auto") ? integer(&r, K_DISCARD, 0, 0) : -1;
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 

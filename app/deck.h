@@ -39,6 +39,7 @@ typedef struct {
   long trajectory_every;    /* 0: none                                                   */
   long sample_every;        /* configurations for RDFs and correlation functions         */
   char rdf[256];            /* "O-O, H-H": site pairs                                    */
+  long discard;             /* output.discard: -1 auto, else steps left out of the averages */
   int progress;             /* -1 auto (a terminal), 0 no, 1 yes                        */
   rl_units units;
   char path[512];

@@ -4,6 +4,11 @@
 
 #include <rotleap/rotleap.h>
 
+/* Working files are made by the library's safe calls (io.h): rl_file_create creates a new file
+ * under an unused name beside its name (O_EXCL|O_NOFOLLOW) and renames it into place, so a link
+ * planted there is replaced, never written through; rl_file_open_existing refuses a link,
+ * anything but a regular file, and a file with other names (hard links). */
+
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -167,57 +172,6 @@ const char *outputs_part(const outputs *o, int k) { return o->s[k].part; }
 
 /* -------------------------------------------------------------------- working files */
 
-/* A new empty file at `path`, never through a link there: created under an unused name beside
- * it (O_EXCL: a link in its place is an error, not a target) and renamed over `path` (which
- * replaces a link at `path`, never its target).  The descriptor is open for writing. */
-static int create_new(const char *path, int *fd_out)
-{
-  *fd_out = -1;
-  const size_t n = strlen(path) + 32;
-  char *tmp = malloc(n);
-  if (!tmp) return rl_error(RL_ENOMEM, "out of memory");
-  int fd = -1;
-  for (int attempt = 0; fd < 0 && attempt < 100; attempt++) {
-    snprintf(tmp, n, "%s.new.%ld.%d", path, (long)getpid(), attempt);
-    fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) break;
-  }
-  if (fd < 0) {
-    const int e = errno;
-    free(tmp);
-    return rl_error(RL_EINVAL, "cannot create %s: %s", path, strerror(e));
-  }
-  if (rename(tmp, path) != 0) {
-    const int e = errno;
-    close(fd);
-    unlink(tmp);
-    rl_error(RL_EINVAL, "cannot create %s: renaming %s over it: %s", path, tmp, strerror(e));
-    free(tmp);
-    return RL_EINVAL;
-  }
-  free(tmp);
-  *fd_out = fd;
-  return RL_OK;
-}
-
-/* Open an existing working file without following a link, refusing anything but a regular file
- * with one name (a hard link to another file there would have it written to). */
-static int open_existing(const char *path, int flags, int *fd_out)
-{
-  *fd_out = -1;
-  const int fd = open(path, flags | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) return rl_error(RL_EINVAL, "cannot open %s: %s", path, strerror(errno));
-  struct stat st;
-  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) {
-    const int e = errno;
-    close(fd);
-    return rl_error(RL_EINVAL, "cannot open %s: %s", path,
-                    !S_ISREG(st.st_mode) ? "not a regular file" : st.st_nlink != 1 ? "it has other names (hard links)" : strerror(e));
-  }
-  *fd_out = fd;
-  return RL_OK;
-}
-
 static FILE *register_fp(out_stream *s, int fd, const char *mode)
 {
   FILE *fp = fdopen(fd, mode);
@@ -234,7 +188,7 @@ FILE *outputs_create(outputs *o, int k)
 {
   out_stream *s = &o->s[k];
   int fd;
-  if (create_new(s->part, &fd)) return NULL;
+  if (rl_file_create(s->part, &fd)) return NULL;
   s->on = s->fresh = 1;
   s->skip = s->hashed = 0;
   s->hash = OUTPUTS_HASH_INIT;
@@ -303,7 +257,7 @@ static int copy_prefix(const char *src, const char *dst, int64_t len)
 {
   const int in = open(src, O_RDONLY | O_CLOEXEC);
   if (in < 0) return rl_error(RL_EINVAL, "cannot read %s: %s", src, strerror(errno));
-  int out, st = create_new(dst, &out);
+  int out, st = rl_file_create(dst, &out);
   if (st) { close(in); return st; }
   loff_t from = 0;
   while (!st && from < len) {
@@ -355,7 +309,7 @@ int outputs_resume(outputs *o, int k, const out_mark *m, const char *src_path, c
   int st = RL_OK;
   if (!strcmp(cand[found], s->part)) { /* this run's own working file: drop what followed the checkpoint */
     int fd;
-    if (!(st = open_existing(s->part, O_WRONLY, &fd))) {
+    if (!(st = rl_file_open_existing(s->part, O_WRONLY, &fd))) {
       if (ftruncate(fd, (off_t)m->len) != 0 || fsync(fd) != 0)
         st = rl_error(RL_EINVAL, "cannot truncate %s after its first %lld bytes: %s", s->part, (long long)m->len,
                       strerror(errno));
@@ -375,8 +329,13 @@ FILE *outputs_append(outputs *o, int k)
 {
   out_stream *s = &o->s[k];
   int fd;
-  if (open_existing(s->part, O_WRONLY | O_APPEND, &fd)) return NULL;
-  return register_fp(s, fd, "a");
+  if (rl_file_open_existing(s->part, O_WRONLY | O_APPEND, &fd)) return NULL;
+  FILE *fp = register_fp(s, fd, "a");
+  if (fp && fseek(fp, 0, SEEK_END) != 0) { /* the stream's position is its end (the journal checks it) */
+    rl_error(RL_EINVAL, "cannot open %s: %s", s->part, strerror(errno));
+    return NULL;
+  }
+  return fp;
 }
 
 int outputs_mark(outputs *o, out_mark marks[OUT_NSTREAMS])

@@ -326,7 +326,9 @@ typedef struct {
   int streams;          /* the streams are open                                            */
   rl_integrator *in;
   analysis *an;
-  FILE *thermo, *xyz;
+  FILE *thermo, *xyz, *journal; /* the analysis journal: PREFIX.samples (outputs.h)           */
+  long journal_len;      /* its bytes at the checkpoint continued, to replay             */
+  int journal_copied;    /* ... copied from the run of another prefix                    */
   rl_dcd *dcd;
   running E, U, T, Tt, Tr, P; /* E: the conserved quantity (the total energy in NVE)      */
   scene_watch watch;
@@ -439,19 +441,62 @@ static int check_unfinished(run_ctx *c)
                   d->prefix, c->chk_path, step, c->chk_path, d->prefix, c->chk_path);
 }
 
-/* Header and frame bytes of the DCD the run writes. */
-static int dcd_layout(const char *path, const rl_system *sys, long *header, long *frame)
+/* The analysis journal: continued (rec), copied from another prefix's run (other), or new. */
+static int open_journal(run_ctx *c, const run_record *rec, const run_record *other)
 {
-  (void)path;
-  *header = 276;
-  *frame = 56L + 3L * (8L + 4L * rl_io_natoms(sys));
-  return RL_OK;
+  outputs *o = c->out;
+  const out_mark *m = rec ? &rec->marks[OUT_SAMPLES] : other ? &other->marks[OUT_SAMPLES] : NULL;
+  if (m && m->where != MARK_NONE) {
+    int st;
+    if (rec) st = outputs_resume(o, OUT_SAMPLES, m, outputs_path(o, OUT_SAMPLES), outputs_part(o, OUT_SAMPLES));
+    else { /* the journal of the checkpoint's run, beside its checkpoint (PREFIX.chk: PREFIX.samples) */
+      const size_t n = strlen(c->d->start);
+      char *pre = n > 4 ? strndup(c->d->start, n - 4) : NULL;
+      char *path = pre ? outputs_name(pre, ".samples") : NULL, *part = path ? outputs_name(path, ".part") : NULL;
+      st = part ? outputs_resume(o, OUT_SAMPLES, m, path, part) : rl_error(RL_ENOMEM, "out of memory");
+      free(pre);
+      free(path);
+      free(part);
+      if (st) { /* a new journal instead */
+        fprintf(stderr, "rotleap run: warning: the results cover the steps of this run only, from step %ld: %s\n",
+                c->first, rl_last_error());
+        st = RL_OK;
+        m = NULL;
+      }
+      c->journal_copied = m != NULL;
+    }
+    if (st) return st;
+    if (m) {
+      c->journal_len = m->len;
+      return (c->journal = outputs_append(o, OUT_SAMPLES)) ? RL_OK : RL_EINVAL;
+    }
+  }
+  return (c->journal = outputs_create(o, OUT_SAMPLES)) ? RL_OK : RL_EINVAL;
+}
+
+/* The analysis takes its journal: a continuation replays the part its checkpoint covers first. */
+static int attach_journal(run_ctx *c)
+{
+  const char *part = outputs_part(c->out, OUT_SAMPLES);
+  int st = c->journal_len > 0 ? analysis_replay(c->an, part, c->journal_len) : RL_OK;
+  if (st && c->journal_copied) { /* another prefix's journal this run cannot use: a new one */
+    fprintf(stderr, "rotleap run: warning: the results cover the steps of this run only, from step %ld: %s\n", c->first,
+            rl_last_error());
+    analysis_free(c->an);
+    c->an = analysis_alloc(c->d, &c->s.mol, c->s.sys);
+    if (!c->an || !(c->journal = outputs_create(c->out, OUT_SAMPLES))) return RL_EINVAL;
+    st = RL_OK;
+  }
+  return st ? st : analysis_set_journal(c->an, c->journal, part);
 }
 
 /* The streams of this run: new working files (a new run, or a continuation under another
  * prefix, whose rows and frames start at its first step), or those of the checkpoint's run
- * continued from its marks (a continuation under this prefix). */
-static int open_streams(run_ctx *c, const run_record *rec)
+ * continued from its marks (rec: a continuation under this prefix).  The analysis journal
+ * (PREFIX.samples) of a continuation under another prefix is copied from the journal of the
+ * checkpoint's run (other), so that the results cover the whole run; if it cannot be, the
+ * results cover this run's steps, and the run says so. */
+static int open_streams(run_ctx *c, const run_record *rec, const run_record *other)
 {
   const rl_deck *d = c->d;
   outputs *o = c->out;
@@ -463,13 +508,14 @@ static int open_streams(run_ctx *c, const run_record *rec)
   else if (fputs(THERMO_HEADER, c->thermo) < 0)
     st = rl_error(RL_EINVAL, "cannot write %s: %s", outputs_part(o, OUT_THERMO), strerror(errno));
   c->streams = 1;
+  if (!st) st = open_journal(c, rec, other);
   if (st || d->trajectory_every <= 0) return st;
   const int resume = rec && rec->marks[OUT_TRAJ].where != MARK_NONE;
   if (c->site) { /* the DCD; its PDB topology is written by open_topology, at the production's start */
     long header, frame;
     if (resume) {
       if (!(st = outputs_resume(o, OUT_TRAJ, &rec->marks[OUT_TRAJ], outputs_path(o, OUT_TRAJ), outputs_part(o, OUT_TRAJ))) &&
-          !(st = dcd_layout(outputs_part(o, OUT_TRAJ), c->s.sys, &header, &frame)) &&
+          !(st = rl_dcd_layout(outputs_part(o, OUT_TRAJ), &header, &frame)) &&
           !(c->dcd = rl_dcd_append(outputs_part(o, OUT_TRAJ), c->s.sys, (rec->marks[OUT_TRAJ].len - header) / frame)))
         st = RL_EINVAL;
       if (!st && rec->marks[OUT_TOPOLOGY].where != MARK_NONE)
@@ -478,7 +524,7 @@ static int open_streams(run_ctx *c, const run_record *rec)
     } else {
       c->dcd = rl_dcd_create(outputs_part(o, OUT_TRAJ), c->s.sys, c->first + d->trajectory_every, d->trajectory_every,
                              d->timestep, "rotleap");
-      if (!c->dcd || dcd_layout(outputs_part(o, OUT_TRAJ), c->s.sys, &header, &frame)) st = RL_EINVAL;
+      if (!c->dcd || rl_dcd_layout(outputs_part(o, OUT_TRAJ), &header, &frame)) st = RL_EINVAL;
       else outputs_started(o, OUT_TRAJ, header);
     }
   } else if (resume) {
@@ -822,7 +868,7 @@ int rl_app_run(const rl_deck *d)
     c.site = !rl_model_build(d->model, d->params, d->force_general, &m) && rl_deck_site_model(&m);
   }
   int st = !c.chk_path || !c.chk_prev || !c.summary_path || !c.physics ? rl_error(RL_ENOMEM, "out of memory") : RL_OK;
-  if (!st && !(c.out = outputs_alloc(d->prefix, d->trajectory_every > 0 ? (c.site ? "dcd" : "xyz") : NULL, 0)))
+  if (!st && !(c.out = outputs_alloc(d->prefix, d->trajectory_every > 0 ? (c.site ? "dcd" : "xyz") : NULL, 1)))
     st = RL_ENOMEM;
   /* before anything is written: no output may overwrite the deck or the start, the directory
    * must be safe to write in, and no other run may be writing this prefix */
@@ -853,7 +899,7 @@ int rl_app_run(const rl_deck *d)
   if (!st && !c.resumed) st = check_unfinished(&c);
   /* the streams (their working files) are open from the relaxation on: a signal then ends the
    * run as it does the production, with its files, checkpoint and summary */
-  if (!st) st = open_streams(&c, c.resumed ? &rec : NULL);
+  if (!st) st = open_streams(&c, c.resumed ? &rec : NULL, cont && !c.resumed && !relax_cont ? &rec : NULL);
   if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   /* the relaxation (a new run, or the rest of a stopped one) */
   if (!st && !c.s.restart) start_check(&c);
@@ -880,7 +926,7 @@ int rl_app_run(const rl_deck *d)
     if (st) step_error(&c, st);
     else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
-  if (!st && !c.stopped && !(c.an = analysis_alloc(d, &c.s.mol, c.s.sys))) {
+  if (!st && !c.stopped && (!(c.an = analysis_alloc(d, &c.s.mol, c.s.sys)) || attach_journal(&c))) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
@@ -933,7 +979,10 @@ int rl_app_run(const rl_deck *d)
         fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
         break;
       }
-      analysis_step(c.an, &info, pr, &fsnap, c.s.sys);
+      if ((st = analysis_step(c.an, &info, pr, &fsnap, c.s.sys))) {
+        fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
+        break;
+      }
       running_add(&c.E, info.conserved);
       running_add(&c.U, info.potential);
       running_add(&c.T, info.temperature);
@@ -1012,7 +1061,7 @@ int rl_app_run(const rl_deck *d)
   if (progress) fputc('\n', stderr);
   /* results, RDF and TCF files: each is written (atomically) whatever happened to the others */
   char io_failure[1024] = "";
-  if (!st && c.an && c.done > 0 && analysis_write(c.an, d->prefix, d->sample_every * d->timestep)) {
+  if (c.an && c.first + c.done > 0 && analysis_write(c.an, d->prefix, st ? ".part" : NULL, d->sample_every * d->timestep)) {
     snprintf(io_failure, sizeof io_failure, "cannot write the results: %s", rl_last_error());
     fprintf(stderr, "rotleap run: %s\n", io_failure);
     io_bad = 1;

@@ -166,7 +166,13 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   int cap = (int)(r->steps / thermo + 2 < 4096 ? r->steps / thermo + 2 : 4096); /* grows with the run */
   r->curve = malloc(sizeof *r->curve * (size_t)cap);
   rl_integrator *in = NULL;
-  analysis *an = o->analysis && sys ? analysis_alloc(d, &base->mol, sys) : NULL;
+  /* the analysis sees this run's step, energies every step and its sampling interval (its step
+   * numbers and times are this run's, not the deck's run.timestep's) */
+  rl_deck dr = *d;
+  dr.timestep = r->h;
+  dr.energy_every = 1;
+  dr.sample_every = sample;
+  analysis *an = o->analysis && sys ? analysis_alloc(&dr, &base->mol, sys) : NULL;
   int nrot = sys ? rl_system_nrot(sys) : 0;
   rl_forces snap = {o->analysis ? calloc((size_t)n, sizeof(double[3])) : NULL,
                     o->analysis ? calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])) : NULL, 0.0, {0}, 0};
@@ -242,7 +248,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     char tail[96];
     snprintf(tail, sizeof tail, ".%s.h%g", rl_deck_integrators[r->integ].name, r->h * (d->units == RL_UNITS_REAL ? 1e3 : 1.0));
     char *pre = outputs_name(o->prefix, tail);
-    if (!pre || analysis_write(an, pre, (sample ? sample : 1) * r->h)) {
+    if (!pre || analysis_write(an, pre, NULL, (sample ? sample : 1) * r->h)) {
       fprintf(stderr, "rotleap scan: writing %s%s.*: %s\n", o->prefix, tail, pre ? rl_last_error() : "out of memory");
       r->analysis_bad = 1;
     }

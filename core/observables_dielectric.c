@@ -105,17 +105,14 @@ int rl_dielectric_constant(double dM2, double V, double T, double eps_rf, rl_uni
   if (st) return st;
   if (!(dM2 >= 0.0) || !isfinite(dM2)) return rl_error(RL_EINVAL, "rl_dielectric_constant: <dM^2> = %g", dM2);
   if (!(eps_rf >= 1.0)) return rl_error(RL_EINVAL, "rl_dielectric_constant: eps_rf = %g (need >= 1 or INFINITY)", eps_rf);
-  double y = f * dM2;
-  if (isinf(eps_rf)) {
-    *eps = 1.0 + y;
-    return RL_OK;
-  }
-  double den = 2.0 * eps_rf + 1.0 - y;
+  /* formed in x = 1 / eps_rf, so that eps_rf = 1e308 is the conducting limit (x = 0), as the
+   * reaction field's own constant is (models/coulomb_rf.c), rather than an overflow of 2 eps_rf */
+  const double y = f * dM2, x = 1.0 / eps_rf, den = 2.0 + x - x * y;
   if (!(den > 0.0))
     return rl_error(RL_EINVAL,
                     "rl_dielectric_constant: y = 4 pi kc <dM^2>/(3 V kT) = %g >= 2 eps_rf + 1 = %g: no finite eps", y,
                     2.0 * eps_rf + 1.0);
-  *eps = (2.0 * eps_rf * (1.0 + y) + 1.0) / den;
+  *eps = (2.0 * (1.0 + y) + x) / den;
   return RL_OK;
 }
 
@@ -123,6 +120,6 @@ double rl_dielectric_fluct(double eps, double V, double T, double eps_rf, rl_uni
 {
   double f = 0.0;
   if (y_factor(V, T, units, coulomb_constant, &f) || !(eps >= 1.0) || !(eps_rf >= 1.0)) return NAN;
-  double y = isinf(eps_rf) ? eps - 1.0 : (eps - 1.0) * (2.0 * eps_rf + 1.0) / (2.0 * eps_rf + eps);
+  const double x = 1.0 / eps_rf, y = (eps - 1.0) * (2.0 + x) / (2.0 + eps * x);
   return y / f;
 }

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "rotleap/error.h"
 
@@ -14,6 +15,11 @@ struct rl_rdf {
   double *hist;     /* [nbins] ordered pair counts summed over frames        */
   double pair_dens; /* sum over frames of P / V (allowed ordered pairs / volume) */
   double na_sum;    /* sum over frames of na                                    */
+  /* the totals before frames 0, S, 2S, ... (rl_rdf_get_from): marks [nmarks] */
+  long mark_every;  /* S */
+  int nmarks, mark_alloc;
+  double *mark_hist; /* [mark_alloc][nbins] */
+  double *mark_pd, *mark_na;
 };
 
 rl_rdf *rl_rdf_alloc(double r_max, int nbins)
@@ -32,6 +38,7 @@ rl_rdf *rl_rdf_alloc(double r_max, int nbins)
   g->r_max = r_max;
   g->nbins = nbins;
   g->dr = r_max / nbins;
+  g->mark_every = 1;
   return g;
 }
 
@@ -39,6 +46,9 @@ void rl_rdf_free(rl_rdf *g)
 {
   if (!g) return;
   free(g->hist);
+  free(g->mark_hist);
+  free(g->mark_pd);
+  free(g->mark_na);
   free(g);
 }
 
@@ -48,23 +58,35 @@ void rl_rdf_reset(rl_rdf *g)
   for (int k = 0; k < g->nbins; k++) g->hist[k] = 0.0;
   g->frames = 0;
   g->pair_dens = g->na_sum = 0.0;
+  g->nmarks = 0;
+  g->mark_every = 1;
 }
 
-int rl_rdf_add(rl_rdf *g, const double L[3], const double (*a)[3], int na, const int *mol_a,
-               const double (*b)[3], int nb, const int *mol_b)
+/* L positive and finite, r_max within half its shortest edge. */
+static int check_box(const rl_rdf *g, const double L[3])
 {
-  if (!g || !L || (na > 0 && !a) || (nb > 0 && !b) || na < 0 || nb < 0)
-    return rl_error(RL_EINVAL, "rl_rdf_add: NULL argument or negative count");
-  if ((mol_a == NULL) != (mol_b == NULL))
-    return rl_error(RL_EINVAL, "rl_rdf_add: give molecule labels for both sets or for neither");
   double Lmin = fmin(L[0], fmin(L[1], L[2]));
   if (!(Lmin > 0.0) || !isfinite(L[0] * L[1] * L[2]))
     return rl_error(RL_EINVAL, "rl_rdf_add: box edges must be positive and finite");
   if (g->r_max > 0.5 * Lmin * (1.0 + 1e-12))
     return rl_error(RL_EINVAL, "rl_rdf_add: r_max = %g exceeds half the shortest box edge (%g)", g->r_max,
                     0.5 * Lmin);
+  return RL_OK;
+}
+
+/* The pair counts of one frame (rl_rdf_add's arguments), nothing added.  out hist[nbins]. */
+static int count_frame(const rl_rdf *g, const double L[3], const double (*a)[3], int na, const int *mol_a,
+                       const double (*b)[3], int nb, const int *mol_b, uint32_t *hist, double *pairs)
+{
+  if (!g || !L || (na > 0 && !a) || (nb > 0 && !b) || na < 0 || nb < 0)
+    return rl_error(RL_EINVAL, "rl_rdf_add: NULL argument or negative count");
+  if ((mol_a == NULL) != (mol_b == NULL))
+    return rl_error(RL_EINVAL, "rl_rdf_add: give molecule labels for both sets or for neither");
+  int st = check_box(g, L);
+  if (st) return st;
   double rmax2 = g->r_max * g->r_max, inv_dr = 1.0 / g->dr;
   double excluded = 0.0;
+  for (int k = 0; k < g->nbins; k++) hist[k] = 0;
   for (int i = 0; i < na; i++) {
     for (int j = 0; j < nb; j++) {
       if (mol_a && mol_a[i] == mol_b[j]) {
@@ -82,19 +104,74 @@ int rl_rdf_add(rl_rdf *g, const double L[3], const double (*a)[3], int na, const
         continue;
       }
       int k = (int)(sqrt(r2) * inv_dr);
-      if (k < g->nbins) g->hist[k] += 1.0;
+      if (k < g->nbins && hist[k]++ == UINT32_MAX)
+        return rl_error(RL_EINVAL, "rl_rdf_add: more than %u pairs in bin %d of one frame", UINT32_MAX, k);
     }
   }
+  *pairs = (double)na * (double)nb - excluded;
+  return RL_OK;
+}
+
+int rl_rdf_add(rl_rdf *g, const double L[3], const double (*a)[3], int na, const int *mol_a,
+               const double (*b)[3], int nb, const int *mol_b)
+{
+  uint32_t *hist = g ? malloc(sizeof *hist * (size_t)g->nbins) : NULL;
+  if (g && !hist) return rl_error(RL_ENOMEM, "rl_rdf_add: out of memory");
+  double pairs = 0.0;
+  int st = count_frame(g, L, a, na, mol_a, b, nb, mol_b, hist, &pairs);
+  if (!st) st = rl_rdf_add_counts(g, L, hist, pairs, na);
+  free(hist);
+  return st;
+}
+
+/* Keep the totals before this frame when it is a multiple of S; RL_RDF_MARKS kept at most. */
+static int mark(rl_rdf *g)
+{
+  if (g->frames % g->mark_every) return RL_OK;
+  if (g->nmarks == RL_RDF_MARKS) { /* keep every other mark: S doubles */
+    for (int k = 0; k < RL_RDF_MARKS / 2; k++) {
+      memcpy(g->mark_hist + (size_t)k * (size_t)g->nbins, g->mark_hist + (size_t)(2 * k) * (size_t)g->nbins,
+             sizeof(double) * (size_t)g->nbins);
+      g->mark_pd[k] = g->mark_pd[2 * k];
+      g->mark_na[k] = g->mark_na[2 * k];
+    }
+    g->nmarks = RL_RDF_MARKS / 2;
+    g->mark_every *= 2;
+    if (g->frames % g->mark_every) return RL_OK;
+  }
+  if (g->nmarks == g->mark_alloc) {
+    const int alloc = g->mark_alloc ? 2 * g->mark_alloc : 16;
+    double *h = realloc(g->mark_hist, sizeof(double) * (size_t)alloc * (size_t)g->nbins);
+    if (h) g->mark_hist = h;
+    double *pd = h ? realloc(g->mark_pd, sizeof(double) * (size_t)alloc) : NULL;
+    if (pd) g->mark_pd = pd;
+    double *nm = pd ? realloc(g->mark_na, sizeof(double) * (size_t)alloc) : NULL;
+    if (!nm) return rl_error(RL_ENOMEM, "rl_rdf_add: out of memory for the marks of rl_rdf_get_from");
+    g->mark_na = nm;
+    g->mark_alloc = alloc;
+  }
+  memcpy(g->mark_hist + (size_t)g->nmarks * (size_t)g->nbins, g->hist, sizeof(double) * (size_t)g->nbins);
+  g->mark_pd[g->nmarks] = g->pair_dens;
+  g->mark_na[g->nmarks++] = g->na_sum;
+  return RL_OK;
+}
+
+int rl_rdf_add_counts(rl_rdf *g, const double L[3], const uint32_t *hist, double pairs, int na)
+{
+  if (!g || !L || !hist) return rl_error(RL_EINVAL, "rl_rdf_add_counts: NULL argument");
+  int st = check_box(g, L);
+  if (st || (st = mark(g))) return st;
+  for (int k = 0; k < g->nbins; k++) g->hist[k] += (double)hist[k];
   g->frames++;
-  g->pair_dens += ((double)na * (double)nb - excluded) / (L[0] * L[1] * L[2]);
+  g->pair_dens += pairs / (L[0] * L[1] * L[2]);
   g->na_sum += na;
   return RL_OK;
 }
 
-int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
-                     int species_b, int site_b)
+int rl_rdf_count_sites(const rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+                       int species_b, int site_b, uint32_t *hist, double *pairs, int *na_out)
 {
-  if (!g || !sys || !L) return rl_error(RL_EINVAL, "rl_rdf_add_sites: NULL argument");
+  if (!g || !sys || !L || !hist || !pairs || !na_out) return rl_error(RL_EINVAL, "rl_rdf_add_sites: NULL argument");
   int ns = rl_system_nspecies(sys);
   if (species_a < 0 || species_a >= ns || species_b < 0 || species_b >= ns)
     return rl_error(RL_EINVAL, "rl_rdf_add_sites: species %d or %d out of range (0..%d)", species_a, species_b,
@@ -126,7 +203,8 @@ int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int spe
       mol[ib++] = i;
     }
   }
-  st = rl_rdf_add(g, L, (const double(*)[3])a, na, mol, (const double(*)[3])(a + na), nb, mol + na);
+  st = count_frame(g, L, (const double(*)[3])a, na, mol, (const double(*)[3])(a + na), nb, mol + na, hist, pairs);
+  *na_out = na;
 done:
   free(s);
   free(a);
@@ -134,23 +212,57 @@ done:
   return st;
 }
 
+int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+                     int species_b, int site_b)
+{
+  uint32_t *hist = g ? malloc(sizeof *hist * (size_t)g->nbins) : NULL;
+  if (g && !hist) return rl_error(RL_ENOMEM, "rl_rdf_add_sites: out of memory");
+  double pairs = 0.0;
+  int na = 0, st = rl_rdf_count_sites(g, sys, L, species_a, site_a, species_b, site_b, hist, &pairs, &na);
+  if (!st) st = rl_rdf_add_counts(g, L, hist, pairs, na);
+  free(hist);
+  return st;
+}
+
 int rl_rdf_nbins(const rl_rdf *g) { return g ? g->nbins : 0; }
 double rl_rdf_rmax(const rl_rdf *g) { return g ? g->r_max : NAN; }
 long rl_rdf_frames(const rl_rdf *g) { return g ? g->frames : 0; }
 
-int rl_rdf_get(const rl_rdf *g, double *r, double *gr)
+/* g(r) from the totals minus those of mark k (k < 0: none). */
+static int get_since(const rl_rdf *g, int k, double *r, double *gr)
 {
-  if (!g) return rl_error(RL_EINVAL, "rl_rdf_get: NULL rdf");
-  if (g->frames == 0 || !(g->pair_dens > 0.0))
+  const double *h0 = k >= 0 ? g->mark_hist + (size_t)k * (size_t)g->nbins : NULL;
+  const double pd = g->pair_dens - (k >= 0 ? g->mark_pd[k] : 0.0);
+  if (g->frames == 0 || (k >= 0 && (long)k * g->mark_every >= g->frames) || !(pd > 0.0))
     return rl_error(RL_ESTATE, "rl_rdf_get: no frame (or no allowed pair) accumulated yet");
-  for (int k = 0; k < g->nbins; k++) {
-    if (r) r[k] = (k + 0.5) * g->dr;
+  for (int b = 0; b < g->nbins; b++) {
+    if (r) r[b] = (b + 0.5) * g->dr;
     if (gr) {
-      double shell = 4.0 / 3.0 * M_PI * (pow(k + 1.0, 3) - pow((double)k, 3)) * g->dr * g->dr * g->dr;
-      gr[k] = g->hist[k] / (g->pair_dens * shell);
+      double shell = 4.0 / 3.0 * M_PI * (pow(b + 1.0, 3) - pow((double)b, 3)) * g->dr * g->dr * g->dr;
+      gr[b] = (g->hist[b] - (h0 ? h0[b] : 0.0)) / (pd * shell);
     }
   }
   return RL_OK;
+}
+
+int rl_rdf_get(const rl_rdf *g, double *r, double *gr)
+{
+  if (!g) return rl_error(RL_EINVAL, "rl_rdf_get: NULL rdf");
+  return get_since(g, -1, r, gr);
+}
+
+int rl_rdf_get_from(const rl_rdf *g, long first, double *r, double *gr, long *used)
+{
+  if (!g) return rl_error(RL_EINVAL, "rl_rdf_get_from: NULL rdf");
+  if (first <= 0) {
+    if (used) *used = 0;
+    return get_since(g, -1, r, gr);
+  }
+  const long k = (first + g->mark_every - 1) / g->mark_every;
+  if (used) *used = k < g->nmarks ? k * g->mark_every : g->frames;
+  if (k >= g->nmarks)
+    return rl_error(RL_ESTATE, "rl_rdf_get_from: no frame from frame %ld on (%ld frames)", first, g->frames);
+  return get_since(g, (int)k, r, gr);
 }
 
 double rl_rdf_coordination(const rl_rdf *g, double r_lo, double r_hi)

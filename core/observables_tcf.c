@@ -66,7 +66,19 @@ const double (*rl_vec_series_frame(const rl_vec_series *s, long f))[3]
 
 int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long origin_stride, double *c)
 {
-  if (!s || !c) return rl_error(RL_EINVAL, "rl_tcf_compute: NULL argument");
+  return rl_tcf_compute_range(s, 0, s ? s->frames : 0, kind, max_lag, origin_stride, c);
+}
+
+int rl_tcf_compute_range(const rl_vec_series *all, long first, long count, rl_tcf_kind kind, long max_lag,
+                         long origin_stride, double *c)
+{
+  if (!all || !c) return rl_error(RL_EINVAL, "rl_tcf_compute: NULL argument");
+  if (first < 0 || count < 1 || count > all->frames - first)
+    return rl_error(RL_EINVAL, "rl_tcf_compute: frames %ld to %ld are not within the %ld frames", first,
+                    first + count - 1, all->frames);
+  /* those frames, as a series of their own */
+  const rl_vec_series view = {all->n, count, count, all->x + (size_t)all->n * 3 * (size_t)first};
+  const rl_vec_series *s = &view;
   if (max_lag < 0 || max_lag >= s->frames)
     return rl_error(RL_EINVAL, "rl_tcf_compute: max_lag = %ld must be in [0, frames = %ld)", max_lag, s->frames);
   if (origin_stride < 1) return rl_error(RL_EINVAL, "rl_tcf_compute: origin_stride = %ld (need >= 1)", origin_stride);

@@ -34,11 +34,12 @@ def main(prefix):
     except FileNotFoundError:
         return
     fig, ax = plt.subplots(figsize=(7, 4))
+    rkey = next(k for k in g if k.startswith("r_"))  # r_nm (real) or r_sigma (lj)
     for key in g:
-        if key != "r":
-            ax.plot(g["r"], g[key], label=key[2:])
+        if key != rkey:
+            ax.plot(g[rkey], g[key], label=key[2:])
     ax.axhline(1.0, color="grey", lw=0.5)
-    ax.set_xlabel("r (nm)")
+    ax.set_xlabel("r (nm)" if rkey == "r_nm" else "r (sigma)")
     ax.set_ylabel("g(r)")
     ax.legend()
     ax.set_title(prefix + ": radial distribution functions")

@@ -11,6 +11,7 @@
 #define ROTLEAP_OBSERVABLES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "rotleap/forcefield.h"
 #include "rotleap/system.h"
@@ -87,6 +88,85 @@ int rl_block_fixed(const double *x, size_t n, int nblocks, double *mean, double 
  * (the paper's calE as a function of run length, Fig. 1).  in x[n]; out out[n] (may alias x). */
 int rl_running_rel_fluct(const double *x, size_t n, double *out);
 
+/* ====================================================================== stored series
+ * rl_trace keeps a scalar series in bounded memory, so that averages can start anywhere (after
+ * an equilibration detected at the end of a run): consecutive blocks of B samples, each with its
+ * count, mean and sum of squared deviations.  B = 1 (every sample kept) until `cap` blocks are
+ * stored; then neighbouring blocks merge pairwise and B doubles, so at most cap blocks are kept
+ * and a start is resolved to B samples (B < 2 n / cap).  The samples after the last full block
+ * wait in a partial block, counted in the moments but not in the blocking.  Deterministic: the
+ * same samples give the same bits. */
+
+/* Count, mean and m2 = sum (x - mean)^2 of a set of samples (n = 0: empty). */
+typedef struct {
+  long n;
+  double mean, m2;
+} rl_moments;
+
+/* The moments of the union of two sets (Chan, Golub & LeVeque's pairwise update). */
+rl_moments rl_moments_merge(rl_moments a, rl_moments b);
+/* Leave-one-out moments: out[i] = the union of every group but i (merged from both sides, no
+ * subtraction).  in g[m], m >= 2; out out[m]. */
+int rl_moments_leave_one_out(const rl_moments *g, long m, rl_moments *out);
+/* Jackknife standard error of an estimator from its m leave-one-out values theta[m]:
+ * sqrt((m - 1)/m sum (theta_i - mean)^2).  NaN if m < 2 or a value is not finite. */
+double rl_jackknife_error(const double *theta, long m);
+
+#define RL_TRACE_CAP 65536 /* blocks kept by default: 1 MB */
+
+typedef struct rl_trace rl_trace;
+
+/* in cap: blocks kept, a power of two >= 4 (0: RL_TRACE_CAP).  NULL with a message on bad
+ * input or no memory. */
+rl_trace *rl_trace_alloc(long cap);
+void rl_trace_free(rl_trace *t); /* accepts NULL */
+/* in x finite (RL_ENONFINITE otherwise, not added); RL_ENOMEM if the store cannot grow. */
+int rl_trace_add(rl_trace *t, double x);
+long rl_trace_count(const rl_trace *t);
+long rl_trace_block(const rl_trace *t); /* B, samples per stored block */
+/* The first sample index >= i where the stored data can start: i rounded up to a multiple of B
+ * (the count if that is beyond the last full block). */
+long rl_trace_align(const rl_trace *t, long i);
+/* Moments of the samples from rl_trace_align(t, from) to the end (partial block included). */
+rl_moments rl_trace_moments(const rl_trace *t, long from);
+/* Moments of consecutive groups of `len` samples from rl_trace_align(t, from) (len rounded up
+ * to a multiple of B; a trailing incomplete group is left out, as in blocking).  out out[nmax]
+ * (may be NULL).  Returns the number of complete groups. */
+long rl_trace_groups(const rl_trace *t, long from, long len, rl_moments *out, long nmax);
+/* rl_series_block_average of the samples from rl_trace_align(t, from): Flyvbjerg-Petersen
+ * levels from log2 B up (the Lee-Needs-Towler level chosen among them; sem_naive from the exact
+ * moments).  With B = 1 it is the rl_series result for the same samples (to rounding: block
+ * means are merged pairwise).  RL_EINVAL if fewer
+ * than 4 samples. */
+int rl_trace_block_average(const rl_trace *t, long from, rl_block_result *r);
+
+/* ====================================================================== equilibration
+ * Statistical inefficiency g = 1 + 2 sum_{t=1}^{n-2} (1 - t/n) C(t) of x[n], with the normalised
+ * autocorrelation C(t) = sum_{i<n-t} dx_i dx_{i+t} / ((n - t) sigma^2), dx = x - mean, sigma^2
+ * the 1/n variance, summed until C(t) <= 0 at some t > 3; g < 1 is set to 1.  This is
+ * pymbar's timeseries.statisticalInefficiency (fast = False, mintime = 3).  n/g is the number of
+ * uncorrelated samples.  RL_EINVAL if n < 2 or the variance is 0. */
+int rl_statistical_inefficiency(const double *x, long n, double *g);
+/* Automated equilibration detection (J. D. Chodera, J. Chem. Theory Comput. 12, 1799 (2016);
+ * pymbar's timeseries.detectEquilibration): the start t0 that maximises the number of
+ * uncorrelated samples N_eff(t0) = (n - t0) / g(x[t0..n)), trying t0 = 0, stride, 2 stride, ...
+ * up to t0_max (t0_max < 0: n - 2, every start as pymbar); a constant tail counts as N_eff = 1,
+ * and the first maximum wins.  (pymbar counts n - t0 + 1 samples; here n - t0, the samples
+ * actually left.)  in x[n], n >= 2, stride >= 1; out t0, g = g at t0, neff = N_eff(t0) (any may
+ * be NULL).  Cost O(n^2 / stride) times the correlation length: give it at most a few thousand
+ * points (rl_trace_equilibration does). */
+int rl_detect_equilibration(const double *x, long n, long stride, long t0_max, long *t0, double *g,
+                            double *neff);
+/* rl_detect_equilibration on the means of consecutive groups of B k samples of a trace, k the
+ * smallest giving at most `points` groups (points >= 8), with starts up to the fraction
+ * max_start of the groups (1: every start; rotleap run uses 1/2, docs/observables.md): the start,
+ * in samples, is a multiple of the group length; g and N_eff are in groups (N_eff counts
+ * uncorrelated samples of the raw series as well, while the groups are shorter than its
+ * correlation time).  out t0 (samples), len (samples per group), g, neff, at_limit (1 if t0 lies
+ * in the last tenth of the starts tried: the relaxation may be longer) (any may be NULL). */
+int rl_trace_equilibration(const rl_trace *t, long points, double max_start, long *t0, long *len, double *g,
+                           double *neff, int *at_limit);
+
 /* ====================================================================== heat capacity
  * All return C_V of the whole system (extensive) in energy/temperature (real: kJ mol^-1 K^-1;
  * lj: k_B); divide by N for per molecule.  kB = rl_units_kB(units).
@@ -135,11 +215,25 @@ int rl_rdf_add(rl_rdf *g, const double L[3], const double (*a)[3], int na, const
  * are excluded. */
 int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
                      int species_b, int site_b);
+/* One frame's contribution, counted without adding it, and added from its counts: for a
+ * journal that replays frames (rl_rdf_add = count, then add the counts; the same bits).
+ * out hist[nbins]: ordered pair counts per bin (RL_EINVAL if one exceeds UINT32_MAX), *pairs the
+ * frame's allowed ordered pairs P, *na its a points.  in L[3] as in rl_rdf_add. */
+int rl_rdf_count_sites(const rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+                       int species_b, int site_b, uint32_t *hist, double *pairs, int *na);
+int rl_rdf_add_counts(rl_rdf *g, const double L[3], const uint32_t *hist, double pairs, int na);
 int rl_rdf_nbins(const rl_rdf *g);
 double rl_rdf_rmax(const rl_rdf *g);
 long rl_rdf_frames(const rl_rdf *g);
 /* out r[nbins] bin centres (may be NULL), gr[nbins] g(r).  RL_ESTATE if no frame was added. */
 int rl_rdf_get(const rl_rdf *g, double *r, double *gr);
+/* g(r) of the frames from `first` on (the equilibrated part of a run).  The accumulator keeps
+ * its totals at RL_RDF_MARKS evenly spaced frames (0, S, 2S, ...; S = 1 until that many
+ * frames, then S doubles), so the frames used start at the first mark >= first: S - 1 frames
+ * later at most (S < 2 frames / RL_RDF_MARKS).  out r, gr as rl_rdf_get, *used (may be NULL)
+ * the first frame used.  RL_ESTATE if no frame is left. */
+#define RL_RDF_MARKS 256
+int rl_rdf_get_from(const rl_rdf *g, long first, double *r, double *gr, long *used);
 /* Mean number of b points around an a point with r_lo <= r < r_hi (bins whose centres lie in
  * the range): sum of H_k / (F na).  For the first shell integrate up to the first minimum. */
 double rl_rdf_coordination(const rl_rdf *g, double r_lo, double r_hi);
@@ -177,6 +271,10 @@ const double (*rl_vec_series_frame(const rl_vec_series *s, long f))[3];
  * out c[max_lag + 1].  For P1/P2 a zero vector is RL_EINVAL. */
 int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long origin_stride,
                    double *c);
+/* The same over the `count` frames from `first` (a part of a run: its equilibrated part, or one
+ * of its blocks); max_lag < count. */
+int rl_tcf_compute_range(const rl_vec_series *s, long first, long count, rl_tcf_kind kind,
+                         long max_lag, long origin_stride, double *c);
 
 /* Self-diffusion, Einstein: least-squares line msd(t) = a + 6 D t over lags lag_lo..lag_hi
  * (inclusive; t = lag dt).  `rotleap run` computes lags up to L = min(frames / 2, 1000) and fits

@@ -24,8 +24,8 @@ import subprocess
 import sys
 import time
 
-FILES = {"dcd": ["chk", "thermo.csv", "dcd", "pdb"],
-         "xyz": ["chk", "thermo.csv", "xyz"]}
+FILES = {"dcd": ["chk", "thermo.csv", "dcd", "pdb", "samples", "results.txt", "rdf.csv", "tcf.csv"],
+         "xyz": ["chk", "thermo.csv", "xyz", "samples", "results.txt", "tcf.csv"]}
 SYSCALLS = ["write", "rename", "fsync", "ftruncate", "openat", "copy_file_range"]
 
 

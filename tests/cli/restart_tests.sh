@@ -29,7 +29,7 @@ three_runs() {
   local N=${HALF:-50}
   "$rotleap" run "$dk" "$@" --set run.steps=$((2 * N)) --set output.checkpoint_every=$N --set output.prefix="$work/$name-A" >/dev/null 2>"$name.err" || true
   "$rotleap" run "$dk" "$@" --set run.steps=$N --set output.prefix="$work/$name-B" >/dev/null 2>>"$name.err" || true
-  cp "$work/$name-B.chk" "$work/$name-Bn.chk"
+  cp "$work/$name-B.chk" "$work/$name-Bn.chk"; cp "$work/$name-B.samples" "$work/$name-Bn.samples"
   "$rotleap" run "$dk" "$@" --set run.steps=$((2 * N)) --set system.start="$work/$name-B.chk" --set output.prefix="$work/$name-B" >/dev/null 2>>"$name.err" || true
   "$rotleap" run "$dk" "$@" --set run.steps=$((2 * N)) --set system.start="$work/$name-Bn.chk" --set output.prefix="$work/$name-C" >/dev/null 2>>"$name.err" || true
   check "$name: all runs succeeded" "[ ! -s $name.err ] && [ -e $name-A.chk ] && [ -e $name-B.chk ] && [ -e $name-C.chk ]"

@@ -3,11 +3,7 @@
 # the file and the reason on stderr; the other outputs (thermo, summary, checkpoint and the other
 # analysis files) are written as usual.  A directory in place of the file stands for any failure.
 # usage: results_write_cli.sh ROTLEAP WORKDIR
-set -u
-rotleap=$1; work=$2
-rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
-pass=0; fail=0
-check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+source "$(dirname "$0")/cli_check.sh"
 cat > sm.ini <<'DECK'
 [system]
 model = stockmayer
@@ -25,6 +21,7 @@ timestep = 0.002
 thermo_every = 10
 sample_every = 5
 rdf = S-S
+discard = 0
 progress = no
 DECK
 "$rotleap" run sm.ini --set output.prefix=ok >out.txt 2>err.txt; code=$?

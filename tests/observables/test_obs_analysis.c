@@ -34,7 +34,8 @@ static void setup(fixture *fx, const char *name, const char *body)
   snprintf(fx->prefix, sizeof fx->prefix, WORK "/%s", name);
   FILE *f = fopen(path, "w");
   assert_non_null(f);
-  fprintf(f, "%s\n[output]\nprefix = %s\nprogress = no\n", body, fx->prefix);
+  /* every sample averaged (output.discard = 0) unless the test says otherwise */
+  fprintf(f, "%s\n[output]\nprefix = %s\nprogress = no\n%s", body, fx->prefix, strstr(body, "discard") ? "" : "discard = 0\n");
   fclose(f);
   assert_int_equal(rl_deck_load(path, NULL, 0, &fx->d, stderr), 0);
   assert_int_equal(rl_model_build(fx->d.model, fx->d.params, fx->d.force_general, &fx->mol), RL_OK);
@@ -75,6 +76,7 @@ static void step(fixture *fx, double U, double K, int g)
   info.ke_trans = 0.6 * K;
   info.ke_rot = 0.4 * K;
   info.total = U + K;
+  info.conserved = info.total;
   info.temperature = 2.0 * K / (g * rl_units_kB(fx->d.units));
   info.t_trans = info.t_rot = info.temperature;
   const int n = rl_system_count(fx->sys), nrot = rl_system_nrot(fx->sys);
@@ -137,14 +139,14 @@ static void orientation_columns(void **state)
     const char *model, *header, *p1_0, *why;
   } cases[] = {
       /* charged, no net dipole, linear: the axis rho (the dipoles were all zero: D1) */
-      {"co2", "lag_time,axis_P1,axis_P2,", "1", "molecular axis rho"},
+      {"co2", "lag_time_ps,axis_P1,axis_P2,", "1", "molecular axis rho"},
       /* a molecular dipole where the molecules have one */
-      {"tip4p", "lag_time,dipole_P1,dipole_P2,", "1", "molecular dipole"},
-      {"nh3", "lag_time,dipole_P1,dipole_P2,", "1", "molecular dipole"},
+      {"tip4p", "lag_time_ps,dipole_P1,dipole_P2,", "1", "molecular dipole"},
+      {"nh3", "lag_time_ps,dipole_P1,dipole_P2,", "1", "molecular dipole"},
       /* no charges, linear: the axis rho, named so */
-      {"n2", "lag_time,axis_P1,axis_P2,", "1", "molecular axis rho"},
+      {"n2", "lag_time_ps,axis_P1,axis_P2,", "1", "molecular axis rho"},
       /* no net dipole, spherical top: no vector to follow */
-      {"ch4", "lag_time,dipole_P1,dipole_P2,", "n/a", "n/a (model ch4 has no net dipole"},
+      {"ch4", "lag_time_ps,dipole_P1,dipole_P2,", "n/a", "n/a (model ch4 has no net dipole"},
   };
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 11);
@@ -162,7 +164,7 @@ static void orientation_columns(void **state)
       step(&fx, -100.0 + k, 0.5 * g * rl_units_kB(fx.d.units) * 250.0, g);
       assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
     }
-    assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+    assert_int_equal(analysis_write(fx.a, fx.prefix, NULL, 0.02), RL_OK);
     char *tcf = output(&fx, "tcf.csv"), *res = output(&fx, "results.txt"), line[400];
     assert_non_null(tcf);
     assert_non_null(res);
@@ -207,7 +209,7 @@ static void msd_wrapped(void **state)
     step(&fx, -40.0, 10.0, 40);
     assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
   }
-  assert_int_equal(analysis_write(fx.a, fx.prefix, 0.1), RL_OK);
+  assert_int_equal(analysis_write(fx.a, fx.prefix, NULL, 0.1), RL_OK);
   char *tcf = output(&fx, "tcf.csv");
   assert_non_null(tcf);
   /* msd is the last column; lag k: (k |v|)^2 exactly */
@@ -226,8 +228,8 @@ static void msd_wrapped(void **state)
   CHECK_LE("MSD of wrapped positions vs (k |v|)^2, relative", err, 1e-5);
   /* the Einstein window docs/observables.md gives: lags L/5..L, L = frames/2 */
   char *res = output(&fx, "results.txt");
-  printf("check Einstein window of %d samples: %s\n", frames, strstr(res, "MSD lags 1-6 samples") ? "lags 1-6 ok" : "FAIL");
-  assert_non_null(strstr(res, "(Einstein, MSD lags 1-6 samples)"));
+  printf("check Einstein window of %d samples: %s\n", frames, strstr(res, "(Einstein, MSD lags 1-6 samples;") ? "lags 1-6 ok" : "FAIL");
+  assert_non_null(strstr(res, "(Einstein, MSD lags 1-6 samples;"));
   free(res);
   free(tcf);
   teardown(&fx);
@@ -270,7 +272,7 @@ static void nvt_uses_target_temperature(void **state)
         assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
       }
     }
-    assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+    assert_int_equal(analysis_write(fx.a, fx.prefix, NULL, 0.02), RL_OK);
     char *res = output(&fx, "results.txt");
     assert_non_null(res);
     const double sdU = rl_series_sd(U);
@@ -306,7 +308,7 @@ static void nve_keeps_lpv(void **state)
     rl_series_add(K, kin);
     step(&fx, -50.0 - kin, kin, g); /* E conserved */
   }
-  assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+  assert_int_equal(analysis_write(fx.a, fx.prefix, NULL, 0.02), RL_OK);
   char *res = output(&fx, "results.txt");
   assert_non_null(res);
   double cv_want;
@@ -342,7 +344,7 @@ static void dielectric_short_run(void **state)
       step(&fx, -50.0 + gsl_ran_gaussian(rng, 1.0), 0.5 * g * 1.35, g);
       assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
     }
-    assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+    assert_int_equal(analysis_write(fx.a, fx.prefix, NULL, 0.02), RL_OK);
     char *res = output(&fx, "results.txt"), line[400], note[400];
     line_of(res, "dielectric_constant", line, sizeof line);
     line_of(res, "dielectric_note", note, sizeof note);
@@ -393,7 +395,7 @@ static void write_failures(void **state)
       step(&fx, -40.0, 10.0, 40);
       assert_int_equal(analysis_sample(fx.a, fx.sys), RL_OK);
     }
-    const int st = analysis_write(fx.a, fx.prefix, 0.02);
+    const int st = analysis_write(fx.a, fx.prefix, NULL, 0.02);
     const char *msg = rl_last_error();
     printf("check %s unwritable: status %d, message: %s\n", which[w], st, st ? msg : "");
     assert_int_not_equal(st, RL_OK);
@@ -430,7 +432,7 @@ static void rdf_without_samples(void **state)
                          "[interactions]\ncutoff = 2.5\n[run]\nsteps = 10\ntimestep = 0.002\n[output]\nrdf = S-S\n");
   remove(WORK "/nosample.rdf.csv");
   for (int k = 0; k < 8; k++) step(&fx, -40.0, 10.0, 40);
-  assert_int_equal(analysis_write(fx.a, fx.prefix, 0.02), RL_OK);
+  assert_int_equal(analysis_write(fx.a, fx.prefix, NULL, 0.02), RL_OK);
   char *rdf = output(&fx, "rdf.csv"), *res = output(&fx, "results.txt");
   printf("check no sample: rdf.csv %s; results: %s\n", rdf ? "WRITTEN (FAIL)" : "absent", strstr(res, "\nrdf = n/a") ? "rdf = n/a" : "FAIL");
   assert_null(rdf);
@@ -439,11 +441,271 @@ static void rdf_without_samples(void **state)
   teardown(&fx);
 }
 
+/* ------------------------------------------------------------------ the journal (issue 30 item 13) */
+
+/* The inputs of step k (the state sampled after it, every 4th step, and the step's report) are
+ * drawn from a generator seeded with k, so that any run of steps [from, to) sees the same. */
+static void feed(fixture *fx, long from, long to)
+{
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  const int n = rl_system_count(fx->sys), g = rl_system_dof(fx->sys);
+  for (long k = from; k < to; k++) {
+    gsl_rng_set(rng, 1000 + (unsigned long)k);
+    /* a relaxation (U from -30 to -50 over 100 steps) and noise */
+    const double U = -50.0 + 20.0 * exp(-k / 100.0) + gsl_ran_gaussian(rng, 1.0);
+    const double K = 0.5 * g * 1.35 * (1.0 + 0.05 * gsl_ran_gaussian(rng, 1.0));
+    rl_step_info info;
+    memset(&info, 0, sizeof info);
+    info.t = k * fx->d.timestep;
+    info.potential = U;
+    info.ke_trans = 0.6 * K;
+    info.ke_rot = 0.4 * K;
+    info.total = U + K;
+    info.conserved = info.total - 0.01 * k; /* the thermostat's work */
+    info.temperature = info.t_trans = info.t_rot = 2.0 * K / (g * rl_units_kB(fx->d.units));
+    double(*fo)[3] = calloc((size_t)n, sizeof *fo), (*to_)[3] = calloc((size_t)n, sizeof *to_);
+    for (int i = 0; i < n; i++)
+      for (int d = 0; d < 3; d++) {
+        fo[i][d] = gsl_ran_gaussian(rng, 10.0);
+        to_[i][d] = gsl_ran_gaussian(rng, 3.0);
+      }
+    rl_forces F = {fo, to_, 0.0, {0}, 0};
+    assert_int_equal(analysis_step(fx->a, &info, gsl_ran_gaussian(rng, 1.0), &F, fx->sys), RL_OK);
+    free(fo);
+    free(to_);
+    if ((k + 1) % 4) continue;
+    randomise(fx, rng);
+    for (int i = 0; i < n; i++) {
+      double r[3], v[3], l[3];
+      rl_system_get_position(fx->sys, i, r);
+      for (int d = 0; d < 3; d++) {
+        r[d] = fmod(2.5 * (i % 2 + 2 * (i / 2 % 2)) + (d == i % 3 ? 2.5 : 0.0) + 1.3 * d +
+                    0.02 * k * (d + 1) + gsl_ran_gaussian(rng, 0.3) + 10.0, 10.0);
+        v[d] = gsl_ran_gaussian(rng, 1.0);
+        l[d] = gsl_ran_gaussian(rng, 0.5);
+      }
+      double rho[3];
+      rl_system_get_axis(fx->sys, i, rho);
+      const double lr = l[0] * rho[0] + l[1] * rho[1] + l[2] * rho[2];
+      for (int d = 0; d < 3; d++) l[d] -= lr * rho[d]; /* no spin about the dipole's axis */
+      assert_int_equal(rl_system_set_position(fx->sys, i, r), RL_OK);
+      assert_int_equal(rl_system_set_velocity(fx->sys, i, v), RL_OK);
+      assert_int_equal(rl_system_set_angmom(fx->sys, i, l), RL_OK);
+    }
+    assert_int_equal(analysis_sample(fx->a, fx->sys), RL_OK);
+  }
+  gsl_rng_free(rng);
+}
+
+#define JOURNAL_DECK                                                                                 \
+  "[system]\nmodel = stockmayer\ncount = 8\nbox = 10\ntemperature = 1.35\n[interactions]\ncutoff = 2.5\n" \
+  "dipole = rf\neps_rf = 10\n[run]\nsteps = 10\ntimestep = 0.002\nensemble = nvt-bussi\ntemperature = 1.35\n" \
+  "[output]\nrdf = S-S\ndiscard = auto\n"
+
+static int same_file(const char *a, const char *b)
+{
+  char *x = slurp(a), *y = slurp(b);
+  const int same = x && y && !strcmp(x, y);
+  free(x);
+  free(y);
+  return same;
+}
+
+static long file_size(const char *path)
+{
+  struct stat sb;
+  return stat(path, &sb) ? -1 : (long)sb.st_size;
+}
+
+/* Steps 0..M-1 fed directly, and steps 0..K-1 journaled (and some beyond the checkpoint, as a
+ * killed run leaves them), replayed into a fresh analysis up to the checkpoint's byte count and
+ * continued to M: the same results, RDF and correlation files byte for byte, and the same
+ * journal. */
+static void journal_continuation(void **state)
+{
+  (void)state;
+  const long M = 900, K = 517, KILLED = 530;
+  fixture direct, first, cont;
+  char jd[300], jj[300];
+  setup(&direct, "jdirect", JOURNAL_DECK);
+  snprintf(jd, sizeof jd, "%s.journal", direct.prefix);
+  FILE *fd = fopen(jd, "wb");
+  assert_int_equal(analysis_set_journal(direct.a, fd, jd), RL_OK);
+  feed(&direct, 0, M);
+  fclose(fd);
+  assert_int_equal(analysis_write(direct.a, direct.prefix, NULL, 0.008), RL_OK);
+
+  setup(&first, "jcont", JOURNAL_DECK);
+  snprintf(jj, sizeof jj, "%s.journal", first.prefix);
+  FILE *fj = fopen(jj, "wb");
+  assert_int_equal(analysis_set_journal(first.a, fj, jj), RL_OK);
+  feed(&first, 0, K);
+  long nbytes = -1;
+  assert_int_equal(analysis_journal_sync(first.a, &nbytes), RL_OK); /* the checkpoint records nbytes */
+  feed(&first, K, KILLED); /* journaled after the checkpoint: a continuation drops them */
+  fclose(fj);
+  teardown(&first);
+  printf("check the journal: %ld bytes at the checkpoint (step %ld), %ld in the file\n", nbytes, K, file_size(jj));
+  assert_true(file_size(jj) > nbytes);
+
+  setup(&cont, "jcont", JOURNAL_DECK);
+  assert_int_equal(analysis_replay(cont.a, jj, nbytes), RL_OK);
+  assert_int_equal(truncate(jj, nbytes), 0);
+  fj = fopen(jj, "r+b");
+  assert_non_null(fj);
+  FILE *wrong = fopen(jj, "rb"); /* at byte 0, not where the replay ended */
+  assert_int_equal(analysis_set_journal(cont.a, wrong, jj), RL_EINVAL);
+  printf("check a journal not positioned at the replayed end is refused: %s\n", rl_last_error());
+  assert_non_null(strstr(rl_last_error(), "cut it to"));
+  fclose(wrong);
+  assert_int_equal(fseek(fj, 0, SEEK_END), 0);
+  assert_int_equal(analysis_set_journal(cont.a, fj, jj), RL_OK);
+  feed(&cont, K, M);
+  fclose(fj);
+  assert_int_equal(analysis_write(cont.a, cont.prefix, NULL, 0.008), RL_OK);
+  static const char *ext[] = {"results.txt", "rdf.csv", "tcf.csv"};
+  for (int e = 0; e < 3; e++) {
+    char a[300], b[300];
+    snprintf(a, sizeof a, "%s.%s", direct.prefix, ext[e]);
+    snprintf(b, sizeof b, "%s.%s", cont.prefix, ext[e]);
+    const int same = same_file(a, b);
+    printf("check %s of the continuation = the uninterrupted run's, byte for byte: %s\n", ext[e], same ? "ok" : "FAIL");
+    assert_true(same);
+  }
+  const int same = same_file(jd, jj);
+  printf("check the continued journal = the uninterrupted run's: %s\n", same ? "ok" : "FAIL");
+  assert_true(same);
+  char *res = output(&cont, "results.txt");
+  assert_non_null(strstr(res, "steps with energies")); /* every step, not this invocation's */
+  assert_non_null(strstr(res, "900 steps with energies"));
+  free(res);
+  teardown(&direct);
+  teardown(&cont);
+}
+
+/* A journal that is cut short, cut inside a record, of another run, damaged or not a journal is
+ * refused with a message naming the file and the cause; a write that fails is named too. */
+static void journal_refused(void **state)
+{
+  (void)state;
+  fixture fx;
+  char jp[300];
+  setup(&fx, "jbad", JOURNAL_DECK);
+  snprintf(jp, sizeof jp, "%s.journal", fx.prefix);
+  FILE *fp = fopen(jp, "wb");
+  assert_int_equal(analysis_set_journal(fx.a, fp, jp), RL_OK);
+  feed(&fx, 0, 40);
+  long nbytes = -1;
+  assert_int_equal(analysis_journal_sync(fx.a, &nbytes), RL_OK);
+  fclose(fp);
+  teardown(&fx);
+  char deck[300];
+  snprintf(deck, sizeof deck, "%s.ini", fx.prefix);
+  /* a damaged copy: the second record's tag overwritten */
+  char damaged[320];
+  snprintf(damaged, sizeof damaged, "%s.damaged", jp);
+  {
+    char *buf = malloc((size_t)nbytes);
+    FILE *in = fopen(jp, "rb"), *out = fopen(damaged, "wb");
+    assert_int_equal(fread(buf, 1, (size_t)nbytes, in), (size_t)nbytes);
+    /* header, first record (a step: 16 + 88 bytes), then the second's tag */
+    long hdr = nbytes;
+    fixture probe;
+    setup(&probe, "jprobe", JOURNAL_DECK);
+    char pp[300];
+    snprintf(pp, sizeof pp, "%s.journal", probe.prefix);
+    FILE *pf = fopen(pp, "wb");
+    assert_int_equal(analysis_set_journal(probe.a, pf, pp), RL_OK);
+    assert_int_equal(analysis_journal_sync(probe.a, &hdr), RL_OK);
+    fclose(pf);
+    teardown(&probe);
+    assert_int_equal(hdr, 236); /* docs/observables.md, "The analysis journal" */
+    memcpy(buf + hdr + 16 + 88, "XXXX", 4);
+    fwrite(buf, 1, (size_t)nbytes, out);
+    fclose(in);
+    fclose(out);
+    free(buf);
+  }
+  static const struct {
+    const char *name, *body, *which, *want;
+    long cut;
+  } cases[] = {
+      {"longer than the file", JOURNAL_DECK, "journal", "fewer than", 1},
+      {"inside a record", JOURNAL_DECK, "journal", "not at a record boundary", -7},
+      {"not a journal", JOURNAL_DECK, "deck", "is not a rotleap analysis journal", 0},
+      {"another system", "[system]\nmodel = stockmayer\ncount = 27\nbox = 10\ntemperature = 1.35\n[interactions]\n"
+                         "cutoff = 2.5\ndipole = rf\neps_rf = 10\n[run]\nsteps = 10\ntimestep = 0.002\nensemble = "
+                         "nvt-bussi\ntemperature = 1.35\n[output]\nrdf = S-S\ndiscard = auto\n",
+       "journal", "written for a system of 8 molecules, this run has 27", 0},
+      {"other rdf pairs", "[system]\nmodel = stockmayer\ncount = 8\nbox = 10\ntemperature = 1.35\n[interactions]\n"
+                          "cutoff = 2.5\ndipole = rf\neps_rf = 10\n[run]\nsteps = 10\ntimestep = 0.002\nensemble = "
+                          "nvt-bussi\ntemperature = 1.35\n[output]\ndiscard = auto\n",
+       "journal", "output.rdf with 1 pairs, this run has 0", 0},
+      {"a damaged record", JOURNAL_DECK, "damaged", "is damaged or of another run", 0},
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    fixture r;
+    setup(&r, "jreplay", cases[c].body);
+    const char *path = !strcmp(cases[c].which, "deck") ? deck : !strcmp(cases[c].which, "damaged") ? damaged : jp;
+    const int st = analysis_replay(r.a, path, nbytes + cases[c].cut);
+    printf("check %s: refused (%d): %s\n", cases[c].name, st, rl_last_error());
+    assert_int_not_equal(st, RL_OK);
+    assert_non_null(strstr(rl_last_error(), cases[c].want));
+    assert_non_null(strstr(rl_last_error(), path));
+    teardown(&r);
+  }
+  /* a write that fails (a full disk): the journal's name and the system's reason */
+  fixture w;
+  setup(&w, "jfull", JOURNAL_DECK);
+  FILE *full = fopen("/dev/full", "wb");
+  if (full) {
+    assert_int_equal(analysis_set_journal(w.a, full, "/dev/full"), RL_OK);
+    feed(&w, 0, 3);
+    const int st = analysis_journal_sync(w.a, NULL);
+    printf("check a full disk: %s\n", rl_last_error());
+    assert_int_not_equal(st, RL_OK);
+    assert_non_null(strstr(rl_last_error(), "/dev/full"));
+    assert_non_null(strstr(rl_last_error(), strerror(ENOSPC)));
+    rl_step_info info;
+    memset(&info, 0, sizeof info);
+    rl_forces F = {NULL, NULL, 0.0, {0}, 0};
+    assert_int_not_equal(analysis_step(w.a, &info, 0.0, &F, w.sys), RL_OK); /* and every later record */
+    fclose(full);
+  }
+  teardown(&w);
+}
+
+/* analysis_write(a, prefix, ".part", dt): NAME.results.txt.part and the others, nothing else. */
+static void write_with_suffix(void **state)
+{
+  (void)state;
+  fixture fx;
+  setup(&fx, "suffix", JOURNAL_DECK);
+  feed(&fx, 0, 40);
+  static const char *ext[] = {"results.txt", "rdf.csv", "tcf.csv"};
+  for (int e = 0; e < 3; e++) {
+    char p[300];
+    snprintf(p, sizeof p, "%s.%s", fx.prefix, ext[e]);
+    remove(p);
+  }
+  assert_int_equal(analysis_write(fx.a, fx.prefix, ".part", 0.008), RL_OK);
+  for (int e = 0; e < 3; e++) {
+    char p[300], q[300];
+    snprintf(p, sizeof p, "%s.%s.part", fx.prefix, ext[e]);
+    snprintf(q, sizeof q, "%s.%s", fx.prefix, ext[e]);
+    printf("check %s.part written, %s not: %s\n", ext[e], ext[e], file_size(p) > 0 && file_size(q) < 0 ? "ok" : "FAIL");
+    assert_true(file_size(p) > 0 && file_size(q) < 0);
+  }
+  teardown(&fx);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(orientation_columns), cmocka_unit_test(msd_wrapped),
                                      cmocka_unit_test(nvt_uses_target_temperature), cmocka_unit_test(nve_keeps_lpv),
                                      cmocka_unit_test(dielectric_short_run),
-                                     cmocka_unit_test(write_failures), cmocka_unit_test(rdf_without_samples)};
+                                     cmocka_unit_test(write_failures), cmocka_unit_test(rdf_without_samples),
+                                     cmocka_unit_test(journal_continuation), cmocka_unit_test(journal_refused),
+                                     cmocka_unit_test(write_with_suffix)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -25,6 +25,12 @@ static void formula(void **state)
   double eps_big;
   assert_int_equal(rl_dielectric_constant(dM2, V, T, 1e9, RL_UNITS_LJ, 0.0, &eps_big), RL_OK);
   CHECK_LE("eps_rf = 1e9 vs tin foil (relative)", fabs(eps_big - eps) / eps, 1e-7);
+  /* the conducting limit without overflow: 2 eps_rf + 1 is inf at eps_rf = 1e308 (issue 30 item 9) */
+  double eps_huge, back;
+  assert_int_equal(rl_dielectric_constant(dM2, V, T, 1e308, RL_UNITS_LJ, 0.0, &eps_huge), RL_OK);
+  CHECK_NEAR("eps_rf = 1e308 is tin foil to round-off", eps_huge, eps, 1e-14 * eps);
+  back = rl_dielectric_fluct(eps, V, T, 1e308, RL_UNITS_LJ, 0.0);
+  CHECK_NEAR("and its inverse at eps_rf = 1e308 gives <dM^2> back", back, dM2, 1e-12 * dM2);
   /* vacuum boundary eps_rf = 1: Clausius-Mossotti form (eps - 1)/(eps + 2) = y/3 */
   double y = 4.0 * M_PI * 5.0 / (3.0 * V * T), e1;
   assert_int_equal(rl_dielectric_constant(5.0, V, T, 1.0, RL_UNITS_LJ, 0.0, &e1), RL_OK);
