@@ -533,7 +533,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       if (!r.bad[K_SWITCH] && !r.bad[K_CUTOFF] && !(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
         problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
     }
-  } else if (r.val[K_SWITCH]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
+  } else if (r.val[K_SWITCH] && !r.bad[K_LJ]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
   d->ff.dispersion_correction = boolean(&r, K_DISP);
   d->ff.eps_rf = number(&r, K_EPSRF, u, 1, 78.3);
   if (!(d->ff.eps_rf >= 1.0)) problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
@@ -559,17 +559,18 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!r.val[K_DT]) r.bad[K_DT] = 1;
   d->method = rl_deck_integrators[choice(&r, K_INTEGRATOR)].method;
   int ens = choice(&r, K_ENSEMBLE);
+  const int ens_ok = !r.bad[K_ENSEMBLE]; /* an unknown ensemble is its one problem: nothing is checked against it */
   static const rl_thermostat ensembles[] = {RL_THERMO_NONE, RL_THERMO_ISOKINETIC, RL_THERMO_BUSSI, RL_THERMO_LANGEVIN};
   d->thermostat = ensembles[ens];
   const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
   if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
   else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
-  if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
+  if (ens == 0 && ens_ok && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
-  if (r.val[K_TAU] && !stochastic) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
+  if (r.val[K_TAU] && !stochastic && ens_ok) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
   d->thermostat_groups = choice(&r, K_TGROUPS) ? RL_THERMO_GROUPS_ALL : RL_THERMO_GROUPS_TRANS_ROT;
-  if (r.val[K_TGROUPS] && ens != 2)
+  if (r.val[K_TGROUPS] && ens != 2 && ens_ok)
     problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");
   if (!(d->tau > 0) && stochastic && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
     problem(&r, r.line[K_TAU], "run.tau must be positive");
@@ -578,8 +579,8 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
     problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
-  if (!r.val[K_TEMP] && r.bad[K_TTEMP]) r.bad[K_TEMP] = 1; /* its default is reported there */
-  if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
+  if (!r.val[K_TEMP] && (r.bad[K_TTEMP] || !ens_ok)) r.bad[K_TEMP] = 1; /* its default is reported there */
+  if (!r.val[K_TEMP] && ens == 0 && ens_ok) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
                  "sets the default neighbour-list skin and the kT of the blow-up checks (from a checkpoint, give "
                  "the first run's value: the same skin continues bit for bit)");
   else if (!r.bad[K_TEMP] && !(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))

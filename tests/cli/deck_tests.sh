@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The deck reader and its messages (issue 30 items 5, 7, 11; issue 31 item 4): paths of any
+# length the system accepts, never truncated; decks that are not text files or never end; the
+# line format (comments, indentation, empty values); each problem named once, at its own line.
+# usage: deck_tests.sh ROTLEAP SRCDIR WORKDIR
+set -u
+rotleap=$1; src=$2; work=$3
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+pass=0; fail=0
+check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+sm="$src/tests/cli/stockmayer_short.ini"
+# one_problem NAME MESSAGE ARGS...: the deck is refused (exit 2) with MESSAGE and no other problem
+one_problem() {
+  local name=$1 msg=$2; shift 2
+  timeout 30 "$rotleap" run "$@" >out.txt 2>err.txt; code=$?
+  check "$name" '[ $code -eq 2 ] && grep -q -- "$msg" err.txt && grep -q "^rotleap run: 1 problem in" err.txt'
+}
+# a deck: the short Stockmayer deck with sed's edits (deck NAME SED-SCRIPT)
+deck() { sed -e "$2" "$sm" > "$1"; }
+
+# --- an invalid choice is the only problem reported (issue 31 item 4) ----------------------
+deck nvt.ini 's|^temperature = 1.35|; none|; s|^\[run\]|[run]\nensemble = nvt-bussi\ntemperature = 1.35|'
+one_problem "an invalid run.ensemble is reported alone (no run.temperature or system.temperature noise)" \
+  "run.ensemble: 'nvt-foo' is not one of" nvt.ini --set run.ensemble=nvt-foo
+one_problem "... also from an NVE deck with run.temperature given" \
+  "run.ensemble: 'nvt-foo' is not one of" "$sm" --set run.ensemble=nvt-foo --set run.temperature=1.35
+one_problem "an invalid interactions.lj does not make interactions.switch unused" \
+  "interactions.lj: 'switchd' is not one of" "$sm" --set interactions.lj=switchd --set interactions.switch=1.5
+
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
