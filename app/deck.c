@@ -122,10 +122,9 @@ double rl_deck_max_temperature(const rl_deck *d, const char **key)
   return thermo ? d->thermostat_temperature : d->temperature;
 }
 
-double rl_deck_thermal_omega(const rl_deck *d)
+static double thermal_omega_at(const rl_deck *d, double T)
 {
   rl_molecule m;
-  const double T = rl_deck_max_temperature(d, NULL);
   if (!d->model || !(T > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
     return 0.0;
   double Jmin = INFINITY;
@@ -133,6 +132,8 @@ double rl_deck_thermal_omega(const rl_deck *d)
     if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
   return sqrt(rl_units_kB(d->units) * T / Jmin);
 }
+
+double rl_deck_thermal_omega(const rl_deck *d) { return thermal_omega_at(d, rl_deck_max_temperature(d, NULL)); }
 
 int rl_deck_integrator_lookup(const char *name)
 {
@@ -412,6 +413,16 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
   for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
 }
 
+/* A step h no rotation can follow: h times the thermal angular velocity at T above 1. */
+static void step_resolves_rotation(raw_deck *r, const rl_deck *d, int k, double h, double T, const char *tkey)
+{
+  const double hw = h * thermal_omega_at(d, T);
+  if (hw > 1.0)
+    problem(r, r->line[k], "%s.%s %g %s is too large for %s at %g %s%s: h times the thermal angular velocity "
+            "is %.3g > 1, no step can follow the rotation", keys[k].section, keys[k].name, h,
+            rl_dim_unit(Q_TIME, d->units), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, d->units), tkey, hw);
+}
+
 /* the values the handler stored (strdup'd) */
 static void raw_deck_free(raw_deck *r)
 {
@@ -586,16 +597,18 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   else if (!r.bad[K_TEMP] && !(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
     problem(&r, r.line[K_TEMP], "system.temperature must be positive");
   if (d->equilibrate_steps > 0 && !r.bad[K_TEMP] && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
-  /* an absurd step: no step can resolve a thermal rotation with h omega > 1, at the start's
-   * temperature or at the thermostat's, whichever is higher */
+  /* an absurd step: the run's at the start's temperature or at the thermostat's, whichever is
+   * higher; the relaxation's (a given one: the default, timestep / 4, passes when the run's does)
+   * at the start's, which its thermostat keeps */
   if (d->model && d->timestep > 0) {
     const char *tkey;
-    const double T = rl_deck_max_temperature(d, &tkey), hw = d->timestep * rl_deck_thermal_omega(d);
-    if (hw > 1.0)
-      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s%s: h times the thermal "
-              "angular velocity is %.3g > 1, no step can follow the rotation", d->timestep,
-              rl_dim_unit(Q_TIME, u), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, u), tkey, hw);
+    const double T = rl_deck_max_temperature(d, &tkey);
+    step_resolves_rotation(&r, d, K_DT, d->timestep, T, tkey);
   }
+  if (d->model && d->equilibrate_steps > 0 && r.val[K_EQDT] && !r.bad[K_EQDT] && d->equilibrate_timestep > 0 &&
+      !r.bad[K_TEMP] && d->temperature > 0)
+    step_resolves_rotation(&r, d, K_EQDT, d->equilibrate_timestep, d->temperature,
+                           " (system.temperature, the relaxation's)");
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
   d->ff.threads = (int)integer_in(&r, K_THREADS, 0, RL_DECK_MAX_THREADS, 0);

@@ -18,6 +18,14 @@ one_problem() {
 # a deck: the short Stockmayer deck with sed's edits (deck NAME SED-SCRIPT)
 deck() { sed -e "$2" "$sm" > "$1"; }
 
+# --- the relaxation's step, checked with the deck (item 11) ------------------------------
+one_problem "an absurd run.equilibrate_timestep is refused before the relaxation" \
+  "--set: run.equilibrate_timestep 1 reduced is too large for stockmayer at 1.35 reduced (system.temperature, the relaxation's)" \
+  "$sm" --set run.equilibrate=10 --set run.equilibrate_timestep=1 --set output.prefix="$work/eq"
+check "... and nothing is written" '[ ! -e "$work/eq.thermo.csv" ] && [ ! -e "$work/eq.summary.txt" ]'
+"$rotleap" run "$sm" --set run.equilibrate_timestep=1 --set run.steps=2 --set output.prefix="$work/eq0" >out.txt 2>err.txt; code=$?
+check "an unused run.equilibrate_timestep (no relaxation) is not checked against the rotation" '[ $code -eq 0 ]'
+
 # --- an invalid choice is the only problem reported (issue 31 item 4) ----------------------
 deck nvt.ini 's|^temperature = 1.35|; none|; s|^\[run\]|[run]\nensemble = nvt-bussi\ntemperature = 1.35|'
 one_problem "an invalid run.ensemble is reported alone (no run.temperature or system.temperature noise)" \
