@@ -413,6 +413,28 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
   for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
 }
 
+/* The model does not build from the [model] parameters: reported at the line of the one whose own
+ * value is the cause (the model builds with it at its default, the others as given). */
+static void model_problem(raw_deck *r, const rl_deck *d)
+{
+  char *msg = strdup(rl_last_error());
+  int culprit = -1;
+  for (int i = 0; i < r->nmodel && culprit < 0; i++) {
+    const int k = rl_model_param_index(d->model, r->model_key[i]);
+    double p[RL_MODEL_MAX_PARAMS];
+    rl_molecule m;
+    memcpy(p, d->params, sizeof p);
+    if (k < 0 || p[k] == d->model->param_defaults[k]) continue;
+    p[k] = d->model->param_defaults[k];
+    if (!rl_model_build(d->model, p, 0, &m)) culprit = i;
+  }
+  if (culprit >= 0)
+    problem(r, r->model_line[culprit], "[model] %s: model %s: %s", r->model_key[culprit], d->model->name,
+            msg ? msg : "does not build");
+  else problem(r, 0, "model %s: %s", d->model->name, msg ? msg : "does not build");
+  free(msg);
+}
+
 /* A step h no rotation can follow: h times the thermal angular velocity at T above 1. */
 static void step_resolves_rotation(raw_deck *r, const rl_deck *d, int k, double h, double T, const char *tkey)
 {
@@ -498,7 +520,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   double mass = 0.0;
   if (d->model) {
     rl_molecule m;
-    if (rl_model_build(d->model, d->params, 0, &m)) problem(&r, 0, "model %s: %s", d->model->name, rl_last_error());
+    if (rl_model_build(d->model, d->params, 0, &m)) model_problem(&r, d);
     else {
       mass = m.mass;
       if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);

@@ -18,6 +18,14 @@ one_problem() {
 # a deck: the short Stockmayer deck with sed's edits (deck NAME SED-SCRIPT)
 deck() { sed -e "$2" "$sm" > "$1"; }
 
+# --- model parameters refused at their lines (item 11) ------------------------------------
+deck i0.ini 's|^mu = 1.5|mu = 1.5\ninertia = 0|'
+one_problem "inertia = 0 is refused at its line" "i0.ini:9: \[model\] inertia: model stockmayer: inertia 0 must be positive" i0.ini
+printf '[system]\nmodel = 2clj\ncount = 108\ndensity = 0.6\ntemperature = 2\n[model]\nelongation = 0\n[interactions]\ncutoff = 2.5\n[run]\nsteps = 10\ntimestep = 0.001\n' > e0.ini
+one_problem "elongation = 0 is refused at its line" "e0.ini:7: \[model\] elongation: model 2clj: elongation 0 must be positive" e0.ini
+one_problem "a model parameter from --set is named as such" "--set: \[model\] elongation: model 2clj: elongation 0 must be positive" \
+  e0.ini --set model.elongation=0.5 --set model.elongation=0
+
 # --- the relaxation's step, checked with the deck (item 11) ------------------------------
 one_problem "an absurd run.equilibrate_timestep is refused before the relaxation" \
   "--set: run.equilibrate_timestep 1 reduced is too large for stockmayer at 1.35 reduced (system.temperature, the relaxation's)" \
