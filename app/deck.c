@@ -66,7 +66,7 @@ static const key_def keys[NKEYS] = {
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
-    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
+    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file (PREFIX.thermo.csv, ...): a file name, in a directory if you like (out, results/run1), not a directory (results/ is refused); default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
@@ -89,16 +89,18 @@ const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_de
 
 int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24])
 {
-  char buf[512], *save;
-  snprintf(buf, sizeof buf, "%s", spec);
+  char *buf = strdup(spec), *save;
+  if (!buf) return rl_error(RL_ENOMEM, "output.rdf: out of memory"), -1;
   int n = 0;
   for (char *tok = strtok_r(buf, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
     char *dash = strchr(tok, '-');
-    if (!dash) return rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok), -1;
-    if (n == RL_DECK_MAX_RDF) return rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF), -1;
+    if (!dash) rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok);
+    else if (n == RL_DECK_MAX_RDF) rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF);
+    if (!dash || n == RL_DECK_MAX_RDF) { n = -1; break; }
     *dash = '\0';
     const char *want[2] = {tok, dash + 1};
-    for (int k = 0; k < 2; k++) {
+    int missing = 0;
+    for (int k = 0; k < 2 && !missing; k++) {
       site[n][k] = -1;
       for (int a = 0; a < m->nsites; a++)
         if (!strcmp(m->site_names[a], want[k])) site[n][k] = a;
@@ -106,12 +108,15 @@ int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], cha
         char have[256] = "";
         for (int a = 0, at = 0; a < m->nsites && at < (int)sizeof have; a++)
           at += snprintf(have + at, sizeof have - (size_t)at, "%s%s", a ? " " : "", m->site_names[a]);
-        return rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s' (its sites: %s)", m->name, want[k], have), -1;
+        rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s' (its sites: %s)", m->name, want[k], have);
+        missing = 1;
       }
     }
+    if (missing) { n = -1; break; }
     snprintf(name[n], 24, "%.11s-%.11s", want[0], want[1]);
     n++;
   }
+  free(buf);
   return n;
 }
 
@@ -367,35 +372,37 @@ static int has_unit(const char *q, const char **unit)
  * reported once; box is left 0 on any. */
 static void box_edges(raw_deck *r, rl_units u, double box[3])
 {
-  char tmp[256], edge[3][96], *save;
-  int n = 0;
-  snprintf(tmp, sizeof tmp, "%s", r->val[K_BOX]);
-  for (char *tok = strtok_r(tmp, " \t", &save); tok; tok = strtok_r(NULL, " \t", &save)) {
+  char *tmp = strdup(r->val[K_BOX]), *save, *num[3] = {NULL, NULL, NULL};
+  const char *unit[3] = {NULL, NULL, NULL}; /* an edge's unit: a token of its own, or its number's suffix */
+  int suffix[3] = {0, 0, 0};                /* the unit is the number's suffix: num[c] is the quantity */
+  if (!tmp) { problem(r, r->line[K_BOX], "system.box: out of memory"); return; }
+  int n = 0, bad = 0;
+  for (char *tok = strtok_r(tmp, " \t", &save); tok && !bad; tok = strtok_r(NULL, " \t", &save)) {
     char *end;
-    const char *unit;
     (void)strtod(tok, &end);
-    if (end != tok) { /* a number (nan and inf too: refused below, by name) starts an edge */
-      if (n == 3) { problem(r, r->line[K_BOX], "system.box: more than three edges"); return; }
-      snprintf(edge[n++], sizeof edge[0], "%s", tok);
-    } else if (n > 0 && !has_unit(edge[n - 1], &unit)) { /* the unit of the number before it */
-      const size_t at = strlen(edge[n - 1]);
-      snprintf(edge[n - 1] + at, sizeof edge[0] - at, " %s", tok);
+    if (end != tok && n == 3) { /* a number (nan and inf too: refused below, by name) starts an edge */
+      problem(r, r->line[K_BOX], "system.box: more than three edges");
+      bad = 1;
+    } else if (end != tok) {
+      num[n] = tok;
+      suffix[n] = has_unit(tok, &unit[n]);
+      if (!suffix[n]) unit[n] = NULL;
+      n++;
+    } else if (n > 0 && !unit[n - 1]) { /* the unit of the number before it */
+      unit[n - 1] = tok;
     } else {
       problem(r, r->line[K_BOX], "system.box: '%s' is not a number%s", tok,
               n > 0 ? " (one unit per edge: \"1.8 nm 1.8 nm 2 nm\" or \"1.8 1.8 2 nm\")" : "");
-      return;
+      bad = 1;
     }
   }
-  if (n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); return; }
-  const char *last;
-  const int shared = has_unit(edge[n - 1], &last);
+  if (!bad && n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); bad = 1; }
   double L[3];
-  int bad = 0;
-  for (int c = 0; c < n; c++) {
-    const char *unit;
-    char q[160], msg[256];
-    const int takes_last = shared && !has_unit(edge[c], &unit);
-    snprintf(q, sizeof q, "%.95s%s%.40s", edge[c], takes_last ? " " : "", takes_last ? last : "");
+  for (int c = 0; c < n && !bad; c++) {
+    const char *un = suffix[c] ? "" : unit[c] ? unit[c] : unit[n - 1] ? unit[n - 1] : ""; /* bare: the last edge's */
+    char msg[256], *q = malloc(strlen(num[c]) + strlen(un) + 2);
+    if (!q) { problem(r, r->line[K_BOX], "system.box: out of memory"); bad = 1; break; }
+    sprintf(q, "%s%s%s", num[c], *un ? " " : "", un);
     if (rl_parse_quantity(q, Q_LENGTH, u, 0, &L[c], msg, sizeof msg)) {
       problem(r, r->line[K_BOX], "system.box: %s", msg);
       bad = 1;
@@ -404,13 +411,15 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
               : c == 1 ? "y edge " : "z edge ", L[c]);
       bad = 1;
     }
+    free(q);
   }
   if (!bad && !(isfinite(L[0] * L[1 % n] * L[2 % n]) && L[0] * L[1 % n] * L[2 % n] > 0)) {
     problem(r, r->line[K_BOX], "system.box: the volume of %s is out of range", r->val[K_BOX]);
     bad = 1;
   }
-  if (bad) return;
-  for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
+  if (!bad)
+    for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
+  free(tmp);
 }
 
 /* The model does not build from the [model] parameters: reported at the line of the one whose own
@@ -445,6 +454,53 @@ static void step_resolves_rotation(raw_deck *r, const rl_deck *d, int k, double 
             rl_dim_unit(Q_TIME, d->units), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, d->units), tkey, hw);
 }
 
+/* output.prefix, or its default (the deck's path without .ini), into d->prefix: whole (never cut),
+ * leaving room for the outputs' suffixes in a path and in a file name, and naming a file, not a
+ * directory ("", "dir/", "." and ".." would make hidden files such as dir/.thermo.csv). */
+static void output_prefix(raw_deck *r, rl_deck *d, const char *path)
+{
+  if (r->bad[K_PREFIX]) return; /* no value: reported */
+  const char *v = r->val[K_PREFIX], *what = v ? "output.prefix" : "the default output.prefix (the deck's name without .ini)";
+  const int line = v ? r->line[K_PREFIX] : 0;
+  size_t n = v ? strlen(v) : strlen(path);
+  if (!v && n > 4 && !strcmp(path + n - 4, ".ini")) n -= 4;
+  if (n > RL_DECK_PATH_MAX - 1 - RL_DECK_SUFFIX_MAX) {
+    problem(r, line, "%s has %zu characters: with the suffixes of its outputs (up to %d characters) their paths would "
+            "pass the system's limit of %d; give a shorter one", what, n, RL_DECK_SUFFIX_MAX, RL_DECK_PATH_MAX - 1);
+    return;
+  }
+  memcpy(d->prefix, v ? v : path, n);
+  d->prefix[n] = '\0';
+  const char *slash = strrchr(d->prefix, '/'), *base = slash ? slash + 1 : d->prefix;
+  if (!*base || !strcmp(base, ".") || !strcmp(base, ".."))
+    problem(r, line, "%s '%s' names a directory: the outputs would be hidden files (%s.thermo.csv); write %s%sNAME "
+            "for NAME.thermo.csv, ... there", what, d->prefix, d->prefix, d->prefix,
+            *base && (!slash || slash[1]) ? "/" : "");
+  else if (strlen(base) + RL_DECK_SUFFIX_MAX > RL_DECK_NAME_MAX)
+    problem(r, line, "%s: its last part has %zu characters: with the suffixes of its outputs (up to %d characters) "
+            "their file names would pass the system's limit of %d; give a shorter one", what, strlen(base),
+            RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX);
+}
+
+/* system.start = a file (not "lattice"): whole (never cut), a .pdb, .xyz or .chk that can be read. */
+static void start_file(raw_deck *r, rl_deck *d, const char *v)
+{
+  const int line = r->line[K_START];
+  const size_t n = strlen(v);
+  if (n >= sizeof d->start) {
+    problem(r, line, "system.start: the path has %zu characters, more than the system's limit of %d", n,
+            RL_DECK_PATH_MAX - 1);
+    return;
+  }
+  memcpy(d->start, v, n + 1);
+  const char *ext = n > 4 ? d->start + n - 4 : "";
+  FILE *t;
+  if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
+    problem(r, line, "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
+  else if (!(t = fopen(d->start, "rb"))) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
+  else fclose(t);
+}
+
 /* the values the handler stored (strdup'd) */
 static void raw_deck_free(raw_deck *r)
 {
@@ -459,6 +515,12 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   memset(d, 0, sizeof *d);
   r.path = path;
   r.err = err;
+  if (strlen(path) >= sizeof d->path) {
+    problem(&r, 0, "the deck's path has %zu characters, more than the system's limit of %d", strlen(path),
+            RL_DECK_PATH_MAX - 1);
+    return r.problems;
+  }
+  memcpy(d->path, path, strlen(path) + 1);
   FILE *f = fopen(path, "r");
   if (!f) { problem(&r, 0, "cannot open the deck: %s", strerror(errno)); return r.problems; }
   struct stat sb;
@@ -478,12 +540,12 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
     if (!eq || !dot || dot > eq) { problem(&r, -1, "'%s' is not section.key=value", sets[i]); continue; }
-    char sec[64], name[64];
-    snprintf(sec, sizeof sec, "%.*s", (int)(dot - sets[i]), sets[i]);
-    snprintf(name, sizeof name, "%.*s", (int)(eq - dot - 1), dot + 1);
-    store(&r, sec, name, eq + 1, -1);
+    char *sec = strndup(sets[i], (size_t)(dot - sets[i])), *name = strndup(dot + 1, (size_t)(eq - dot - 1));
+    if (!sec || !name) problem(&r, -1, "out of memory");
+    else store(&r, sec, name, eq + 1, -1);
+    free(sec);
+    free(name);
   }
-  snprintf(d->path, sizeof d->path, "%s", path);
 
   /* the model decides the unit system */
   require(&r, K_MODEL);
@@ -644,12 +706,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
               omp, RL_DECK_MAX_THREADS);
   }
   /* [output] */
-  if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
-  else {
-    snprintf(d->prefix, sizeof d->prefix, "%s", path);
-    size_t n = strlen(d->prefix);
-    if (n > 4 && !strcmp(d->prefix + n - 4, ".ini")) d->prefix[n - 4] = '\0';
-  }
+  output_prefix(&r, d, path);
   d->thermo_every = integer(&r, K_THERMO, 1, 100);
   d->energy_every = integer(&r, K_ENERGY, 1, 1);
   if (d->thermo_every % d->energy_every)
@@ -665,26 +722,20 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
               "with 32-bit integers, at most %ld", d->steps, d->model->name, (long)INT32_MAX);
   }
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
-  snprintf(d->rdf, sizeof d->rdf, "%s", val(&r, K_RDF));
-  if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
-    rl_molecule m;
-    int site[RL_DECK_MAX_RDF][2];
-    char name[RL_DECK_MAX_RDF][24];
-    if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
-      problem(&r, r.line[K_RDF], "%s", rl_last_error());
-  }
-  snprintf(d->start, sizeof d->start, "%s", strcmp(val(&r, K_START), "lattice") ? val(&r, K_START) : "");
-  if (d->start[0]) {
-    size_t n = strlen(d->start);
-    const char *ext = n > 4 ? d->start + n - 4 : "";
-    if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
-      problem(&r, r.line[K_START], "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
-    else {
-      FILE *t = fopen(d->start, "rb");
-      if (!t) problem(&r, r.line[K_START], "system.start: cannot open %s: %s", d->start, strerror(errno));
-      else fclose(t);
+  const char *rdf = val(&r, K_RDF);
+  if (!r.bad[K_RDF] && strlen(rdf) >= sizeof d->rdf)
+    problem(&r, r.line[K_RDF], "output.rdf has %zu characters, at most %zu", strlen(rdf), sizeof d->rdf - 1);
+  else if (!r.bad[K_RDF]) {
+    memcpy(d->rdf, rdf, strlen(rdf) + 1);
+    if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
+      rl_molecule m;
+      int site[RL_DECK_MAX_RDF][2];
+      char name[RL_DECK_MAX_RDF][24];
+      if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
+        problem(&r, r.line[K_RDF], "%s", rl_last_error());
     }
   }
+  if (!r.bad[K_START] && strcmp(val(&r, K_START), "lattice")) start_file(&r, d, val(&r, K_START));
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 

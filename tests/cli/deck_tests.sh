@@ -18,6 +18,37 @@ one_problem() {
 # a deck: the short Stockmayer deck with sed's edits (deck NAME SED-SCRIPT)
 deck() { sed -e "$2" "$sm" > "$1"; }
 
+# --- paths are never truncated, and output.prefix names a file (items 5, 11) ---------------
+"$rotleap" run "$sm" --set run.steps=100 --set output.prefix="$work/a" >/dev/null 2>&1
+"$rotleap" run "$sm" --set run.steps=200 --set output.prefix="$work/b" >/dev/null 2>&1
+# D/aaa.chk is the first 511 characters of P = D/aaa.chkx/../b.chk, which names D/b.chk
+d="$work/lp"
+while [ $(( ${#d} + 200 )) -lt 480 ]; do d="$d/$(printf 'd%.0s' $(seq 199))"; done
+d="$d/$(printf 'e%.0s' $(seq $(( 511 - ${#d} - 9 ))))"
+mkdir -p "$d/aaa.chkx"; cp "$work/a.chk" "$d/aaa.chk"; cp "$work/b.chk" "$d/b.chk"
+p="$d/aaa.chkx/../b.chk"
+"$rotleap" run "$sm" --set run.steps=300 --set system.start="$p" --set output.prefix="$work/s" >out.txt 2>err.txt; code=$?
+check "a system.start of ${#p} characters loads that file, not the one named by its first 511" \
+  '[ $code -eq 0 ] && grep -q "this invocation: 100)" "$work/s.summary.txt"'
+long=$(printf 'x%.0s' $(seq 5000))
+one_problem "a system.start longer than the system's path limit is refused by its key" \
+  "system.start: the path has 5004 characters, more than the system's limit of" "$sm" --set system.start="$long.chk"
+one_problem "an output.prefix longer than the path limit allows is refused by its key" \
+  "output.prefix has 5000 characters:" "$sm" --set output.prefix="$long"
+check "... and nothing is written" '[ -z "$(ls "$work" | grep "^xxxx")" ]'
+one_problem "an output.prefix whose file names would be too long is refused by its key" \
+  "output.prefix: its last part has 250 characters" "$sm" --set output.prefix="$work/${long:0:250}"
+deck "$work/${long:0:240}.ini" ''
+timeout 30 "$rotleap" run "$work/${long:0:240}.ini" >out.txt 2>err.txt; code=$?
+check "a default prefix (the deck's name) too long for its file names is refused as such" \
+  '[ $code -eq 2 ] && grep -q "the default output.prefix (the deck.s name without .ini): its last part has 240 characters" err.txt'
+mkdir -p outdir
+deck dir.ini 's|^\[output\]|[output]\nprefix = outdir/|'
+one_problem "an output.prefix ending in / is refused, saying what to write" \
+  "dir.ini:17: output.prefix 'outdir/' names a directory: the outputs would be hidden files (outdir/.thermo.csv); write outdir/NAME" dir.ini
+check "... and nothing is written in the directory" '[ -z "$(ls -A outdir)" ]'
+one_problem "an output.prefix of .. is refused too" "output.prefix '..' names a directory" "$sm" --set output.prefix=..
+
 # --- model parameters refused at their lines (item 11) ------------------------------------
 deck i0.ini 's|^mu = 1.5|mu = 1.5\ninertia = 0|'
 one_problem "inertia = 0 is refused at its line" "i0.ini:9: \[model\] inertia: model stockmayer: inertia 0 must be positive" i0.ini
