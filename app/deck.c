@@ -1,12 +1,12 @@
-/* Deck parsing and validation.  Phase 1 reads every "section.key = value" (libinih, through a
- * reader that counts lines, so each key keeps its line) and applies --set overrides; phase 2,
- * once the model fixes the unit system, converts and checks every value and the combinations.
- * All problems are reported before anything runs. */
+/* Deck parsing and validation.  Phase 1 reads every "section.key = value" with its line (the
+ * line format below is this file's own) and applies --set overrides; phase 2, once the model
+ * fixes the unit system, converts and checks every value and the combinations.  All problems are
+ * reported before anything runs. */
 #include "deck.h"
 #include "quantity.h"
 
+#include <ctype.h>
 #include <errno.h>
-#include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -16,7 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef enum { K_STRING, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type;
+typedef enum { K_STRING, K_PATH, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type; /* K_PATH: any path the system accepts */
 
 typedef struct {
   const char *section, *name;
@@ -39,7 +39,7 @@ static const key_def keys[NKEYS] = {
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
-    [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream)"},
+    [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
@@ -66,7 +66,7 @@ static const key_def keys[NKEYS] = {
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
-    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file (PREFIX.thermo.csv, ...): a file name, in a directory if you like (out, results/run1), not a directory (results/ is refused); default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
+    [K_PREFIX] = {"output", "prefix", K_PATH, Q_NONE, NULL, NULL, "path prefix of every output file (PREFIX.thermo.csv, ...): a file name, in a directory if you like (out, results/run1), not a directory (results/ is refused); default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
@@ -150,12 +150,15 @@ int rl_deck_integrator_lookup(const char *name)
 typedef struct {
   char *val[NKEYS];
   int line[NKEYS];                  /* 0 = default, -1 = --set                                */
-  int bad[NKEYS];                   /* the value could not be parsed: skip checks built on it */
+  int bad[NKEYS];                   /* reported already (no value, or one that could not be
+                                       parsed): skip the checks built on it                   */
   char *model_key[RL_MODEL_MAX_PARAMS], *model_val[RL_MODEL_MAX_PARAMS];
   int model_line[RL_MODEL_MAX_PARAMS], nmodel;
   const char *path;
   int lineno, problems;
-  int binary;                       /* a NUL byte was read: the parse stopped                 */
+  long bytes;                       /* read so far                                            */
+  char *section;                    /* the current [section]; NULL before the first           */
+  int section_bad;                  /* its header was refused: its keys are skipped           */
   FILE *err;
 } raw_deck;
 
@@ -179,17 +182,80 @@ static int find_key(const char *section, const char *name)
   return -1;
 }
 
+/* ---- the line format ------------------------------------------------------------------------
+ * These rules are this file's own (docs/deck.md states them), not a parser library's build
+ * settings: libinih 55, which read decks before, cut a line at its 200-byte buffer and read the
+ * rest as a line of its own, took only ";" for inline comments, read an indented line as more of
+ * the key before it, and cut section names at 49 characters, all silently.
+ *  - A line is blank, a comment (its first non-blank character is ; or #), "[section]", or
+ *    "key = value" ("key: value" too).
+ *  - In every line a ; or # after a blank starts a comment that runs to the end of the line, so a
+ *    value never contains " ;" or " #" (a --set value that does is refused); a ; or # with no blank
+ *    before it is part of the value (prefix = run#2).
+ *  - Blanks around keys, values and headers are dropped, at the start of a line too: an indented
+ *    key is a key; a value never continues on the next line, and an indented line without a key
+ *    is refused as such.
+ *  - A line has at most DECK_LINE_MAX characters before its comment, except the line of a path key
+ *    (system.start, output.prefix), whose value may be any path the system accepts.
+ *  - An empty value ("prefix =") is refused; --set section.key= returns a key to its default.
+ *  - The deck is a regular file or a pipe, of at most DECK_BYTES_MAX bytes and no NUL byte; a
+ *    UTF-8 byte-order mark before the first line is skipped.  Reading stops after
+ *    DECK_READ_PROBLEMS_MAX problems: the file is not a deck. */
+#define DECK_LINE_MAX 199
+#define DECK_BYTES_MAX 1048576L
+#define DECK_READ_PROBLEMS_MAX 100
+#define DECK_KEEP (RL_DECK_PATH_MAX + 64) /* characters kept of a line: a path key's */
+
+static const char *file_kind(mode_t m)
+{
+  return S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
+       : S_ISFIFO(m) ? "a pipe" : S_ISSOCK(m) ? "a socket" : "not a plain file";
+}
+
+/* The ' ;' or ' #' that starts an inline comment in s, or NULL. */
+static const char *inline_comment(const char *s)
+{
+  for (const char *q = *s ? s + 1 : s; *q; q++)
+    if ((*q == ';' || *q == '#') && isspace((unsigned char)q[-1])) return q;
+  return NULL;
+}
+
+static char *trim(char *s)
+{
+  while (isspace((unsigned char)*s)) s++;
+  size_t n = strlen(s);
+  while (n > 0 && isspace((unsigned char)s[n - 1])) s[--n] = '\0';
+  return s;
+}
+
+/* What the default of key k is, for messages. */
+static const char *default_text(int k)
+{
+  if (k == K_PREFIX) return "the deck's name without .ini";
+  return !keys[k].def ? NULL : keys[k].def[0] ? keys[k].def : "none";
+}
+
 static void store(raw_deck *r, const char *section, const char *name, const char *value, int line)
 {
   if (!strcmp(section, "model")) { /* model parameters, checked once the model is known */
     for (int i = 0; i < r->nmodel; i++)
       if (!strcmp(r->model_key[i], name)) {
         if (line > 0 && r->model_line[i] > 0) problem(r, line, "[model] %s given twice (first at line %d)", name, r->model_line[i]);
+        if (line < 0 && !value[0]) { /* --set model.name= : back to the default */
+          free(r->model_key[i]);
+          free(r->model_val[i]);
+          r->nmodel--;
+          r->model_key[i] = r->model_key[r->nmodel];
+          r->model_val[i] = r->model_val[r->nmodel];
+          r->model_line[i] = r->model_line[r->nmodel];
+          return;
+        }
         free(r->model_val[i]);
         r->model_val[i] = strdup(value);
         r->model_line[i] = line;
         return;
       }
+    if (line < 0 && !value[0]) return;
     if (r->nmodel == RL_MODEL_MAX_PARAMS) { problem(r, line, "[model] too many parameters (%s)", name); return; }
     r->model_key[r->nmodel] = strdup(name);
     r->model_val[r->nmodel] = strdup(value);
@@ -208,65 +274,121 @@ static void store(raw_deck *r, const char *section, const char *name, const char
   free(r->val[k]);
   r->val[k] = NULL;
   r->line[k] = 0;
+  r->bad[k] = 0;
   if (line < 0 && !value[0]) return; /* --set section.key= : back to the default, as if not given */
   r->val[k] = strdup(value);
   r->line[k] = line;
+  if (!value[0]) { /* a deck line "key =" */
+    const char *def = default_text(k);
+    if (k == K_PREFIX)
+      problem(r, line, "output.prefix has no value: write a path prefix such as out or results/run1 (for "
+              "out.thermo.csv, ...), or remove the line for the default (%s)", def);
+    else if (def)
+      problem(r, line, "%s.%s has no value: write one, or remove the line for the default (%s)", section, name, def);
+    else problem(r, line, "%s.%s has no value: write one (%s)", section, name, keys[k].help);
+    r->bad[k] = 1;
+  }
 }
 
-static int deck_handler(void *user, const char *section, const char *name, const char *value)
+/* Reads one line, to its newline or the end of the file, keeping its first `keep` characters in
+ * buf; *len is the whole line's length.  1: a line; 0: the end of the file; -1: the deck is
+ * refused (a NUL byte, more than DECK_BYTES_MAX bytes, a read error), reported. */
+static int read_line(FILE *f, raw_deck *r, char *buf, size_t keep, size_t *len)
 {
-  raw_deck *r = user;
-  if (!name) return 1; /* a section header */
-  if (!section || !*section) { problem(r, r->lineno, "key '%s' outside any [section]", name); return 1; }
-  store(r, section, name, value, r->lineno);
+  size_t n = 0;
+  int c;
+  while ((c = getc(f)) != EOF) {
+    if (++r->bytes > DECK_BYTES_MAX) {
+      problem(r, 0, "is longer than %ld bytes (1 MiB), the most a deck may have", DECK_BYTES_MAX);
+      return -1;
+    }
+    if (c == '\n') break;
+    if (c == '\0') { /* a DCD given by mistake, or /dev/zero through a pipe: its "keys" would fill screens */
+      problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno + 1);
+      return -1;
+    }
+    if (n < keep) buf[n] = (char)c;
+    n++;
+  }
+  if (ferror(f)) { problem(r, 0, "cannot read the deck: %s", strerror(errno)); return -1; }
+  if (c == EOF && n == 0) return 0;
+  buf[n < keep ? n : keep] = '\0';
+  *len = n;
+  r->lineno++;
   return 1;
 }
 
-/* 1 if the text from the start of `line` on is, from some point, a comment: the line starts
- * with ; or # (after blanks), or has an inline comment (a ; after a blank, as inih takes it). */
-static int ends_in_comment(const char *line)
+/* One line of `len` characters, the first `keep` of them in buf (modified). */
+static void parse_line(raw_deck *r, char *buf, size_t len, size_t keep)
 {
-  const char *p = line + strspn(line, " \t");
-  if (*p == ';' || *p == '#') return 1;
-  for (; *p; p++)
-    if (*p == ';' && (p[-1] == ' ' || p[-1] == '\t')) return 1;
-  return 0;
+  char *p = buf;
+  if (r->lineno == 1 && !strncmp(p, "\xEF\xBB\xBF", 3)) p += 3;
+  const int indented = isspace((unsigned char)*p);
+  while (isspace((unsigned char)*p)) p++;
+  if (*p == ';' || *p == '#') return;
+  char *cut = (char *)inline_comment(p);
+  if (cut) *cut = '\0';
+  const int whole = cut || len <= keep; /* the content, up to a comment, was kept */
+  p = trim(p);
+  const size_t n = whole ? (size_t)(p - buf) + strlen(p) : len; /* characters before a comment */
+  if (!*p && whole) return;
+  char *eq = *p == '[' ? NULL : strpbrk(p, "=:"), *name = NULL, *value = NULL, sep = eq ? *eq : '=';
+  if (eq) {
+    *eq = '\0';
+    name = trim(p);
+    value = trim(eq + 1);
+  }
+  const int k = name && r->section ? find_key(r->section, name) : -1;
+  if (n > DECK_LINE_MAX && !(whole && k >= 0 && keys[k].type == K_PATH)) {
+    problem(r, r->lineno, "this line has %zu characters, a deck line at most %d (only a comment, or the path of "
+            "system.start or output.prefix, may be longer)", n, DECK_LINE_MAX);
+    if (*p == '[') r->section_bad = 1; /* its keys would be misfiled: skipped */
+    return;
+  }
+  if (*p == '[') {
+    char *close = strchr(p, ']');
+    free(r->section);
+    r->section = NULL;
+    r->section_bad = 1;
+    if (!close) { problem(r, r->lineno, "a section header needs its closing ']' (e.g. [system])"); return; }
+    const char *after = trim(close + 1);
+    *close = '\0';
+    r->section = strdup(trim(p + 1));
+    if (*after) problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", r->section);
+    r->section_bad = 0;
+    return;
+  }
+  if (!eq) {
+    if (indented)
+      problem(r, r->lineno, "an indented line does not continue the value of the line before it: a deck value "
+              "is written whole on its key's line (key = value)");
+    else problem(r, r->lineno, "not a valid deck line (expected [section], key = value or a comment)");
+    return;
+  }
+  if (!*name) problem(r, r->lineno, "a key is missing before the '%c'", sep);
+  else if (r->section_bad) return;
+  else if (!r->section) problem(r, r->lineno, "key '%s' outside any [section]", name);
+  else store(r, r->section, name, value, r->lineno);
 }
 
-/* fgets-like reader for ini_parse_stream that counts lines: inih calls the handler for a key
- * right after reading its line, so lineno is that key's line.  inih hands it a buffer of `size`
- * bytes (INI_MAX_LINE: 200 in libinih's build) and would take the rest of a longer line for a
- * line of its own, misparsing it and every line number after it.  Here a line is always read
- * whole: one whose cut falls inside a comment is handed on cut there (which changes nothing);
- * any other is reported once, at its own line, and handed on empty.  A NUL byte ends the parse:
- * the file is binary (a DCD given by mistake), and its "keys" would fill screens. */
-static char *counting_reader(char *buf, int size, void *stream)
+/* Phase 1 for the deck file f: every line stored or reported.  0, or -1 when reading stopped
+ * (the file is not a deck: its lines are not worth checking further). */
+static int read_deck(FILE *f, raw_deck *r)
 {
-  raw_deck *r = ((void **)stream)[1];
-  FILE *f = ((void **)stream)[0];
-  size_t n = 0;
-  long rest = 0; /* characters past the buffer, up to the newline */
-  int c = EOF, nul = 0;
-  while (!r->binary && (c = getc(f)) != EOF) {
-    nul |= c == '\0';
-    if (n + 1 < (size_t)size) buf[n++] = (char)c;
-    else if (c != '\n') rest++;
-    if (c == '\n') break;
+  char *buf = malloc(DECK_KEEP + 1);
+  if (!buf) { problem(r, 0, "out of memory"); return -1; }
+  size_t len;
+  int st;
+  while ((st = read_line(f, r, buf, DECK_KEEP, &len)) > 0) {
+    parse_line(r, buf, len, DECK_KEEP);
+    if (r->problems >= DECK_READ_PROBLEMS_MAX) {
+      problem(r, 0, "stopped reading at line %d after %d problems: is this a deck?", r->lineno, r->problems);
+      st = -1;
+      break;
+    }
   }
-  if (r->binary || (n == 0 && c == EOF)) return NULL;
-  buf[n] = '\0';
-  r->lineno++;
-  if (nul) {
-    problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno);
-    r->binary = 1;
-    return NULL;
-  }
-  if (rest > 0 && !ends_in_comment(buf)) {
-    problem(r, r->lineno, "this line has %ld characters, a deck line at most %d (only comments may be longer)",
-            (long)n + rest, size - 1);
-    buf[0] = '\0';
-  }
-  return buf;
+  free(buf);
+  return st < 0 ? -1 : 0;
 }
 
 static const char *val(const raw_deck *r, int k) { return r->val[k] ? r->val[k] : keys[k].def; }
@@ -275,6 +397,7 @@ static int choice(raw_deck *r, int k)
 {
   const char *v = val(r, k), *c = keys[k].choices;
   int idx = 0;
+  if (r->bad[k]) return 0;
   size_t n = strlen(v);
   for (const char *p = c; *p;) {
     const char *e = strchr(p, '|');
@@ -292,7 +415,7 @@ static int choice(raw_deck *r, int k)
 static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallback)
 {
   const char *v = val(r, k);
-  if (!v) return fallback;
+  if (!v || r->bad[k]) return fallback;
   double x;
   char msg[256];
   if (rl_parse_quantity(v, keys[k].dim, u, allow_inf, &x, msg, sizeof msg)) {
@@ -306,7 +429,7 @@ static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallb
 static long integer_in(raw_deck *r, int k, long lo, long hi, long fallback)
 {
   const char *v = val(r, k);
-  if (!v) return fallback;
+  if (!v || r->bad[k]) return fallback;
   char *end;
   errno = 0;
   long x = strtol(v, &end, 10);
@@ -324,9 +447,11 @@ static long integer(raw_deck *r, int k, long lo, long fallback) { return integer
 static int boolean(raw_deck *r, int k)
 {
   const char *v = val(r, k);
+  if (r->bad[k]) return 0;
   if (!strcmp(v, "yes") || !strcmp(v, "true") || !strcmp(v, "1") || !strcmp(v, "on")) return 1;
   if (!strcmp(v, "no") || !strcmp(v, "false") || !strcmp(v, "0") || !strcmp(v, "off")) return 0;
   problem(r, r->line[k], "%s.%s: '%s' is not yes or no", keys[k].section, keys[k].name, v);
+  r->bad[k] = 1;
   return 0;
 }
 
@@ -482,7 +607,8 @@ static void output_prefix(raw_deck *r, rl_deck *d, const char *path)
             RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX);
 }
 
-/* system.start = a file (not "lattice"): whole (never cut), a .pdb, .xyz or .chk that can be read. */
+/* system.start = a file (not "lattice"): whole (never cut), a .pdb, .xyz or .chk, and a regular
+ * file (links followed) that can be read; nothing else is opened. */
 static void start_file(raw_deck *r, rl_deck *d, const char *v)
 {
   const int line = r->line[K_START];
@@ -494,9 +620,13 @@ static void start_file(raw_deck *r, rl_deck *d, const char *v)
   }
   memcpy(d->start, v, n + 1);
   const char *ext = n > 4 ? d->start + n - 4 : "";
+  struct stat sb;
   FILE *t;
   if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
     problem(r, line, "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
+  else if (stat(d->start, &sb)) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
+  else if (!S_ISREG(sb.st_mode))
+    problem(r, line, "system.start: %s is not a regular file (%s)", d->start, file_kind(sb.st_mode));
   else if (!(t = fopen(d->start, "rb"))) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
   else fclose(t);
 }
@@ -506,6 +636,7 @@ static void raw_deck_free(raw_deck *r)
 {
   for (int k = 0; k < NKEYS; k++) free(r->val[k]);
   for (int i = 0; i < r->nmodel; i++) { free(r->model_key[i]); free(r->model_val[i]); }
+  free(r->section);
 }
 
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
@@ -521,35 +652,47 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     return r.problems;
   }
   memcpy(d->path, path, strlen(path) + 1);
-  FILE *f = fopen(path, "r");
-  if (!f) { problem(&r, 0, "cannot open the deck: %s", strerror(errno)); return r.problems; }
+  /* a regular file or a pipe (a deck from a process: /dev/stdin, <(...)), links followed; never
+   * a device (/dev/zero would be read forever), checked before it is opened and again after */
   struct stat sb;
-  if (fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
-    fclose(f);
-    problem(&r, 0, "is a directory, not a deck");
-    return r.problems;
+  FILE *f = NULL;
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass ? fstat(fileno(f), &sb) : stat(path, &sb)) break;
+    if (!S_ISREG(sb.st_mode) && !S_ISFIFO(sb.st_mode))
+      problem(&r, 0, S_ISDIR(sb.st_mode) ? "is a directory, not a deck" : "is not a regular file (%s): a deck is a text file",
+              file_kind(sb.st_mode));
+    else if (S_ISREG(sb.st_mode) && sb.st_size > DECK_BYTES_MAX)
+      problem(&r, 0, "is %lld bytes, more than the %ld bytes (1 MiB) a deck may have", (long long)sb.st_size, DECK_BYTES_MAX);
+    if (r.problems || (!pass && !(f = fopen(path, "r")))) break;
   }
-  void *stream[2] = {f, &r};
-  int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
-  fclose(f);
-  if (r.binary) { /* the lines before the first NUL byte were stored */
+  if (!r.problems && !f) problem(&r, 0, "cannot open the deck: %s", strerror(errno));
+  const int read = r.problems ? -1 : read_deck(f, &r);
+  if (f) fclose(f);
+  if (read < 0) { /* not a deck: its lines are not checked further */
     raw_deck_free(&r);
     return r.problems;
   }
-  if (st > 0) problem(&r, st, "not a valid INI line (expected [section] or key = value)");
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
     if (!eq || !dot || dot > eq) { problem(&r, -1, "'%s' is not section.key=value", sets[i]); continue; }
-    char *sec = strndup(sets[i], (size_t)(dot - sets[i])), *name = strndup(dot + 1, (size_t)(eq - dot - 1));
-    if (!sec || !name) problem(&r, -1, "out of memory");
-    else store(&r, sec, name, eq + 1, -1);
+    char *sec = strndup(sets[i], (size_t)(dot - sets[i])), *name = strndup(dot + 1, (size_t)(eq - dot - 1)),
+         *value = strdup(eq + 1);
+    if (!sec || !name || !value) problem(&r, -1, "out of memory");
+    else {
+      const char *v = trim(value), *c = inline_comment(v);
+      if (c) /* what a deck line would read as a comment is not a value from the command line either */
+        problem(&r, -1, "%s.%s: '%s' contains ' %c', which starts a comment in a deck line: a value cannot "
+                "contain it", trim(sec), trim(name), v, *c);
+      else store(&r, trim(sec), trim(name), v, -1);
+    }
     free(sec);
     free(name);
+    free(value);
   }
 
   /* the model decides the unit system */
   require(&r, K_MODEL);
-  if (r.val[K_MODEL]) {
+  if (r.val[K_MODEL] && !r.bad[K_MODEL]) {
     d->model = rl_catalog_find(r.val[K_MODEL]);
     if (!d->model) problem(&r, r.line[K_MODEL], "system.model: %s", rl_last_error());
   }
@@ -588,7 +731,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);
     }
   }
-  if (r.val[K_BOX] && r.val[K_DENSITY]) {
+  if (r.bad[K_BOX] || r.bad[K_DENSITY]) {
+    /* reported: no value */
+  } else if (r.val[K_BOX] && r.val[K_DENSITY]) {
     char at[32] = "from --set";
     if (r.line[K_BOX] >= 0) snprintf(at, sizeof at, "at line %d", r.line[K_BOX]);
     problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
@@ -753,9 +898,27 @@ void rl_deck_print_keys(FILE *f, int md)
                "A deck is an INI file. Numbers take a unit suffix in real units (`2 fs`, `0.9 nm`, "
                "`9 A`, `298 K`, `1 g/cm3`); a bare number is in the default unit shown. Reduced "
                "(lj) models take bare numbers only. `--set section.key=value` overrides any key; `--set section.key=` returns it to its default. "
-               "Model parameters go in `[model]` (see `rotleap models`). A line may have at most 199 "
-               "characters (libinih's line buffer in its default build; a longer line is refused at "
-               "its line), except a comment, which may be of any length. A binary file is refused.\n");
+               "Model parameters go in `[model]` (see `rotleap models`).\n\n"
+               "## Format\n\n"
+               "- A line is blank, a comment (its first non-blank character is `;` or `#`), a `[section]` "
+               "header, or `key = value` (`key: value` also works).\n"
+               "- In every line, a `;` or `#` after a blank (space or tab) starts a comment that runs to the "
+               "end of the line: `prefix = out # a note` is `out`, `temperature = 298 K ; room` is `298 K`. "
+               "A `;` or `#` with no blank before it belongs to the value (`prefix = run#2`). So no value "
+               "contains ` ;` or ` #`, and `--set` refuses one that does.\n"
+               "- Blanks around keys, values and headers are ignored, at the start of a line too: an "
+               "indented key is a key. A value never continues on the next line: an indented line without "
+               "a key is refused at its line.\n"
+               "- An empty value (`prefix =`) is refused: remove the line for the default.\n"
+               "- A line has at most %d characters before its comment (a comment may be of any length), "
+               "except a `start` or `prefix` line, whose path may have up to %d characters, the system's "
+               "limit. Paths are never cut: a longer one is refused by its key, and so is an `output.prefix` "
+               "that leaves less than %d characters for the suffixes of the outputs in a path, or in a file "
+               "name (at most %d characters), or that names a directory (`results/`, `..`).\n"
+               "- The deck is a regular file (a link to one is followed) or a pipe (`/dev/stdin`), of at most "
+               "1 MiB and without NUL bytes: a binary file or a device is refused at once. A UTF-8 byte-order "
+               "mark is skipped. Reading stops after %d problems.\n",
+            DECK_LINE_MAX, RL_DECK_PATH_MAX - 1, RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX, DECK_READ_PROBLEMS_MAX);
   for (int k = 0; k < NKEYS; k++) {
     const key_def *K = &keys[k];
     if (strcmp(sec, K->section)) {
@@ -764,7 +927,7 @@ void rl_deck_print_keys(FILE *f, int md)
       else fprintf(f, "\n[%s]\n", sec);
     }
     const char *type = K->type == K_CHOICE ? K->choices : K->type == K_INT ? "integer" : K->type == K_BOOL ? "yes/no"
-                     : K->type == K_REAL ? "number" : K->dim == Q_LENGTH ? "lengths" : "text";
+                     : K->type == K_REAL ? "number" : K->type == K_PATH ? "path" : K->dim == Q_LENGTH ? "lengths" : "text";
     const char *unit = K->dim == Q_NONE ? "" : rl_dim_unit(K->dim, RL_UNITS_REAL);
     if (md) fprintf(f, "| `%s` | %s | %s | %s | %s |\n", K->name, type, unit, K->def ? K->def : "", K->help);
     else fprintf(f, "  %-22s %-34s %-7s default %-8s %s\n", K->name, type, unit, K->def ? K->def : "-", K->help);

@@ -1,6 +1,6 @@
-/* Decks: INI files (parsed by libinih) describing a run.  One table (deck.c) lists every key with
- * its section, type, unit, default and meaning; it drives parsing, validation, `rotleap run
- * --help` and docs/deck.md (`rotleap deck-keys --markdown`). */
+/* Decks: INI files describing a run (the line format is deck.c's own, documented in docs/deck.md).
+ * One table (deck.c) lists every key with its section, type, unit, default and meaning; it drives
+ * parsing, validation, `rotleap run --help` and docs/deck.md (`rotleap deck-keys --markdown`). */
 #ifndef ROTLEAP_APP_DECK_H
 #define ROTLEAP_APP_DECK_H
 
@@ -38,7 +38,7 @@ typedef struct {
   int random_orientations;
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */
-  char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file               */
+  char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file (a regular file) */
   /* [interactions] */
   rl_ff_params ff;
   /* [run] */

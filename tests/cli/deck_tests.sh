@@ -49,6 +49,58 @@ one_problem "an output.prefix ending in / is refused, saying what to write" \
 check "... and nothing is written in the directory" '[ -z "$(ls -A outdir)" ]'
 one_problem "an output.prefix of .. is refused too" "output.prefix '..' names a directory" "$sm" --set output.prefix=..
 
+# --- decks that are not text files or never end (item 7) -----------------------------------
+one_problem "/dev/zero as the deck is refused at once" "/dev/zero: is not a regular file (a character device)" /dev/zero
+ln -sf /dev/zero zero.ini
+one_problem "a deck linked to /dev/zero is refused at once" "zero.ini: is not a regular file (a character device)" zero.ini
+ln -sf /dev/zero zero.chk
+one_problem "a system.start linked to /dev/zero is refused by its key, not read" \
+  "system.start: zero.chk is not a regular file (a character device)" "$sm" --set system.start=zero.chk
+cat /dev/zero | timeout 30 "$rotleap" run /dev/stdin >out.txt 2>err.txt; code=$?
+check "NUL bytes from a pipe end the read at once" '[ $code -eq 2 ] && grep -q "is not a text file (a NUL byte on line 1)" err.txt'
+tr '\0' 'a' < /dev/zero | timeout 30 "$rotleap" run /dev/stdin >out.txt 2>err.txt; code=$?
+check "an endless line from a pipe stops at the size limit" '[ $code -eq 2 ] && grep -q "is longer than 1048576 bytes (1 MiB), the most a deck may have" err.txt'
+yes 'this is no key' | timeout 30 "$rotleap" run /dev/stdin >out.txt 2>err.txt; code=$?
+check "an endless stream of bad lines stops after 100 problems" \
+  '[ $code -eq 2 ] && [ "$(grep -c "not a valid deck line" err.txt)" -eq 100 ] && grep -q "stopped reading at line 100" err.txt'
+{ cat "$sm"; for i in $(seq 20000); do echo "; a comment line of some length, to make the deck large $i"; done; } > big.ini
+one_problem "a deck over 1 MiB is refused by its size" "big.ini: is [0-9]* bytes, more than the 1048576 bytes (1 MiB) a deck may have" big.ini
+# a line of exactly 199 characters is read, and the line after it too; one of 200 is refused
+deck l199.ini "s|^\\[output\\]|[output]\\nrdf = S-S$(printf ',%.0s' $(seq 190))|"
+len=$(grep "^rdf" l199.ini | tr -d '\n' | wc -c)
+"$rotleap" run l199.ini --set output.prefix="$work/l199" --set run.steps=20 >out.txt 2>err.txt; code=$?
+check "a line of 199 characters ($len) is read, and the line after it (thermo_every = 10: rows 0 10 20)" \
+  '[ $len -eq 199 ] && [ $code -eq 0 ] && [ "$(tail -n +2 l199.thermo.csv | cut -d, -f1 | tr "\n" " ")" = "0 10 20 " ]'
+sed -i 's|^rdf = S-S|rdf = S-S,|' l199.ini
+one_problem "a line of 200 characters is refused at its line" "l199.ini:17: this line has 200 characters, a deck line at most 199" l199.ini
+
+# --- the line format: comments, indentation, empty values (item 11) ------------------------
+deck cmt.ini 's|^\[output\]|[output]\nprefix = cmt # a note|; s|^temperature = 1.35|temperature = 1.35 # the start|'
+"$rotleap" run cmt.ini --set run.steps=2 >out.txt 2>err.txt; code=$?
+check "'# note' after a blank is a comment in every value (prefix, temperature)" \
+  '[ $code -eq 0 ] && [ -s cmt.thermo.csv ] && [ -z "$(ls | grep "#")" ]'
+deck semi.ini 's|^\[output\]|[output]\nprefix = semi ; a note|'
+"$rotleap" run semi.ini --set run.steps=2 >out.txt 2>err.txt; code=$?
+check "'; note' after a blank is a comment too" '[ $code -eq 0 ] && [ -s semi.thermo.csv ]'
+deck hash.ini 's|^\[output\]|[output]\nprefix = run#2|'
+"$rotleap" run hash.ini --set run.steps=2 >out.txt 2>err.txt; code=$?
+check "a # with no blank before it is part of the value" '[ $code -eq 0 ] && [ -s "run#2.thermo.csv" ]'
+one_problem "--set with ' #' in a value is refused (a deck would read a comment)" \
+  "--set: output.prefix: 'out # note' contains ' #'" "$sm" --set "output.prefix=out # note"
+deck empty.ini 's|^\[output\]|[output]\nprefix =|'
+one_problem "an empty output.prefix is refused, saying what to write" \
+  "empty.ini:17: output.prefix has no value: write a path prefix" empty.ini
+check "... and no hidden file is written" '[ ! -e .thermo.csv ] && [ ! -e .summary.txt ]'
+deck es.ini 's|^\[system\]|[system]\nstart =|'
+one_problem "an empty system.start is refused, not taken as the lattice" "es.ini:3: system.start has no value" es.ini
+deck ind.ini 's|^density = 0.8|  density = 0.8|'
+"$rotleap" energy ind.ini >ind.txt 2>err.txt; code=$?
+"$rotleap" energy "$sm" >flat.txt 2>/dev/null
+check "an indented key is read as its own key, not as a continuation" '[ $code -eq 0 ] && [ ! -s err.txt ] && cmp -s ind.txt flat.txt'
+deck cont.ini 's|^lj = shifted-force|lj = shifted\n   -force|'
+one_problem "an indented line with no key is reported at its own line: a value does not continue" \
+  "cont.ini:12: an indented line does not continue the value of the line before it" cont.ini
+
 # --- model parameters refused at their lines (item 11) ------------------------------------
 deck i0.ini 's|^mu = 1.5|mu = 1.5\ninertia = 0|'
 one_problem "inertia = 0 is refused at its line" "i0.ini:9: \[model\] inertia: model stockmayer: inertia 0 must be positive" i0.ini
