@@ -375,8 +375,7 @@ static void parse_line(raw_deck *r, char *buf, size_t len, size_t keep)
  * (the file is not a deck: its lines are not worth checking further). */
 static int read_deck(FILE *f, raw_deck *r)
 {
-  char *buf = malloc(DECK_KEEP + 1);
-  if (!buf) { problem(r, 0, "out of memory"); return -1; }
+  char buf[DECK_KEEP + 1];
   size_t len;
   int st;
   while ((st = read_line(f, r, buf, DECK_KEEP, &len)) > 0) {
@@ -387,7 +386,6 @@ static int read_deck(FILE *f, raw_deck *r)
       break;
     }
   }
-  free(buf);
   return st < 0 ? -1 : 0;
 }
 
