@@ -1,12 +1,12 @@
-/* Deck parsing and validation.  Phase 1 reads every "section.key = value" (libinih, through a
- * reader that counts lines, so each key keeps its line) and applies --set overrides; phase 2,
- * once the model fixes the unit system, converts and checks every value and the combinations.
- * All problems are reported before anything runs. */
+/* Deck parsing and validation.  Phase 1 reads every "section.key = value" with its line (the
+ * line format below is this file's own) and applies --set overrides; phase 2, once the model
+ * fixes the unit system, converts and checks every value and the combinations.  All problems are
+ * reported before anything runs. */
 #include "deck.h"
 #include "quantity.h"
 
+#include <ctype.h>
 #include <errno.h>
-#include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -16,7 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef enum { K_STRING, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type;
+typedef enum { K_STRING, K_PATH, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type; /* K_PATH: any path the system accepts */
 
 typedef struct {
   const char *section, *name;
@@ -39,7 +39,7 @@ static const key_def keys[NKEYS] = {
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
-    [K_START] = {"system", "start", K_STRING, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream)"},
+    [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
@@ -66,7 +66,7 @@ static const key_def keys[NKEYS] = {
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
-    [K_PREFIX] = {"output", "prefix", K_STRING, Q_NONE, NULL, NULL, "path prefix of every output file; default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
+    [K_PREFIX] = {"output", "prefix", K_PATH, Q_NONE, NULL, NULL, "path prefix of every output file (PREFIX.thermo.csv, ...): a file name, in a directory if you like (out, results/run1), not a directory (results/ is refused); default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
@@ -90,16 +90,18 @@ const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_de
 
 int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24])
 {
-  char buf[512], *save;
-  snprintf(buf, sizeof buf, "%s", spec);
+  char *buf = strdup(spec), *save;
+  if (!buf) return rl_error(RL_ENOMEM, "output.rdf: out of memory"), -1;
   int n = 0;
   for (char *tok = strtok_r(buf, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
     char *dash = strchr(tok, '-');
-    if (!dash) return rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok), -1;
-    if (n == RL_DECK_MAX_RDF) return rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF), -1;
+    if (!dash) rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok);
+    else if (n == RL_DECK_MAX_RDF) rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF);
+    if (!dash || n == RL_DECK_MAX_RDF) { n = -1; break; }
     *dash = '\0';
     const char *want[2] = {tok, dash + 1};
-    for (int k = 0; k < 2; k++) {
+    int missing = 0;
+    for (int k = 0; k < 2 && !missing; k++) {
       site[n][k] = -1;
       for (int a = 0; a < m->nsites; a++)
         if (!strcmp(m->site_names[a], want[k])) site[n][k] = a;
@@ -107,12 +109,15 @@ int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], cha
         char have[256] = "";
         for (int a = 0, at = 0; a < m->nsites && at < (int)sizeof have; a++)
           at += snprintf(have + at, sizeof have - (size_t)at, "%s%s", a ? " " : "", m->site_names[a]);
-        return rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s' (its sites: %s)", m->name, want[k], have), -1;
+        rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s' (its sites: %s)", m->name, want[k], have);
+        missing = 1;
       }
     }
+    if (missing) { n = -1; break; }
     snprintf(name[n], 24, "%.11s-%.11s", want[0], want[1]);
     n++;
   }
+  free(buf);
   return n;
 }
 
@@ -123,10 +128,9 @@ double rl_deck_max_temperature(const rl_deck *d, const char **key)
   return thermo ? d->thermostat_temperature : d->temperature;
 }
 
-double rl_deck_thermal_omega(const rl_deck *d)
+static double thermal_omega_at(const rl_deck *d, double T)
 {
   rl_molecule m;
-  const double T = rl_deck_max_temperature(d, NULL);
   if (!d->model || !(T > 0) || rl_model_build(d->model, d->params, 0, &m) || m.kind == RL_KIND_POINT)
     return 0.0;
   double Jmin = INFINITY;
@@ -134,6 +138,8 @@ double rl_deck_thermal_omega(const rl_deck *d)
     if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
   return sqrt(rl_units_kB(d->units) * T / Jmin);
 }
+
+double rl_deck_thermal_omega(const rl_deck *d) { return thermal_omega_at(d, rl_deck_max_temperature(d, NULL)); }
 
 int rl_deck_integrator_lookup(const char *name)
 {
@@ -145,12 +151,15 @@ int rl_deck_integrator_lookup(const char *name)
 typedef struct {
   char *val[NKEYS];
   int line[NKEYS];                  /* 0 = default, -1 = --set                                */
-  int bad[NKEYS];                   /* the value could not be parsed: skip checks built on it */
+  int bad[NKEYS];                   /* reported already (no value, or one that could not be
+                                       parsed): skip the checks built on it                   */
   char *model_key[RL_MODEL_MAX_PARAMS], *model_val[RL_MODEL_MAX_PARAMS];
   int model_line[RL_MODEL_MAX_PARAMS], nmodel;
   const char *path;
   int lineno, problems;
-  int binary;                       /* a NUL byte was read: the parse stopped                 */
+  long bytes;                       /* read so far                                            */
+  char *section;                    /* the current [section]; NULL before the first           */
+  int section_bad;                  /* its header was refused: its keys are skipped           */
   FILE *err;
 } raw_deck;
 
@@ -174,17 +183,80 @@ static int find_key(const char *section, const char *name)
   return -1;
 }
 
+/* ---- the line format ------------------------------------------------------------------------
+ * These rules are this file's own (docs/deck.md states them), not a parser library's build
+ * settings: libinih 55, which read decks before, cut a line at its 200-byte buffer and read the
+ * rest as a line of its own, took only ";" for inline comments, read an indented line as more of
+ * the key before it, and cut section names at 49 characters, all silently.
+ *  - A line is blank, a comment (its first non-blank character is ; or #), "[section]", or
+ *    "key = value" ("key: value" too).
+ *  - In every line a ; or # after a blank starts a comment that runs to the end of the line, so a
+ *    value never contains " ;" or " #" (a --set value that does is refused); a ; or # with no blank
+ *    before it is part of the value (prefix = run#2).
+ *  - Blanks around keys, values and headers are dropped, at the start of a line too: an indented
+ *    key is a key; a value never continues on the next line, and an indented line without a key
+ *    is refused as such.
+ *  - A line has at most DECK_LINE_MAX characters before its comment, except the line of a path key
+ *    (system.start, output.prefix), whose value may be any path the system accepts.
+ *  - An empty value ("prefix =") is refused; --set section.key= returns a key to its default.
+ *  - The deck is a regular file or a pipe, of at most DECK_BYTES_MAX bytes and no NUL byte; a
+ *    UTF-8 byte-order mark before the first line is skipped.  Reading stops after
+ *    DECK_READ_PROBLEMS_MAX problems: the file is not a deck. */
+#define DECK_LINE_MAX 199
+#define DECK_BYTES_MAX 1048576L
+#define DECK_READ_PROBLEMS_MAX 100
+#define DECK_KEEP (RL_DECK_PATH_MAX + 64) /* characters kept of a line: a path key's */
+
+static const char *file_kind(mode_t m)
+{
+  return S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
+       : S_ISFIFO(m) ? "a pipe" : S_ISSOCK(m) ? "a socket" : "not a plain file";
+}
+
+/* The ' ;' or ' #' that starts an inline comment in s, or NULL. */
+static const char *inline_comment(const char *s)
+{
+  for (const char *q = *s ? s + 1 : s; *q; q++)
+    if ((*q == ';' || *q == '#') && isspace((unsigned char)q[-1])) return q;
+  return NULL;
+}
+
+static char *trim(char *s)
+{
+  while (isspace((unsigned char)*s)) s++;
+  size_t n = strlen(s);
+  while (n > 0 && isspace((unsigned char)s[n - 1])) s[--n] = '\0';
+  return s;
+}
+
+/* What the default of key k is, for messages. */
+static const char *default_text(int k)
+{
+  if (k == K_PREFIX) return "the deck's name without .ini";
+  return !keys[k].def ? NULL : keys[k].def[0] ? keys[k].def : "none";
+}
+
 static void store(raw_deck *r, const char *section, const char *name, const char *value, int line)
 {
   if (!strcmp(section, "model")) { /* model parameters, checked once the model is known */
     for (int i = 0; i < r->nmodel; i++)
       if (!strcmp(r->model_key[i], name)) {
         if (line > 0 && r->model_line[i] > 0) problem(r, line, "[model] %s given twice (first at line %d)", name, r->model_line[i]);
+        if (line < 0 && !value[0]) { /* --set model.name= : back to the default */
+          free(r->model_key[i]);
+          free(r->model_val[i]);
+          r->nmodel--;
+          r->model_key[i] = r->model_key[r->nmodel];
+          r->model_val[i] = r->model_val[r->nmodel];
+          r->model_line[i] = r->model_line[r->nmodel];
+          return;
+        }
         free(r->model_val[i]);
         r->model_val[i] = strdup(value);
         r->model_line[i] = line;
         return;
       }
+    if (line < 0 && !value[0]) return;
     if (r->nmodel == RL_MODEL_MAX_PARAMS) { problem(r, line, "[model] too many parameters (%s)", name); return; }
     r->model_key[r->nmodel] = strdup(name);
     r->model_val[r->nmodel] = strdup(value);
@@ -203,65 +275,119 @@ static void store(raw_deck *r, const char *section, const char *name, const char
   free(r->val[k]);
   r->val[k] = NULL;
   r->line[k] = 0;
+  r->bad[k] = 0;
   if (line < 0 && !value[0]) return; /* --set section.key= : back to the default, as if not given */
   r->val[k] = strdup(value);
   r->line[k] = line;
+  if (!value[0]) { /* a deck line "key =" */
+    const char *def = default_text(k);
+    if (k == K_PREFIX)
+      problem(r, line, "output.prefix has no value: write a path prefix such as out or results/run1 (for "
+              "out.thermo.csv, ...), or remove the line for the default (%s)", def);
+    else if (def)
+      problem(r, line, "%s.%s has no value: write one, or remove the line for the default (%s)", section, name, def);
+    else problem(r, line, "%s.%s has no value: write one (%s)", section, name, keys[k].help);
+    r->bad[k] = 1;
+  }
 }
 
-static int deck_handler(void *user, const char *section, const char *name, const char *value)
+/* Reads one line, to its newline or the end of the file, keeping its first `keep` characters in
+ * buf; *len is the whole line's length.  1: a line; 0: the end of the file; -1: the deck is
+ * refused (a NUL byte, more than DECK_BYTES_MAX bytes, a read error), reported. */
+static int read_line(FILE *f, raw_deck *r, char *buf, size_t keep, size_t *len)
 {
-  raw_deck *r = user;
-  if (!name) return 1; /* a section header */
-  if (!section || !*section) { problem(r, r->lineno, "key '%s' outside any [section]", name); return 1; }
-  store(r, section, name, value, r->lineno);
+  size_t n = 0;
+  int c;
+  while ((c = getc(f)) != EOF) {
+    if (++r->bytes > DECK_BYTES_MAX) {
+      problem(r, 0, "is longer than %ld bytes (1 MiB), the most a deck may have", DECK_BYTES_MAX);
+      return -1;
+    }
+    if (c == '\n') break;
+    if (c == '\0') { /* a DCD given by mistake, or /dev/zero through a pipe: its "keys" would fill screens */
+      problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno + 1);
+      return -1;
+    }
+    if (n < keep) buf[n] = (char)c;
+    n++;
+  }
+  if (ferror(f)) { problem(r, 0, "cannot read the deck: %s", strerror(errno)); return -1; }
+  if (c == EOF && n == 0) return 0;
+  buf[n < keep ? n : keep] = '\0';
+  *len = n;
+  r->lineno++;
   return 1;
 }
 
-/* 1 if the text from the start of `line` on is, from some point, a comment: the line starts
- * with ; or # (after blanks), or has an inline comment (a ; after a blank, as inih takes it). */
-static int ends_in_comment(const char *line)
+/* One line of `len` characters, the first `keep` of them in buf (modified). */
+static void parse_line(raw_deck *r, char *buf, size_t len, size_t keep)
 {
-  const char *p = line + strspn(line, " \t");
-  if (*p == ';' || *p == '#') return 1;
-  for (; *p; p++)
-    if (*p == ';' && (p[-1] == ' ' || p[-1] == '\t')) return 1;
-  return 0;
+  char *p = buf;
+  if (r->lineno == 1 && !strncmp(p, "\xEF\xBB\xBF", 3)) p += 3;
+  const int indented = isspace((unsigned char)*p);
+  while (isspace((unsigned char)*p)) p++;
+  if (*p == ';' || *p == '#') return;
+  char *cut = (char *)inline_comment(p);
+  if (cut) *cut = '\0';
+  const int whole = cut || len <= keep; /* the content, up to a comment, was kept */
+  p = trim(p);
+  const size_t n = whole ? (size_t)(p - buf) + strlen(p) : len; /* characters before a comment */
+  if (!*p && whole) return;
+  char *eq = *p == '[' ? NULL : strpbrk(p, "=:"), *name = NULL, *value = NULL, sep = eq ? *eq : '=';
+  if (eq) {
+    *eq = '\0';
+    name = trim(p);
+    value = trim(eq + 1);
+  }
+  const int k = name && r->section ? find_key(r->section, name) : -1;
+  if (n > DECK_LINE_MAX && !(whole && k >= 0 && keys[k].type == K_PATH)) {
+    problem(r, r->lineno, "this line has %zu characters, a deck line at most %d (only a comment, or the path of "
+            "system.start or output.prefix, may be longer)", n, DECK_LINE_MAX);
+    if (*p == '[') r->section_bad = 1; /* its keys would be misfiled: skipped */
+    return;
+  }
+  if (*p == '[') {
+    char *close = strchr(p, ']');
+    free(r->section);
+    r->section = NULL;
+    r->section_bad = 1;
+    if (!close) { problem(r, r->lineno, "a section header needs its closing ']' (e.g. [system])"); return; }
+    const char *after = trim(close + 1);
+    *close = '\0';
+    r->section = strdup(trim(p + 1));
+    if (*after) problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", r->section);
+    r->section_bad = 0;
+    return;
+  }
+  if (!eq) {
+    if (indented)
+      problem(r, r->lineno, "an indented line does not continue the value of the line before it: a deck value "
+              "is written whole on its key's line (key = value)");
+    else problem(r, r->lineno, "not a valid deck line (expected [section], key = value or a comment)");
+    return;
+  }
+  if (!*name) problem(r, r->lineno, "a key is missing before the '%c'", sep);
+  else if (r->section_bad) return;
+  else if (!r->section) problem(r, r->lineno, "key '%s' outside any [section]", name);
+  else store(r, r->section, name, value, r->lineno);
 }
 
-/* fgets-like reader for ini_parse_stream that counts lines: inih calls the handler for a key
- * right after reading its line, so lineno is that key's line.  inih hands it a buffer of `size`
- * bytes (INI_MAX_LINE: 200 in libinih's build) and would take the rest of a longer line for a
- * line of its own, misparsing it and every line number after it.  Here a line is always read
- * whole: one whose cut falls inside a comment is handed on cut there (which changes nothing);
- * any other is reported once, at its own line, and handed on empty.  A NUL byte ends the parse:
- * the file is binary (a DCD given by mistake), and its "keys" would fill screens. */
-static char *counting_reader(char *buf, int size, void *stream)
+/* Phase 1 for the deck file f: every line stored or reported.  0, or -1 when reading stopped
+ * (the file is not a deck: its lines are not worth checking further). */
+static int read_deck(FILE *f, raw_deck *r)
 {
-  raw_deck *r = ((void **)stream)[1];
-  FILE *f = ((void **)stream)[0];
-  size_t n = 0;
-  long rest = 0; /* characters past the buffer, up to the newline */
-  int c = EOF, nul = 0;
-  while (!r->binary && (c = getc(f)) != EOF) {
-    nul |= c == '\0';
-    if (n + 1 < (size_t)size) buf[n++] = (char)c;
-    else if (c != '\n') rest++;
-    if (c == '\n') break;
+  char buf[DECK_KEEP + 1];
+  size_t len;
+  int st;
+  while ((st = read_line(f, r, buf, DECK_KEEP, &len)) > 0) {
+    parse_line(r, buf, len, DECK_KEEP);
+    if (r->problems >= DECK_READ_PROBLEMS_MAX) {
+      problem(r, 0, "stopped reading at line %d after %d problems: is this a deck?", r->lineno, r->problems);
+      st = -1;
+      break;
+    }
   }
-  if (r->binary || (n == 0 && c == EOF)) return NULL;
-  buf[n] = '\0';
-  r->lineno++;
-  if (nul) {
-    problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno);
-    r->binary = 1;
-    return NULL;
-  }
-  if (rest > 0 && !ends_in_comment(buf)) {
-    problem(r, r->lineno, "this line has %ld characters, a deck line at most %d (only comments may be longer)",
-            (long)n + rest, size - 1);
-    buf[0] = '\0';
-  }
-  return buf;
+  return st < 0 ? -1 : 0;
 }
 
 static const char *val(const raw_deck *r, int k) { return r->val[k] ? r->val[k] : keys[k].def; }
@@ -270,6 +396,7 @@ static int choice(raw_deck *r, int k)
 {
   const char *v = val(r, k), *c = keys[k].choices;
   int idx = 0;
+  if (r->bad[k]) return 0;
   size_t n = strlen(v);
   for (const char *p = c; *p;) {
     const char *e = strchr(p, '|');
@@ -287,7 +414,7 @@ static int choice(raw_deck *r, int k)
 static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallback)
 {
   const char *v = val(r, k);
-  if (!v) return fallback;
+  if (!v || r->bad[k]) return fallback;
   double x;
   char msg[256];
   if (rl_parse_quantity(v, keys[k].dim, u, allow_inf, &x, msg, sizeof msg)) {
@@ -301,7 +428,7 @@ static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallb
 static long integer_in(raw_deck *r, int k, long lo, long hi, long fallback)
 {
   const char *v = val(r, k);
-  if (!v) return fallback;
+  if (!v || r->bad[k]) return fallback;
   char *end;
   errno = 0;
   long x = strtol(v, &end, 10);
@@ -319,9 +446,11 @@ static long integer(raw_deck *r, int k, long lo, long fallback) { return integer
 static int boolean(raw_deck *r, int k)
 {
   const char *v = val(r, k);
+  if (r->bad[k]) return 0;
   if (!strcmp(v, "yes") || !strcmp(v, "true") || !strcmp(v, "1") || !strcmp(v, "on")) return 1;
   if (!strcmp(v, "no") || !strcmp(v, "false") || !strcmp(v, "0") || !strcmp(v, "off")) return 0;
   problem(r, r->line[k], "%s.%s: '%s' is not yes or no", keys[k].section, keys[k].name, v);
+  r->bad[k] = 1;
   return 0;
 }
 
@@ -367,35 +496,37 @@ static int has_unit(const char *q, const char **unit)
  * reported once; box is left 0 on any. */
 static void box_edges(raw_deck *r, rl_units u, double box[3])
 {
-  char tmp[256], edge[3][96], *save;
-  int n = 0;
-  snprintf(tmp, sizeof tmp, "%s", r->val[K_BOX]);
-  for (char *tok = strtok_r(tmp, " \t", &save); tok; tok = strtok_r(NULL, " \t", &save)) {
+  char *tmp = strdup(r->val[K_BOX]), *save, *num[3] = {NULL, NULL, NULL};
+  const char *unit[3] = {NULL, NULL, NULL}; /* an edge's unit: a token of its own, or its number's suffix */
+  int suffix[3] = {0, 0, 0};                /* the unit is the number's suffix: num[c] is the quantity */
+  if (!tmp) { problem(r, r->line[K_BOX], "system.box: out of memory"); return; }
+  int n = 0, bad = 0;
+  for (char *tok = strtok_r(tmp, " \t", &save); tok && !bad; tok = strtok_r(NULL, " \t", &save)) {
     char *end;
-    const char *unit;
     (void)strtod(tok, &end);
-    if (end != tok) { /* a number (nan and inf too: refused below, by name) starts an edge */
-      if (n == 3) { problem(r, r->line[K_BOX], "system.box: more than three edges"); return; }
-      snprintf(edge[n++], sizeof edge[0], "%s", tok);
-    } else if (n > 0 && !has_unit(edge[n - 1], &unit)) { /* the unit of the number before it */
-      const size_t at = strlen(edge[n - 1]);
-      snprintf(edge[n - 1] + at, sizeof edge[0] - at, " %s", tok);
+    if (end != tok && n == 3) { /* a number (nan and inf too: refused below, by name) starts an edge */
+      problem(r, r->line[K_BOX], "system.box: more than three edges");
+      bad = 1;
+    } else if (end != tok) {
+      num[n] = tok;
+      suffix[n] = has_unit(tok, &unit[n]);
+      if (!suffix[n]) unit[n] = NULL;
+      n++;
+    } else if (n > 0 && !unit[n - 1]) { /* the unit of the number before it */
+      unit[n - 1] = tok;
     } else {
       problem(r, r->line[K_BOX], "system.box: '%s' is not a number%s", tok,
               n > 0 ? " (one unit per edge: \"1.8 nm 1.8 nm 2 nm\" or \"1.8 1.8 2 nm\")" : "");
-      return;
+      bad = 1;
     }
   }
-  if (n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); return; }
-  const char *last;
-  const int shared = has_unit(edge[n - 1], &last);
+  if (!bad && n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); bad = 1; }
   double L[3];
-  int bad = 0;
-  for (int c = 0; c < n; c++) {
-    const char *unit;
-    char q[160], msg[256];
-    const int takes_last = shared && !has_unit(edge[c], &unit);
-    snprintf(q, sizeof q, "%.95s%s%.40s", edge[c], takes_last ? " " : "", takes_last ? last : "");
+  for (int c = 0; c < n && !bad; c++) {
+    const char *un = suffix[c] ? "" : unit[c] ? unit[c] : unit[n - 1] ? unit[n - 1] : ""; /* bare: the last edge's */
+    char msg[256], *q = malloc(strlen(num[c]) + strlen(un) + 2);
+    if (!q) { problem(r, r->line[K_BOX], "system.box: out of memory"); bad = 1; break; }
+    sprintf(q, "%s%s%s", num[c], *un ? " " : "", un);
     if (rl_parse_quantity(q, Q_LENGTH, u, 0, &L[c], msg, sizeof msg)) {
       problem(r, r->line[K_BOX], "system.box: %s", msg);
       bad = 1;
@@ -404,13 +535,99 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
               : c == 1 ? "y edge " : "z edge ", L[c]);
       bad = 1;
     }
+    free(q);
   }
   if (!bad && !(isfinite(L[0] * L[1 % n] * L[2 % n]) && L[0] * L[1 % n] * L[2 % n] > 0)) {
     problem(r, r->line[K_BOX], "system.box: the volume of %s is out of range", r->val[K_BOX]);
     bad = 1;
   }
-  if (bad) return;
-  for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
+  if (!bad)
+    for (int c = 0; c < 3; c++) box[c] = L[n == 1 ? 0 : c];
+  free(tmp);
+}
+
+/* The model does not build from the [model] parameters: reported at the line of the one whose own
+ * value is the cause (the model builds with it at its default, the others as given). */
+static void model_problem(raw_deck *r, const rl_deck *d)
+{
+  char *msg = strdup(rl_last_error());
+  int culprit = -1;
+  for (int i = 0; i < r->nmodel && culprit < 0; i++) {
+    const int k = rl_model_param_index(d->model, r->model_key[i]);
+    double p[RL_MODEL_MAX_PARAMS];
+    rl_molecule m;
+    memcpy(p, d->params, sizeof p);
+    if (k < 0 || p[k] == d->model->param_defaults[k]) continue;
+    p[k] = d->model->param_defaults[k];
+    if (!rl_model_build(d->model, p, 0, &m)) culprit = i;
+  }
+  if (culprit >= 0)
+    problem(r, r->model_line[culprit], "[model] %s: model %s: %s", r->model_key[culprit], d->model->name,
+            msg ? msg : "does not build");
+  else problem(r, 0, "model %s: %s", d->model->name, msg ? msg : "does not build");
+  free(msg);
+}
+
+/* A step h no rotation can follow: h times the thermal angular velocity at T above 1. */
+static void step_resolves_rotation(raw_deck *r, const rl_deck *d, int k, double h, double T, const char *tkey)
+{
+  const double hw = h * thermal_omega_at(d, T);
+  if (hw > 1.0)
+    problem(r, r->line[k], "%s.%s %g %s is too large for %s at %g %s%s: h times the thermal angular velocity "
+            "is %.3g > 1, no step can follow the rotation", keys[k].section, keys[k].name, h,
+            rl_dim_unit(Q_TIME, d->units), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, d->units), tkey, hw);
+}
+
+/* output.prefix, or its default (the deck's path without .ini), into d->prefix: whole (never cut),
+ * leaving room for the outputs' suffixes in a path and in a file name, and naming a file, not a
+ * directory ("", "dir/", "." and ".." would make hidden files such as dir/.thermo.csv). */
+static void output_prefix(raw_deck *r, rl_deck *d, const char *path)
+{
+  if (r->bad[K_PREFIX]) return; /* no value: reported */
+  const char *v = r->val[K_PREFIX], *what = v ? "output.prefix" : "the default output.prefix (the deck's name without .ini)";
+  const int line = v ? r->line[K_PREFIX] : 0;
+  size_t n = v ? strlen(v) : strlen(path);
+  if (!v && n > 4 && !strcmp(path + n - 4, ".ini")) n -= 4;
+  if (n > RL_DECK_PATH_MAX - 1 - RL_DECK_SUFFIX_MAX) {
+    problem(r, line, "%s has %zu characters: with the suffixes of its outputs (up to %d characters) their paths would "
+            "pass the system's limit of %d; give a shorter one", what, n, RL_DECK_SUFFIX_MAX, RL_DECK_PATH_MAX - 1);
+    return;
+  }
+  memcpy(d->prefix, v ? v : path, n);
+  d->prefix[n] = '\0';
+  const char *slash = strrchr(d->prefix, '/'), *base = slash ? slash + 1 : d->prefix;
+  if (!*base || !strcmp(base, ".") || !strcmp(base, ".."))
+    problem(r, line, "%s '%s' names a directory: the outputs would be hidden files (%s.thermo.csv); write %s%sNAME "
+            "for NAME.thermo.csv, ... there", what, d->prefix, d->prefix, d->prefix,
+            *base && (!slash || slash[1]) ? "/" : "");
+  else if (strlen(base) + RL_DECK_SUFFIX_MAX > RL_DECK_NAME_MAX)
+    problem(r, line, "%s: its last part has %zu characters: with the suffixes of its outputs (up to %d characters) "
+            "their file names would pass the system's limit of %d; give a shorter one", what, strlen(base),
+            RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX);
+}
+
+/* system.start = a file (not "lattice"): whole (never cut), a .pdb, .xyz or .chk, and a regular
+ * file (links followed) that can be read; nothing else is opened. */
+static void start_file(raw_deck *r, rl_deck *d, const char *v)
+{
+  const int line = r->line[K_START];
+  const size_t n = strlen(v);
+  if (n >= sizeof d->start) {
+    problem(r, line, "system.start: the path has %zu characters, more than the system's limit of %d", n,
+            RL_DECK_PATH_MAX - 1);
+    return;
+  }
+  memcpy(d->start, v, n + 1);
+  const char *ext = n > 4 ? d->start + n - 4 : "";
+  struct stat sb;
+  FILE *t;
+  if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
+    problem(r, line, "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
+  else if (stat(d->start, &sb)) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
+  else if (!S_ISREG(sb.st_mode))
+    problem(r, line, "system.start: %s is not a regular file (%s)", d->start, file_kind(sb.st_mode));
+  else if (!(t = fopen(d->start, "rb"))) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
+  else fclose(t);
 }
 
 /* the values the handler stored (strdup'd) */
@@ -418,6 +635,7 @@ static void raw_deck_free(raw_deck *r)
 {
   for (int k = 0; k < NKEYS; k++) free(r->val[k]);
   for (int i = 0; i < r->nmodel; i++) { free(r->model_key[i]); free(r->model_val[i]); }
+  free(r->section);
 }
 
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
@@ -427,35 +645,53 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   memset(d, 0, sizeof *d);
   r.path = path;
   r.err = err;
-  FILE *f = fopen(path, "r");
-  if (!f) { problem(&r, 0, "cannot open the deck: %s", strerror(errno)); return r.problems; }
-  struct stat sb;
-  if (fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
-    fclose(f);
-    problem(&r, 0, "is a directory, not a deck");
+  if (strlen(path) >= sizeof d->path) {
+    problem(&r, 0, "the deck's path has %zu characters, more than the system's limit of %d", strlen(path),
+            RL_DECK_PATH_MAX - 1);
     return r.problems;
   }
-  void *stream[2] = {f, &r};
-  int st = ini_parse_stream(counting_reader, stream, deck_handler, &r);
-  fclose(f);
-  if (r.binary) { /* the lines before the first NUL byte were stored */
+  memcpy(d->path, path, strlen(path) + 1);
+  /* a regular file or a pipe (a deck from a process: /dev/stdin, <(...)), links followed; never
+   * a device (/dev/zero would be read forever), checked before it is opened and again after */
+  struct stat sb;
+  FILE *f = NULL;
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass ? fstat(fileno(f), &sb) : stat(path, &sb)) break;
+    if (!S_ISREG(sb.st_mode) && !S_ISFIFO(sb.st_mode))
+      problem(&r, 0, S_ISDIR(sb.st_mode) ? "is a directory, not a deck" : "is not a regular file (%s): a deck is a text file",
+              file_kind(sb.st_mode));
+    else if (S_ISREG(sb.st_mode) && sb.st_size > DECK_BYTES_MAX)
+      problem(&r, 0, "is %lld bytes, more than the %ld bytes (1 MiB) a deck may have", (long long)sb.st_size, DECK_BYTES_MAX);
+    if (r.problems || (!pass && !(f = fopen(path, "r")))) break;
+  }
+  if (!r.problems && !f) problem(&r, 0, "cannot open the deck: %s", strerror(errno));
+  const int read = r.problems ? -1 : read_deck(f, &r);
+  if (f) fclose(f);
+  if (read < 0) { /* not a deck: its lines are not checked further */
     raw_deck_free(&r);
     return r.problems;
   }
-  if (st > 0) problem(&r, st, "not a valid INI line (expected [section] or key = value)");
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
     if (!eq || !dot || dot > eq) { problem(&r, -1, "'%s' is not section.key=value", sets[i]); continue; }
-    char sec[64], name[64];
-    snprintf(sec, sizeof sec, "%.*s", (int)(dot - sets[i]), sets[i]);
-    snprintf(name, sizeof name, "%.*s", (int)(eq - dot - 1), dot + 1);
-    store(&r, sec, name, eq + 1, -1);
+    char *sec = strndup(sets[i], (size_t)(dot - sets[i])), *name = strndup(dot + 1, (size_t)(eq - dot - 1)),
+         *value = strdup(eq + 1);
+    if (!sec || !name || !value) problem(&r, -1, "out of memory");
+    else {
+      const char *v = trim(value), *c = inline_comment(v);
+      if (c) /* what a deck line would read as a comment is not a value from the command line either */
+        problem(&r, -1, "%s.%s: '%s' contains ' %c', which starts a comment in a deck line: a value cannot "
+                "contain it", trim(sec), trim(name), v, *c);
+      else store(&r, trim(sec), trim(name), v, -1);
+    }
+    free(sec);
+    free(name);
+    free(value);
   }
-  snprintf(d->path, sizeof d->path, "%s", path);
 
   /* the model decides the unit system */
   require(&r, K_MODEL);
-  if (r.val[K_MODEL]) {
+  if (r.val[K_MODEL] && !r.bad[K_MODEL]) {
     d->model = rl_catalog_find(r.val[K_MODEL]);
     if (!d->model) problem(&r, r.line[K_MODEL], "system.model: %s", rl_last_error());
   }
@@ -488,13 +724,15 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   double mass = 0.0;
   if (d->model) {
     rl_molecule m;
-    if (rl_model_build(d->model, d->params, 0, &m)) problem(&r, 0, "model %s: %s", d->model->name, rl_last_error());
+    if (rl_model_build(d->model, d->params, 0, &m)) model_problem(&r, d);
     else {
       mass = m.mass;
       if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);
     }
   }
-  if (r.val[K_BOX] && r.val[K_DENSITY]) {
+  if (r.bad[K_BOX] || r.bad[K_DENSITY]) {
+    /* reported: no value */
+  } else if (r.val[K_BOX] && r.val[K_DENSITY]) {
     char at[32] = "from --set";
     if (r.line[K_BOX] >= 0) snprintf(at, sizeof at, "at line %d", r.line[K_BOX]);
     problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
@@ -534,7 +772,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       if (!r.bad[K_SWITCH] && !r.bad[K_CUTOFF] && !(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
         problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
     }
-  } else if (r.val[K_SWITCH]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
+  } else if (r.val[K_SWITCH] && !r.bad[K_LJ]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
   d->ff.dispersion_correction = boolean(&r, K_DISP);
   d->ff.eps_rf = number(&r, K_EPSRF, u, 1, 78.3);
   if (!(d->ff.eps_rf >= 1.0)) problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
@@ -560,17 +798,18 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!r.val[K_DT]) r.bad[K_DT] = 1;
   d->method = rl_deck_integrators[choice(&r, K_INTEGRATOR)].method;
   int ens = choice(&r, K_ENSEMBLE);
+  const int ens_ok = !r.bad[K_ENSEMBLE]; /* an unknown ensemble is its one problem: nothing is checked against it */
   static const rl_thermostat ensembles[] = {RL_THERMO_NONE, RL_THERMO_ISOKINETIC, RL_THERMO_BUSSI, RL_THERMO_LANGEVIN};
   d->thermostat = ensembles[ens];
   const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
   if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
   else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
-  if (ens == 0 && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
+  if (ens == 0 && ens_ok && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
-  if (r.val[K_TAU] && !stochastic) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
+  if (r.val[K_TAU] && !stochastic && ens_ok) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
   d->thermostat_groups = choice(&r, K_TGROUPS) ? RL_THERMO_GROUPS_ALL : RL_THERMO_GROUPS_TRANS_ROT;
-  if (r.val[K_TGROUPS] && ens != 2)
+  if (r.val[K_TGROUPS] && ens != 2 && ens_ok)
     problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");
   if (!(d->tau > 0) && stochastic && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
     problem(&r, r.line[K_TAU], "run.tau must be positive");
@@ -579,23 +818,25 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
     problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
-  if (!r.val[K_TEMP] && r.bad[K_TTEMP]) r.bad[K_TEMP] = 1; /* its default is reported there */
-  if (!r.val[K_TEMP] && ens == 0) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
+  if (!r.val[K_TEMP] && (r.bad[K_TTEMP] || !ens_ok)) r.bad[K_TEMP] = 1; /* its default is reported there */
+  if (!r.val[K_TEMP] && ens == 0 && ens_ok) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
                  "sets the default neighbour-list skin and the kT of the blow-up checks (from a checkpoint, give "
                  "the first run's value: the same skin continues bit for bit)");
   else if (!r.bad[K_TEMP] && !(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
     problem(&r, r.line[K_TEMP], "system.temperature must be positive");
   if (d->equilibrate_steps > 0 && !r.bad[K_TEMP] && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
-  /* an absurd step: no step can resolve a thermal rotation with h omega > 1, at the start's
-   * temperature or at the thermostat's, whichever is higher */
+  /* an absurd step: the run's at the start's temperature or at the thermostat's, whichever is
+   * higher; the relaxation's (a given one: the default, timestep / 4, passes when the run's does)
+   * at the start's, which its thermostat keeps */
   if (d->model && d->timestep > 0) {
     const char *tkey;
-    const double T = rl_deck_max_temperature(d, &tkey), hw = d->timestep * rl_deck_thermal_omega(d);
-    if (hw > 1.0)
-      problem(&r, r.line[K_DT], "run.timestep %g %s is too large for %s at %g %s%s: h times the thermal "
-              "angular velocity is %.3g > 1, no step can follow the rotation", d->timestep,
-              rl_dim_unit(Q_TIME, u), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, u), tkey, hw);
+    const double T = rl_deck_max_temperature(d, &tkey);
+    step_resolves_rotation(&r, d, K_DT, d->timestep, T, tkey);
   }
+  if (d->model && d->equilibrate_steps > 0 && r.val[K_EQDT] && !r.bad[K_EQDT] && d->equilibrate_timestep > 0 &&
+      !r.bad[K_TEMP] && d->temperature > 0)
+    step_resolves_rotation(&r, d, K_EQDT, d->equilibrate_timestep, d->temperature,
+                           " (system.temperature, the relaxation's)");
   d->ff.skin = r.val[K_SKIN] ? d->ff.skin : -1.0;
   d->thermostat_seed = (unsigned long)integer(&r, K_TSEED, 0, 2);
   d->ff.threads = (int)integer_in(&r, K_THREADS, 0, RL_DECK_MAX_THREADS, 0);
@@ -609,12 +850,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
               omp, RL_DECK_MAX_THREADS);
   }
   /* [output] */
-  if (r.val[K_PREFIX]) snprintf(d->prefix, sizeof d->prefix, "%s", r.val[K_PREFIX]);
-  else {
-    snprintf(d->prefix, sizeof d->prefix, "%s", path);
-    size_t n = strlen(d->prefix);
-    if (n > 4 && !strcmp(d->prefix + n - 4, ".ini")) d->prefix[n - 4] = '\0';
-  }
+  output_prefix(&r, d, path);
   d->thermo_every = integer(&r, K_THERMO, 1, 100);
   d->energy_every = integer(&r, K_ENERGY, 1, 1);
   if (d->thermo_every % d->energy_every)
@@ -630,27 +866,21 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
               "with 32-bit integers, at most %ld", d->steps, d->model->name, (long)INT32_MAX);
   }
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
-  snprintf(d->rdf, sizeof d->rdf, "%s", val(&r, K_RDF));
-  if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
-    rl_molecule m;
-    int site[RL_DECK_MAX_RDF][2];
-    char name[RL_DECK_MAX_RDF][24];
-    if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
-      problem(&r, r.line[K_RDF], "%s", rl_last_error());
-  }
-  snprintf(d->start, sizeof d->start, "%s", strcmp(val(&r, K_START), "lattice") ? val(&r, K_START) : "");
-  if (d->start[0]) {
-    size_t n = strlen(d->start);
-    const char *ext = n > 4 ? d->start + n - 4 : "";
-    if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
-      problem(&r, r.line[K_START], "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
-    else {
-      FILE *t = fopen(d->start, "rb");
-      if (!t) problem(&r, r.line[K_START], "system.start: cannot open %s: %s", d->start, strerror(errno));
-      else fclose(t);
+  const char *rdf = val(&r, K_RDF);
+  if (!r.bad[K_RDF] && strlen(rdf) >= sizeof d->rdf)
+    problem(&r, r.line[K_RDF], "output.rdf has %zu characters, at most %zu", strlen(rdf), sizeof d->rdf - 1);
+  else if (!r.bad[K_RDF]) {
+    memcpy(d->rdf, rdf, strlen(rdf) + 1);
+    if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
+      rl_molecule m;
+      int site[RL_DECK_MAX_RDF][2];
+      char name[RL_DECK_MAX_RDF][24];
+      if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
+        problem(&r, r.line[K_RDF], "%s", rl_last_error());
     }
   }
   d->discard = strcmp(val(&r, K_DISCARD), "auto") ? integer(&r, K_DISCARD, 0, 0) : -1;
+  if (!r.bad[K_START] && strcmp(val(&r, K_START), "lattice")) start_file(&r, d, val(&r, K_START));
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 
@@ -668,9 +898,27 @@ void rl_deck_print_keys(FILE *f, int md)
                "A deck is an INI file. Numbers take a unit suffix in real units (`2 fs`, `0.9 nm`, "
                "`9 A`, `298 K`, `1 g/cm3`); a bare number is in the default unit shown. Reduced "
                "(lj) models take bare numbers only. `--set section.key=value` overrides any key; `--set section.key=` returns it to its default. "
-               "Model parameters go in `[model]` (see `rotleap models`). A line may have at most 199 "
-               "characters (libinih's line buffer in its default build; a longer line is refused at "
-               "its line), except a comment, which may be of any length. A binary file is refused.\n");
+               "Model parameters go in `[model]` (see `rotleap models`).\n\n"
+               "## Format\n\n"
+               "- A line is blank, a comment (its first non-blank character is `;` or `#`), a `[section]` "
+               "header, or `key = value` (`key: value` also works).\n"
+               "- In every line, a `;` or `#` after a blank (space or tab) starts a comment that runs to the "
+               "end of the line: `prefix = out # a note` is `out`, `temperature = 298 K ; room` is `298 K`. "
+               "A `;` or `#` with no blank before it belongs to the value (`prefix = run#2`). So no value "
+               "contains ` ;` or ` #`, and `--set` refuses one that does.\n"
+               "- Blanks around keys, values and headers are ignored, at the start of a line too: an "
+               "indented key is a key. A value never continues on the next line: an indented line without "
+               "a key is refused at its line.\n"
+               "- An empty value (`prefix =`) is refused: remove the line for the default.\n"
+               "- A line has at most %d characters before its comment (a comment may be of any length), "
+               "except a `start` or `prefix` line, whose path may have up to %d characters, the system's "
+               "limit. Paths are never cut: a longer one is refused by its key, and so is an `output.prefix` "
+               "that leaves less than %d characters for the suffixes of the outputs in a path, or in a file "
+               "name (at most %d characters), or that names a directory (`results/`, `..`).\n"
+               "- The deck is a regular file (a link to one is followed) or a pipe (`/dev/stdin`), of at most "
+               "1 MiB and without NUL bytes: a binary file or a device is refused at once. A UTF-8 byte-order "
+               "mark is skipped. Reading stops after %d problems.\n",
+            DECK_LINE_MAX, RL_DECK_PATH_MAX - 1, RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX, DECK_READ_PROBLEMS_MAX);
   for (int k = 0; k < NKEYS; k++) {
     const key_def *K = &keys[k];
     if (strcmp(sec, K->section)) {
@@ -679,7 +927,7 @@ void rl_deck_print_keys(FILE *f, int md)
       else fprintf(f, "\n[%s]\n", sec);
     }
     const char *type = K->type == K_CHOICE ? K->choices : K->type == K_INT ? "integer" : K->type == K_BOOL ? "yes/no"
-                     : K->type == K_REAL ? "number" : K->dim == Q_LENGTH ? "lengths" : "text";
+                     : K->type == K_REAL ? "number" : K->type == K_PATH ? "path" : K->dim == Q_LENGTH ? "lengths" : "text";
     const char *unit = K->dim == Q_NONE ? "" : rl_dim_unit(K->dim, RL_UNITS_REAL);
     if (md) fprintf(f, "| `%s` | %s | %s | %s | %s |\n", K->name, type, unit, K->def ? K->def : "", K->help);
     else fprintf(f, "  %-22s %-34s %-7s default %-8s %s\n", K->name, type, unit, K->def ? K->def : "-", K->help);

@@ -1,11 +1,31 @@
-/* Decks: INI files (parsed by libinih) describing a run.  One table (deck.c) lists every key with
- * its section, type, unit, default and meaning; it drives parsing, validation, `rotleap run
- * --help` and docs/deck.md (`rotleap deck-keys --markdown`). */
+/* Decks: INI files describing a run (the line format is deck.c's own, documented in docs/deck.md).
+ * One table (deck.c) lists every key with its section, type, unit, default and meaning; it drives
+ * parsing, validation, `rotleap run --help` and docs/deck.md (`rotleap deck-keys --markdown`). */
 #ifndef ROTLEAP_APP_DECK_H
 #define ROTLEAP_APP_DECK_H
 
 #include <rotleap/rotleap.h>
+#include <limits.h>
 #include <stdio.h>
+
+/* The path fields hold any path the system accepts: PATH_MAX bytes with the terminating NUL
+ * (a longer value is refused by its key, never cut). */
+#ifdef PATH_MAX
+#define RL_DECK_PATH_MAX PATH_MAX
+#else
+#define RL_DECK_PATH_MAX 4096
+#endif
+/* The longest file name (a path's last part) the system accepts. */
+#ifdef NAME_MAX
+#define RL_DECK_NAME_MAX NAME_MAX
+#else
+#define RL_DECK_NAME_MAX 255
+#endif
+/* Every output's path is output.prefix followed by a suffix of at most this many characters
+ * (".thermo.csv.part.old", ".rl-quaternion.h0.0025.scan.csv", ".tmp.<pid>", ...): the deck refuses
+ * a prefix that leaves less room, so char name[RL_DECK_PATH_MAX] holds every output's path, and
+ * a last path part that leaves less room below NAME_MAX (255 bytes). */
+#define RL_DECK_SUFFIX_MAX 64
 
 typedef struct {
   /* [system] */
@@ -18,7 +38,7 @@ typedef struct {
   int random_orientations;
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */
-  char start[512];          /* "" = lattice; else a .pdb, .xyz or .chk file               */
+  char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file (a regular file) */
   /* [interactions] */
   rl_ff_params ff;
   /* [run] */
@@ -32,17 +52,17 @@ typedef struct {
   long equilibrate_steps;
   double equilibrate_timestep;
   /* [output] */
-  char prefix[512];
+  char prefix[RL_DECK_PATH_MAX]; /* leaves RL_DECK_SUFFIX_MAX characters; names a file, not a directory */
   long thermo_every;
   long energy_every;        /* potential energy and virial every this many steps        */
   long checkpoint_every;    /* 0: only at the end                                        */
   long trajectory_every;    /* 0: none                                                   */
   long sample_every;        /* configurations for RDFs and correlation functions         */
-  char rdf[256];            /* "O-O, H-H": site pairs                                    */
+  char rdf[256];            /* "O-O, H-H": site pairs (a longer value is refused)         */
   long discard;             /* output.discard: -1 auto, else steps left out of the averages */
   int progress;             /* -1 auto (a terminal), 0 no, 1 yes                        */
   rl_units units;
-  char path[512];
+  char path[RL_DECK_PATH_MAX]; /* the deck's path, as given                                */
 } rl_deck;
 
 /* The largest thread count: run.threads, and OMP_NUM_THREADS where run.threads = 0 takes it. */

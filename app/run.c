@@ -337,7 +337,7 @@ typedef struct {
   long last_chk;        /* the step of the last checkpoint this run wrote or continues (-1)  */
   long relax_done;      /* relaxation steps done (for messages)                             */
   scene_relaxation *relax; /* a relaxation stopped by a signal, for its checkpoint          */
-  char start_note[1024];   /* what is wrong with the start, if its energy says so (start_check) */
+  char start_note[RL_DECK_PATH_MAX + 1024]; /* what is wrong with the start, if its energy says so (start_check) */
 } run_ctx;
 
 /* A checkpoint at `step`, `time` of the integrator `in` (the production's, or the relaxation's

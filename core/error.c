@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static _Thread_local char last_message[1024];
+static _Thread_local char last_message[16384]; /* room for messages naming paths as long as PATH_MAX */
 
 const char *rl_last_error(void) { return last_message; }
 
@@ -28,7 +28,7 @@ int rl_error_wrap(int status, const char *fmt, ...)
   va_start(ap, fmt);
   vsnprintf(ctx, sizeof ctx, fmt, ap);
   va_end(ap);
-  snprintf(last_message, sizeof last_message, "%.400s: %.600s", ctx, prev[0] ? prev : rl_strerror(status));
+  snprintf(last_message, sizeof last_message, "%.8000s: %.8000s", ctx, prev[0] ? prev : rl_strerror(status));
   return status;
 }
 

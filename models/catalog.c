@@ -117,19 +117,21 @@ static int def_n2(const rl_model *s, const double *p, int fg, rl_molecule *m)
   t.quad[c] = 1.4397 * 0.0020819434;
   return finish(s, &t, fg, m);
 }
-/* The two-centre models need two distinct centres: at L* = 0 they would be one LJ site of depth
- * 4 eps with no rotation at all. */
-static int elongation_ok(const rl_model *s, double L)
+/* A parameter without which the model has no meaning: the message names the parameter (the deck
+ * reports it at its line) and what 0 would mean. */
+static int positive_ok(const char *param, double x, const char *why)
 {
-  if (L > 0.0 && isfinite(L)) return 1;
-  rl_error(RL_EINVAL, "elongation %g must be positive (L* = 0 would put both LJ centres of %s on one "
-           "site)", L, s->name);
+  if (x > 0.0 && isfinite(x)) return 1;
+  rl_error(RL_EINVAL, "%s %g must be positive (%s)", param, x, why);
   return 0;
 }
+/* The two-centre models need two distinct centres: at L* = 0 they would be one LJ site of depth
+ * 4 eps with no rotation at all. */
+#define ELONGATION_WHY "L* = 0 would put both LJ centres on one site"
 
 static int def_2clj(const rl_model *s, const double *p, int fg, rl_molecule *m)
 { /* two LJ centres sigma = eps = 1, total mass 1, elongation L* = L/sigma */
-  if (!elongation_ok(s, p[0])) return RL_EINVAL;
+  if (!positive_ok("elongation", p[0], ELONGATION_WHY)) return RL_EINVAL;
   site_table t = {0};
   site(&t, "A1", 0, 0, -0.5 * p[0], 0.5, 1.0, 1.0, 0);
   site(&t, "A2", 0, 0, 0.5 * p[0], 0.5, 1.0, 1.0, 0);
@@ -137,7 +139,7 @@ static int def_2clj(const rl_model *s, const double *p, int fg, rl_molecule *m)
 }
 static int def_2cljq(const rl_model *s, const double *p, int fg, rl_molecule *m)
 { /* 2CLJ plus a point quadrupole Q* = Q/sqrt(eps sigma^5) at the centre along the axis */
-  if (!elongation_ok(s, p[0])) return RL_EINVAL;
+  if (!positive_ok("elongation", p[0], ELONGATION_WHY)) return RL_EINVAL;
   site_table t = {0};
   site(&t, "A1", 0, 0, -0.5 * p[0], 0.5, 1.0, 1.0, 0);
   site(&t, "A2", 0, 0, 0.5 * p[0], 0.5, 1.0, 1.0, 0);
@@ -148,7 +150,10 @@ static int def_2cljq(const rl_model *s, const double *p, int fg, rl_molecule *m)
 
 /* ---- point dipole ---- */
 static int def_stockmayer(const rl_model *s, const double *p, int fg, rl_molecule *m)
-{ /* LJ sigma = eps = m = 1 plus a point dipole mu* = mu/sqrt(eps sigma^3); inertia I* */
+{ /* LJ sigma = eps = m = 1 plus a point dipole mu* = mu/sqrt(eps sigma^3); inertia I* (mu = 0:
+     an LJ atom, whose inertia does not matter) */
+  if (p[0] != 0.0 && !positive_ok("inertia", p[1], "a dipole with I* = 0 would have no rotational inertia; "
+                                  "mu = 0 makes an LJ atom")) return RL_EINVAL;
   site_table t = {0};
   int a = site(&t, "S", 0, 0, 0, 1.0, 1.0, 1.0, 0);
   t.dip[a][2] = p[0];
