@@ -1,5 +1,5 @@
-/* Deck parsing and validation.  Phase 1 reads every "section.key = value" with its line (the
- * line format below is this file's own) and applies --set overrides; phase 2, once the model
+/* Deck parsing and validation.  Phase 1 reads every "section.key = value" with its line (libinih
+ * parses, under the line format below) and applies --set overrides; phase 2, once the model
  * fixes the unit system, converts and checks every value and the combinations.  All problems are
  * reported before anything runs. */
 #include "deck.h"
@@ -7,6 +7,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -160,6 +161,7 @@ typedef struct {
   long bytes;                       /* read so far                                            */
   char *section;                    /* the current [section]; NULL before the first           */
   int section_bad;                  /* its header was refused: its keys are skipped           */
+  int stopped;                      /* reading was stopped: the file is not a deck            */
   FILE *err;
 } raw_deck;
 
@@ -184,10 +186,11 @@ static int find_key(const char *section, const char *name)
 }
 
 /* ---- the line format ------------------------------------------------------------------------
- * These rules are this file's own (docs/deck.md states them), not a parser library's build
- * settings: libinih 55, which read decks before, cut a line at its 200-byte buffer and read the
- * rest as a line of its own, took only ";" for inline comments, read an indented line as more of
- * the key before it, and cut section names at 49 characters, all silently.
+ * libinih (Debian's libinih-dev) parses the deck: sections, keys, values.  Its build settings
+ * would decide the rest silently -- it cuts a line at its 200-byte buffer and reads the rest as
+ * a line of its own, takes only ";" for an inline comment, reads an indented line as more of the
+ * key before it, and cuts section names at 49 characters -- so the reader that hands it the lines
+ * (deck_reader) enforces these rules first (docs/deck.md states them):
  *  - A line is blank, a comment (its first non-blank character is ; or #), "[section]", or
  *    "key = value" ("key: value" too).
  *  - In every line a ; or # after a blank starts a comment that runs to the end of the line, so a
@@ -197,12 +200,15 @@ static int find_key(const char *section, const char *name)
  *    key is a key; a value never continues on the next line, and an indented line without a key
  *    is refused as such.
  *  - A line has at most DECK_LINE_MAX characters before its comment, except the line of a path key
- *    (system.start, output.prefix), whose value may be any path the system accepts.
+ *    (system.start, output.prefix), whose value may be any path the system accepts (such a line is
+ *    longer than libinih's buffer: the reader stores it itself); a section name at most
+ *    DECK_SECTION_MAX characters.
  *  - An empty value ("prefix =") is refused; --set section.key= returns a key to its default.
  *  - The deck is a regular file or a pipe, of at most DECK_BYTES_MAX bytes and no NUL byte; a
  *    UTF-8 byte-order mark before the first line is skipped.  Reading stops after
  *    DECK_READ_PROBLEMS_MAX problems: the file is not a deck. */
-#define DECK_LINE_MAX 199
+#define DECK_LINE_MAX 199 /* libinih's INI_MAX_LINE (200) less its terminator */
+#define DECK_SECTION_MAX 49 /* libinih's MAX_SECTION (50) less its terminator */
 #define DECK_BYTES_MAX 1048576L
 #define DECK_READ_PROBLEMS_MAX 100
 #define DECK_KEEP (RL_DECK_PATH_MAX + 64) /* characters kept of a line: a path key's */
@@ -319,9 +325,12 @@ static int read_line(FILE *f, raw_deck *r, char *buf, size_t keep, size_t *len)
   return 1;
 }
 
-/* One line of `len` characters, the first `keep` of them in buf (modified). */
-static void parse_line(raw_deck *r, char *buf, size_t len, size_t keep)
+/* One raw line of `len` characters (the first `keep` of them in buf, modified) checked against the
+ * rules above; what libinih is to parse of it is left in *out ("" for nothing: a blank line, a
+ * comment, a line refused here, or a long path line stored here). */
+static void check_line(raw_deck *r, char *buf, size_t len, size_t keep, const char **out)
 {
+  *out = "";
   char *p = buf;
   if (r->lineno == 1 && !strncmp(p, "\xEF\xBB\xBF", 3)) p += 3;
   const int indented = isspace((unsigned char)*p);
@@ -333,32 +342,32 @@ static void parse_line(raw_deck *r, char *buf, size_t len, size_t keep)
   p = trim(p);
   const size_t n = whole ? (size_t)(p - buf) + strlen(p) : len; /* characters before a comment */
   if (!*p && whole) return;
-  char *eq = *p == '[' ? NULL : strpbrk(p, "=:"), *name = NULL, *value = NULL, sep = eq ? *eq : '=';
-  if (eq) {
-    *eq = '\0';
-    name = trim(p);
-    value = trim(eq + 1);
-  }
-  const int k = name && r->section ? find_key(r->section, name) : -1;
-  if (n > DECK_LINE_MAX && !(whole && k >= 0 && keys[k].type == K_PATH)) {
-    problem(r, r->lineno, "this line has %zu characters, a deck line at most %d (only a comment, or the path of "
-            "system.start or output.prefix, may be longer)", n, DECK_LINE_MAX);
-    if (*p == '[') r->section_bad = 1; /* its keys would be misfiled: skipped */
-    return;
-  }
   if (*p == '[') {
     char *close = strchr(p, ']');
-    free(r->section);
-    r->section = NULL;
-    r->section_bad = 1;
-    if (!close) { problem(r, r->lineno, "a section header needs its closing ']' (e.g. [system])"); return; }
-    const char *after = trim(close + 1);
-    *close = '\0';
-    r->section = strdup(trim(p + 1));
-    if (*after) problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", r->section);
-    r->section_bad = 0;
+    r->section_bad = 1; /* until the header is found good: the keys under a bad one are skipped */
+    if (n > DECK_LINE_MAX) problem(r, r->lineno, "this line has %zu characters, a deck line at most %d", n, DECK_LINE_MAX);
+    else if (!close) problem(r, r->lineno, "a section header needs its closing ']' (e.g. [system])");
+    else {
+      const char *after = trim(close + 1);
+      *close = '\0';
+      char *name = trim(p + 1);
+      if (strlen(name) > DECK_SECTION_MAX)
+        problem(r, r->lineno, "the section name [%.20s...] has %zu characters, at most %d", name, strlen(name), DECK_SECTION_MAX);
+      else if (*after) problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", name);
+      else {
+        r->section_bad = 0;
+        free(r->section);
+        r->section = strdup(name);
+        memmove(buf, name, strlen(name) + 1); /* "[name]" for libinih, in place */
+        memmove(buf + 1, buf, strlen(buf) + 1);
+        buf[0] = '[';
+        strcat(buf, "]");
+        *out = buf;
+      }
+    }
     return;
   }
+  char *eq = strpbrk(p, "=:");
   if (!eq) {
     if (indented)
       problem(r, r->lineno, "an indented line does not continue the value of the line before it: a deck value "
@@ -366,28 +375,71 @@ static void parse_line(raw_deck *r, char *buf, size_t len, size_t keep)
     else problem(r, r->lineno, "not a valid deck line (expected [section], key = value or a comment)");
     return;
   }
-  if (!*name) problem(r, r->lineno, "a key is missing before the '%c'", sep);
-  else if (r->section_bad) return;
-  else if (!r->section) problem(r, r->lineno, "key '%s' outside any [section]", name);
-  else store(r, r->section, name, value, r->lineno);
+  const char sep = *eq;
+  *eq = '\0';
+  char *name = trim(p), *value = trim(eq + 1);
+  const int k = *name && r->section ? find_key(r->section, name) : -1;
+  if (!*name) { problem(r, r->lineno, "a key is missing before the '%c'", sep); return; }
+  if (r->section_bad) return;
+  if (!r->section) { problem(r, r->lineno, "key '%s' outside any [section]", name); return; }
+  if (n > DECK_LINE_MAX) {
+    if (whole && k >= 0 && keys[k].type == K_PATH) store(r, r->section, name, value, r->lineno); /* beyond libinih's buffer */
+    else
+      problem(r, r->lineno, "this line has %zu characters, a deck line at most %d (only a comment, or the path of "
+              "system.start or output.prefix, may be longer)", n, DECK_LINE_MAX);
+    return;
+  }
+  /* "name = value" for libinih, blanks and comment dropped (it fits: n <= DECK_LINE_MAX) */
+  const size_t ln = strlen(name), lv = strlen(value);
+  memmove(buf, name, ln);
+  buf[ln] = '=';
+  memmove(buf + ln + 1, value, lv + 1);
+  *out = buf;
+}
+
+/* The reader libinih pulls lines through (ini_parse_stream): each raw line of the deck is read
+ * whole (read_line) and checked (check_line); libinih gets what is left to parse, and calls the
+ * handler for a key right after reading its line, so r->lineno is that key's line.  NULL ends
+ * the parse: the end of the file, or a deck refused while reading. */
+static char *deck_reader(char *str, int num, void *stream)
+{
+  raw_deck *r = ((void **)stream)[1];
+  FILE *f = ((void **)stream)[0];
+  static _Thread_local char buf[DECK_KEEP + 1];
+  size_t len;
+  if (r->stopped || r->problems >= DECK_READ_PROBLEMS_MAX) {
+    if (!r->stopped && r->problems >= DECK_READ_PROBLEMS_MAX)
+      problem(r, 0, "stopped reading at line %d after %d problems: is this a deck?", r->lineno, r->problems);
+    r->stopped = 1;
+    return NULL;
+  }
+  const int st = read_line(f, r, buf, DECK_KEEP, &len);
+  if (st <= 0) {
+    r->stopped = st < 0;
+    return NULL;
+  }
+  const char *out;
+  check_line(r, buf, len, DECK_KEEP, &out);
+  snprintf(str, (size_t)num, "%s\n", out); /* fits: check_line leaves at most DECK_LINE_MAX characters */
+  return str;
+}
+
+static int deck_handler(void *user, const char *section, const char *name, const char *value)
+{
+  raw_deck *r = user;
+  if (!r->section_bad && section && name) store(r, section, name, value ? value : "", r->lineno);
+  return 1;
 }
 
 /* Phase 1 for the deck file f: every line stored or reported.  0, or -1 when reading stopped
  * (the file is not a deck: its lines are not worth checking further). */
 static int read_deck(FILE *f, raw_deck *r)
 {
-  char buf[DECK_KEEP + 1];
-  size_t len;
-  int st;
-  while ((st = read_line(f, r, buf, DECK_KEEP, &len)) > 0) {
-    parse_line(r, buf, len, DECK_KEEP);
-    if (r->problems >= DECK_READ_PROBLEMS_MAX) {
-      problem(r, 0, "stopped reading at line %d after %d problems: is this a deck?", r->lineno, r->problems);
-      st = -1;
-      break;
-    }
-  }
-  return st < 0 ? -1 : 0;
+  void *stream[2] = {f, r};
+  const int line = ini_parse_stream(deck_reader, stream, deck_handler, r);
+  if (line > 0 && !r->stopped) /* a line libinih could not parse after the checks: cannot happen, but said */
+    problem(r, line, "not a valid deck line");
+  return r->stopped ? -1 : 0;
 }
 
 static const char *val(const raw_deck *r, int k) { return r->val[k] ? r->val[k] : keys[k].def; }
@@ -900,8 +952,10 @@ void rl_deck_print_keys(FILE *f, int md)
                "(lj) models take bare numbers only. `--set section.key=value` overrides any key; `--set section.key=` returns it to its default. "
                "Model parameters go in `[model]` (see `rotleap models`).\n\n"
                "## Format\n\n"
+               "Decks are parsed by libinih (Debian's `libinih-dev`); rotleap checks each line against these "
+               "rules before libinih reads it, so that none of them depends on how the library was built.\n\n"
                "- A line is blank, a comment (its first non-blank character is `;` or `#`), a `[section]` "
-               "header, or `key = value` (`key: value` also works).\n"
+               "header (a name of at most %d characters), or `key = value` (`key: value` also works).\n"
                "- In every line, a `;` or `#` after a blank (space or tab) starts a comment that runs to the "
                "end of the line: `prefix = out # a note` is `out`, `temperature = 298 K ; room` is `298 K`. "
                "A `;` or `#` with no blank before it belongs to the value (`prefix = run#2`). So no value "
@@ -918,7 +972,8 @@ void rl_deck_print_keys(FILE *f, int md)
                "- The deck is a regular file (a link to one is followed) or a pipe (`/dev/stdin`), of at most "
                "1 MiB and without NUL bytes: a binary file or a device is refused at once. A UTF-8 byte-order "
                "mark is skipped. Reading stops after %d problems.\n",
-            DECK_LINE_MAX, RL_DECK_PATH_MAX - 1, RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX, DECK_READ_PROBLEMS_MAX);
+            DECK_SECTION_MAX, DECK_LINE_MAX, RL_DECK_PATH_MAX - 1, RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX,
+            DECK_READ_PROBLEMS_MAX);
   for (int k = 0; k < NKEYS; k++) {
     const key_def *K = &keys[k];
     if (strcmp(sec, K->section)) {

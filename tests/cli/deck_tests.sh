@@ -126,5 +126,10 @@ one_problem "... also from an NVE deck with run.temperature given" \
 one_problem "an invalid interactions.lj does not make interactions.switch unused" \
   "interactions.lj: 'switchd' is not one of" "$sm" --set interactions.lj=switchd --set interactions.switch=1.5
 
+# --- a section name beyond libinih's 49 characters is refused at its line, not cut silently ----
+long_sec=$(printf 'x%.0s' $(seq 60))
+deck sec.ini "s|^\[output\]|[output$long_sec]|"
+one_problem "a section name of 66 characters is refused at its line" "the section name \[outputxxx" sec.ini
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
