@@ -338,6 +338,8 @@ typedef struct {
   long relax_done;      /* relaxation steps done (for messages)                             */
   scene_relaxation *relax; /* a relaxation stopped by a signal, for its checkpoint          */
   char start_note[RL_DECK_PATH_MAX + 1024]; /* what is wrong with the start, if its energy says so (start_check) */
+  int heats;             /* a term's energy jumps at the cutoff by orientation: an NVE run heats */
+  char heats_term[64];   /* ... the first such term                                          */
 } run_ctx;
 
 /* A checkpoint at `step`, `time` of the integrator `in` (the production's, or the relaxation's
@@ -554,6 +556,29 @@ static int traj_frame(run_ctx *c, double time, long step)
   return st;
 }
 
+/* What the interactions do at the cutoff, said before the run (the library never prints): setup
+ * warnings (a cutoff shorter than the LJ well, no pair in range), and every term whose energy or
+ * force jumps at the cutoff, with what that does to energy conservation.  A term whose energy
+ * jumps by orientation (the dipolar reaction field, say) heats an NVE run at any time step: the
+ * summary's drift warning then names it rather than the time step. */
+static void report_setup(run_ctx *c)
+{
+  const rl_forcefield *ff = c->s.ff;
+  rl_ff_warning w[8];
+  const int nw = rl_forcefield_warnings(ff, w, 8);
+  for (int k = 0; k < nw && k < 8; k++) fprintf(stderr, "rotleap run: warning: %s\n", w[k].text);
+  rl_ff_discontinuity dd[8];
+  const int nd = rl_forcefield_discontinuities(ff, dd, 8);
+  for (int k = 0; k < nd && k < 8; k++) {
+    if (!dd[k].energy_jumps && !dd[k].force_jumps) continue;
+    fprintf(stderr, "rotleap run: %s: %s\n", dd[k].heats ? "warning" : "note", dd[k].text);
+    if (dd[k].heats && !c->heats) {
+      c->heats = 1;
+      snprintf(c->heats_term, sizeof c->heats_term, "%s", dd[k].term);
+    }
+  }
+}
+
 /* A start whose energy is far above a liquid's (U/N > 5 kT) has overlapping molecules, and a
  * failure in its first steps (a rotation that cannot be solved, an energy jump) is theirs, not
  * the time step's: the note names the molecule with the largest force and its nearest
@@ -648,6 +673,42 @@ static int species_text(const run_ctx *c, char *buf, size_t cap)
   return n;
 }
 
+/* Whether the conserved energy drifts more than the time step alone explains, and why, in buf:
+ * a drift above SCENE_DRIFT_WARN kT per molecule per time unit in a window, or a mean drift over
+ * the windows above 0.01 and above three times its standard error.  A symplectic step on a
+ * potential smooth at the cutoff conserves the energy with no trend; a drift comes from the
+ * isokinetic scheme's undamped mode (scene_drift_mode), from a term whose energy jumps at the
+ * cutoff by orientation (report_setup: it heats at any time step), or from a time step too large
+ * for the dynamics.  0 if there is no such drift. */
+static int drift_warning(const run_ctx *c, char *buf, size_t cap)
+{
+  const rl_deck *d = c->d;
+  double sem;
+  const double mean = scene_watch_drift(&c->watch, &sem);
+  const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
+  const int window = fabs(c->watch.max_rate) > SCENE_DRIFT_WARN;
+  const int trend = isfinite(sem) && fabs(mean) > 0.01 && fabs(mean) > 3.0 * sem;
+  if (!window && !trend) return 0;
+  char size[160];
+  if (trend) snprintf(size, sizeof size, "by %.3g +- %.2g kT per molecule per %s on average", mean, sem, tunit);
+  else snprintf(size, sizeof size, "by up to %.3g kT per molecule per %s in a window of %g %s", c->watch.max_rate, tunit,
+                SCENE_WINDOW, tunit);
+  if (scene_drift_mode(d, c->watch.alt_at_max))
+    snprintf(buf, cap, "the conserved energy drifts %s: the isokinetic thermostat's undamped step-to-step alternation of "
+             "the kinetic energy (+-%.2g %% of run.temperature; a start out of equilibrium at run.temperature), not the "
+             "time step; relax the start at run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi", size,
+             100.0 * c->watch.alt_at_max);
+  else if (c->heats)
+    snprintf(buf, cap, "the conserved energy drifts %s: the %s energy jumps at the cutoff by orientation, which heats a "
+             "run at any time step (a smaller time step does not remove it; the warning before the run names the "
+             "continuous alternative)", size, c->heats_term);
+  else
+    snprintf(buf, cap, "the conserved energy drifts %s: integration error is %s the system; the time step %g %s is too "
+             "large for accurate dynamics (a smaller one will change the results)", size,
+             (trend ? mean : c->watch.max_rate) > 0 ? "heating" : "cooling", d->timestep, rl_dim_unit(Q_TIME, d->units));
+  return 1;
+}
+
 /* The summary: whole-run averages (they survive continuations), what ran, and the status. */
 static int write_summary(run_ctx *c, const char *path, const char *status, const char *error, double wall, int io_bad)
 {
@@ -666,7 +727,6 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   const double calE = c->E.n > 1 ? running_sd(&c->E) / fabs(c->E.mean) : 0.0,
                calU = c->U.n > 1 ? running_sd(&c->U) / fabs(c->U.mean) : 0.0;
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
-  const int mode = scene_drift_mode(d, c->watch.alt_at_max); /* the isokinetic scheme's, not the step's */
   species_text(c, species, sizeof species);
   double sem;
   const double drift = scene_watch_drift(&c->watch, &sem);
@@ -703,12 +763,8 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   fprintf(f, "conserved_drift = %.3g kT per molecule per %s (largest over windows of %g %s; %s)\n", c->watch.max_rate, tunit,
           SCENE_WINDOW, tunit, c->watch.max_rate != 0.0 ? "above 0.5 warns, above 5 stops" : "the run was shorter than one window");
   fprintf(f, "conserved_drift_mean = %s\n", drift_fit);
-  if (fabs(c->watch.max_rate) > SCENE_DRIFT_WARN)
-    fprintf(f, "%s", mode ? "warning = the conserved energy drifts: the isokinetic thermostat's undamped step-to-step "
-                            "alternation of the kinetic energy (a start out of equilibrium at run.temperature), not the time "
-                            "step; relax the start at run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n"
-                          : "warning = the conserved energy drifts: integration error is heating or cooling the system; "
-                            "a smaller time step will change the results\n");
+  char dw[1024];
+  if (drift_warning(c, dw, sizeof dw)) fprintf(f, "warning = %s\n", dw);
   if (io_bad) fprintf(f, "warning = some output files could not be written (the messages on stderr say which)\n");
   if (fclose(f) != 0) { free(text); return rl_error(RL_ENOMEM, "out of memory for the summary"); }
   rl_atomic_file af;
@@ -902,6 +958,7 @@ int rl_app_run(const rl_deck *d)
   if (!st) st = open_streams(&c, c.resumed ? &rec : NULL, cont && !c.resumed && !relax_cont ? &rec : NULL);
   if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   /* the relaxation (a new run, or the rest of a stopped one) */
+  if (!st) report_setup(&c);
   if (!st && !c.s.restart) start_check(&c);
   if (!st && (!c.s.restart || relax_cont)) {
     st = relax(&c, relax_cont ? &rec : NULL);
@@ -1087,18 +1144,8 @@ int rl_app_run(const rl_deck *d)
       fprintf(stderr, "; %s (step %ld) continues this run from its last checkpoint\n", c.chk_path, c.last_chk);
     else fputs("\n", stderr);
   }
-  if (!st && !io_bad && fabs(c.watch.max_rate) > SCENE_DRIFT_WARN) {
-    const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
-    if (scene_drift_mode(d, c.watch.alt_at_max))
-      fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the kinetic "
-                      "energy alternates from step to step by +-%.2g %% of run.temperature, the isokinetic scheme's "
-                      "undamped mode (a start out of equilibrium at run.temperature), not the time step: relax the start at "
-                      "run.temperature (run.equilibrate) or use run.ensemble = nvt-bussi\n", c.watch.max_rate, tunit,
-              100.0 * c.watch.alt_at_max);
-    else
-      fprintf(stderr, "rotleap run: warning: the conserved energy drifted by %.3g kT per molecule per %s: the time "
-                      "step %g is too large for accurate dynamics\n", c.watch.max_rate, tunit, d->timestep);
-  }
+  char dw[1024];
+  if (!st && !io_bad && drift_warning(&c, dw, sizeof dw)) fprintf(stderr, "rotleap run: warning: %s\n", dw);
   if (!st && c.streams && c.moved_prev) unlink(c.chk_prev); /* the earlier run is replaced by a whole one */
   free(part_summary);
   free(fsnap.f);
