@@ -923,7 +923,7 @@ static void add_failure(char *errs, size_t n, const char *fmt, ...)
   va_end(ap);
 }
 
-/* Write `path` atomically (NAME.tmp.<pid>, renamed over NAME: on failure the earlier NAME is
+/* Write `path` atomically (NAME.tmp.XXXXXX, renamed over NAME: on failure the earlier NAME is
  * left as it was).  On failure 1, with rl_atomic's message ("NAME: reason", naming the errno
  * reason) appended to errs[n]. */
 static int write_file(const char *path, void (*fill)(FILE *, const void *), const void *ctx, char *errs, size_t n)

@@ -128,7 +128,9 @@ const char *rl_thermostat_name(rl_thermostat t);
 typedef struct {
   double h;               /* time step (> 0), in the system's time unit                       */
   rl_rot_method method;   /* default RL_ROT_CUBIC                                              */
-  double guard_tol;       /* eq. 28 relative residual triggering Newton (default 1e-13)        */
+  double guard_tol;       /* the largest Newton correction to the cubic root of eq. 28, relative to
+                             |Omega|, applied directly; above it Newton is iterated to round-off
+                             and counted as a fallback (default RL_OMEGA_GUARD_TOL = 1e-10)     */
   double quat_tol;        /* quaternion iteration relative tolerance (default 1e-12)           */
   int quat_maxit;         /* default 100                                                       */
   int force_general;      /* 1: every matrix body goes through the general asymmetric path    */

@@ -7,6 +7,8 @@ rotleap=$1; src=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
 pass=0; fail=0
 check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+# quiet FILE: nothing on stderr but the notes said before a run (what jumps at the cutoff)
+quiet() { ! grep -qv "^rotleap [a-z]*: note: " "$1"; }
 
 "$rotleap" run "$src/tests/cli/bad.ini" --set output.prefix="$work/bad" >out.txt 2>err.txt; code=$?
 check "bad deck exits 2" '[ $code -eq 2 ]'
@@ -155,7 +157,7 @@ fi
 nvt="--set run.ensemble=nvt-bussi --set run.temperature=298K --set run.tau=0.1ps --set run.steps=1000 --set run.equilibrate=1000 --set output.checkpoint_every=20 --set output.progress=no"
 "$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=10fs --set output.prefix="$work/w10" >out.txt 2>err.txt; code=$?
 check "water NVT at 10 fs completes" '[ $code -eq 0 ] && grep -q "status = ok" "$work/w10.summary.txt"'
-check "water NVT at 10 fs warns of the drift" 'grep -q "^warning = the conserved energy drifts" "$work/w10.summary.txt" && grep -q "warning: the conserved energy drifted by" err.txt'
+check "water NVT at 10 fs warns of the drift" 'grep -q "^warning = the conserved energy drifts" "$work/w10.summary.txt" && grep -q "warning: the conserved energy drifts by .* the time step .* is too large" err.txt'
 "$rotleap" run "$src/tests/cli/water_scan.ini" $nvt --set run.timestep=12fs --set output.prefix="$work/w12" >out.txt 2>err.txt; code=$?
 check "water NVT at 12 fs is stopped" '[ $code -eq 1 ] && grep -q "status = error" "$work/w12.summary.txt.part"'
 check "the stop names step, drift and cause" 'grep -qE "step [0-9]+ \(t = .* ps\): the conserved energy drifted by [0-9.]+ kT per molecule per ps .* integration error is heating the system; reduce run.timestep" err.txt'

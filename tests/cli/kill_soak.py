@@ -27,6 +27,8 @@ import time
 FILES = {"dcd": ["chk", "thermo.csv", "dcd", "pdb", "samples", "results.txt", "rdf.csv", "tcf.csv"],
          "xyz": ["chk", "thermo.csv", "xyz", "samples", "results.txt", "tcf.csv"]}
 SYSCALLS = ["write", "rename", "fsync", "ftruncate", "openat", "copy_file_range"]
+# LeakSanitizer cannot run under ptrace: a sanitizer build's runs under strace check no leaks
+STRACE_ENV = dict(os.environ, ASAN_OPTIONS=(os.environ.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":"))
 
 
 def scenes(src, short=False):
@@ -68,7 +70,7 @@ def count_syscalls(cmd, log):
     """How many times each syscall of SYSCALLS is made by cmd (strace -c is not per-process
     exact under -f; count from a trace)."""
     r = subprocess.run(["strace", "-f", "-qq", "-o", log, "-e", "trace=" + ",".join(SYSCALLS)] + cmd,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=STRACE_ENV)
     counts = {s: 0 for s in SYSCALLS}
     with open(log) as f:
         for line in f:
@@ -82,7 +84,7 @@ def start_syscalls(cmd, log):
     """The syscalls a continuation makes before its first step, as (name, index) pairs: those
     before the first write to its thermo file after the header (strace -y names the files)."""
     subprocess.run(["strace", "-f", "-qq", "-y", "-o", log, "-e", "trace=" + ",".join(SYSCALLS)] + cmd,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=STRACE_ENV)
     seen = {s: 0 for s in SYSCALLS}
     out = []
     with open(log) as f:
@@ -105,7 +107,7 @@ def start_syscalls(cmd, log):
 def kill_at(cmd, syscall, n):
     return subprocess.run(["strace", "-f", "-qq", "-o", "/dev/null", "-e", "trace=" + syscall,
                            "-e", "inject=%s:signal=KILL:when=%d" % (syscall, n)] + cmd,
-                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=STRACE_ENV).returncode
 
 
 def kill_after(cmd, seconds):

@@ -8,6 +8,8 @@ rotleap=$1; src=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
 pass=0; fail=0
 check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+# quiet FILE: nothing on stderr but the notes said before a run (what jumps at the cutoff)
+quiet() { ! grep -qv "^rotleap [a-z]*: note: " "$1"; }
 sm="$src/tests/cli/stockmayer_short.ini"
 water="$src/tests/cli/water_scan.ini"
 
@@ -83,7 +85,7 @@ one_problem "trajectory_every beyond DCD's 32-bit interval is refused" "output.t
 "$rotleap" run "$water" --set run.equilibrate=0 --set run.steps=5 --set output.trajectory_every=2147483647 --set output.prefix="$work/te" >/dev/null 2>err.txt && \
 "$rotleap" run "$water" --set run.steps=10 --set output.trajectory_every=2147483647 --set system.start="$work/te.chk" --set output.prefix="$work/te" >/dev/null 2>>err.txt; code=$?
 check "trajectory_every = 2147483647 is written whole in the DCD, and its continuation accepted" \
-  '[ $code -eq 0 ] && [ ! -s err.txt ] && [ "$(/usr/bin/python3 -c "import struct; print(struct.unpack(\"<i\", open(\"$work/te.dcd\", \"rb\").read(20)[16:20])[0])")" = 2147483647 ]'
+  '[ $code -eq 0 ] && quiet err.txt && [ "$(/usr/bin/python3 -c "import struct; print(struct.unpack(\"<i\", open(\"$work/te.dcd\", \"rb\").read(20)[16:20])[0])")" = 2147483647 ]'
 # (energy: the deck is checked as for run, and a build without the check does not start the run)
 "$rotleap" energy "$water" --set run.steps=3000000000 --set output.trajectory_every=1000 >out.txt 2>err.txt; code=$?
 check "run.steps beyond DCD's 32-bit step numbers is refused with a DCD trajectory" \
@@ -214,7 +216,7 @@ check "isokinetic from a hot start: stopped, blaming the thermostat's mode with 
   '[ $code -eq 1 ] && grep -q "this is the isokinetic thermostat, not the time step: .* alternates from step to step by +-[0-9.]* % of it" err.txt && grep -q "run.equilibrate" err.txt && grep -q "run.ensemble = nvt-bussi" err.txt && ! grep -q "reduce run.timestep" err.txt'
 "$rotleap" run "$sm" "${iso[@]}" --set output.prefix="$work/iso2" >out.txt 2>err.txt; code=$?
 check "isokinetic from a lattice: the drift warning names the mode, not the time step (stderr and summary)" \
-  '[ $code -eq 0 ] && grep -q "warning: .* the isokinetic scheme.s undamped mode" err.txt && ! grep -q "too large for accurate dynamics" err.txt && grep -q "^warning = .*use run.ensemble = nvt-bussi" "$work/iso2.summary.txt"'
+  '[ $code -eq 0 ] && grep -q "warning: .* the isokinetic thermostat.s undamped step-to-step alternation" err.txt && ! grep -q "too large for accurate dynamics" err.txt && grep -q "^warning = .*use run.ensemble = nvt-bussi" "$work/iso2.summary.txt"'
 "$rotleap" run "$sm" "${iso[@]}" --set run.equilibrate=1000 --set output.prefix="$work/iso3" >out.txt 2>err.txt; code=$?
 check "isokinetic after run.equilibrate at run.temperature: no drift, no warning" '[ $code -eq 0 ] && [ ! -s err.txt ] && ! grep -q "^warning" "$work/iso3.summary.txt"'
 
