@@ -1,7 +1,6 @@
 /* Molecule types from sites: centre of mass, inertia tensor, principal axes (GSL), the body
  * frame, and classification into the cheapest exact family.  Contract in rotleap/molecule.h. */
 #include "rotleap/molecule.h"
-#include "rotleap/forcefield.h"
 #include "rotleap/error.h"
 #include "../core/system_impl.h"
 
@@ -233,9 +232,3 @@ void rl_molecule_species(const rl_molecule *m, rl_species_desc *d)
   d->sites = &m->sites[0][0];
 }
 
-rl_species_ff rl_molecule_ff(const rl_molecule *m)
-{
-  rl_species_ff f = {m->nsites, m->sigma, m->epsilon, m->charge, m->has_dipole ? m->dipole : NULL,
-                     m->has_quadrupole ? m->quadrupole : NULL};
-  return f;
-}

@@ -6,7 +6,7 @@
 # continuation's start (in place and of a completed run extended); checkpoint, thermo file,
 # trajectory, PDB, journal and results compared byte for byte with a run never killed.
 #   validate/kill_soak.sh [BUILD=build] [SEQUENCES=100]
-# Run time: about 25 minutes on 2 cores (validate/kill_soak.txt has the last run's counts).
+# Run time: about 7 minutes on 2 cores (validate/kill_soak.txt has the last run's counts).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}; n=${2:-100}

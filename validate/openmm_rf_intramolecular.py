@@ -17,7 +17,7 @@ double precision, dispersion correction off) is compared with three formulas:
   plain      inter + sum over intramolecular pairs of the full RF pair energy (no exclusions)
 
 with krf = (eps - 1)/((2 eps + 1) rc^3), crf = 1/rc + krf rc^2, kc = ONE_4PI_EPS0 (below).
-The numbers printed after "rotleap-reference" are what tests/interactions/test_ff_openmm.c
+The numbers printed after "rotleap-reference" are what tests/forces/test_ff_openmm.c
 checks the C library against.
 """
 import math

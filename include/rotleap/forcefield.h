@@ -15,7 +15,7 @@
 #ifndef ROTLEAP_FORCEFIELD_H
 #define ROTLEAP_FORCEFIELD_H
 
-#include "rotleap/integrator.h"
+#include "rotleap/forces.h"
 #include "rotleap/system.h"
 #include "rotleap/molecule.h"
 
@@ -75,7 +75,7 @@ typedef enum {
  *                linear CO2, CH4, ...): every site pair, LJ and reaction field together
  *   "stockmayer" one site at the centre with LJ and a point dipole, no charge (Stockmayer):
  *                LJ + dipole-dipole (RF or SF), no site loop
- * The results are those of the general routine up to round-off (tests/interactions/
+ * The results are those of the general routine up to round-off (tests/forces/
  * test_ff_fast.c: <= 1e-12 relative), overlaps are reported with the same message, and both
  * cutoff schemes and all LJ truncations are supported.  Without a neighbour list
  * (neighbor_list = 0) the reference path runs.
@@ -118,7 +118,7 @@ typedef struct {
  * precision, eight pairs to a 256-bit vector, on CPUs with AVX2 and FMA (its AVX2 rows, also on
  * CPUs with AVX-512).  The centres' separations (the minimum image), the list, the sums of the
  * forces on each body, the energies and the virial stay double.  Forces, energies and virial
- * then agree with the double kernels to about 1e-6 relative (tests/interactions/test_ff_fast.c
+ * then agree with the double kernels to about 1e-6 relative (tests/forces/test_ff_fast.c
  * states the bounds it checks).  Other kernels, the reference path, and CPUs without AVX2 (or
  * with ROTLEAP_NO_AVX2 set) compute in double: rl_forcefield_precision says what is in use. */
 

@@ -12,6 +12,7 @@
 #ifndef ROTLEAP_INTEGRATOR_H
 #define ROTLEAP_INTEGRATOR_H
 
+#include "rotleap/forces.h"
 #include "rotleap/system.h"
 
 #include <stddef.h>
@@ -19,35 +20,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ---------------------------------------------------------------------- force providers */
-
-typedef struct {
-  double (*f)[3];    /* out [n][3]    force on each body's centre of mass (lab)              */
-  double (*k)[3];    /* out [nrot][3] torque about the centre of mass (lab), rot-indexed      */
-  double energy;     /* out           potential energy                                        */
-  double virial[9];  /* out           sum r_ij (x) f_ij (molecular virial tensor), optional   */
-  int forces_only;   /* in            nonzero: the caller needs f and k only; the provider may
-                                      leave energy and virial at 0 (rotleap's force field then
-                                      skips their sums: ~10 % of a TIP4P step)                */
-} rl_forces;
-
-/* Compute forces and torques for the current positions/orientations of sys.  `out` arrays are
- * zeroed before the call, and so are energy and virial.  A provider may ignore forces_only and
- * compute everything.  Return RL_OK, or a status set with rl_error(). */
-typedef int (*rl_force_fn)(void *ctx, const rl_system *sys, rl_forces *out);
-
-typedef struct {
-  rl_force_fn compute;
-  void *ctx;
-} rl_force_provider;
-
-/* Accumulate site forces fs[nsites][3] (lab) into body forces and torques
- * k += (r_a - r) x f_a.  For providers that work site by site. */
-void rl_system_add_site_forces(const rl_system *sys, const double (*fs)[3], rl_forces *out);
-/* The same for bodies [i0, i1) only (for threaded callers). */
-void rl_system_add_site_forces_of(const rl_system *sys, const double (*fs)[3], rl_forces *out,
-                                  int i0, int i1);
 
 /* ------------------------------------------------------------------------- integrator */
 
@@ -98,7 +70,7 @@ typedef enum {
                                body-frame rotational component (friction 1/tau), then drift and
                                rotate by h/2 again.  Positions in a harmonic potential are
                                sampled exactly at any stable h; librations in a field to 0.2 %
-                               at h omega = 0.5 (tests/test_thermostat.c; docs/integrators.md,
+                               at h omega = 0.5 (tests/integrators/test_thermostat.c; docs/integrators.md,
                                "Langevin in the middle of the drift").  The noise moves the
                                centre of mass, so all 3N translational dof count
                                (rl_integrator_dof); the system's removed dof is left as it is,

@@ -12,6 +12,8 @@
 #ifndef ROTLEAP_ROTATION_H
 #define ROTLEAP_ROTATION_H
 
+#include "rotleap/geometry.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -48,7 +50,7 @@ typedef struct {
  * i.e. round-off for a step below RL_OMEGA_GUARD_TOL |Omega|.  A larger step is a fallback:
  * Newton iterated to round-off (then a bracketed solve if it fails).  With the default, the
  * guarded root equals the exact one to a few ulp times the condition number of eq. 28
- * (tests/test_rotation.c, root_error_bound), and TIP4P at 1-5 fs needs no fallback. */
+ * (tests/integrators/test_rotation.c, root_error_bound), and TIP4P at 1-5 fs needs no fallback. */
 #define RL_OMEGA_GUARD_TOL 1e-10
 
 /* Relative residual of eq. 28: |Omega - theta - h (rho_X Omega_Y Omega_Z, ...)|_2 / |Omega|_2
@@ -101,7 +103,7 @@ void rl_omega_symmetric(const double J[3], const double theta[3], double h, doub
  * the paper's arcsin form for h|w| <= 2 and continues it beyond.  For h|w| > 2 it is evaluated
  * divided through by h^2 w^2/4, so it stays finite and orthogonal for every finite h and w (it
  * tends to the rotation by pi; the undivided form overflowed to NaN from h|w| ~ 1.3e154).  The
- * same holds for rl_rotate_axis and rl_quat_rotate (tests/test_rotation.c, cayley_overflow). */
+ * same holds for rl_rotate_axis and rl_quat_rotate (tests/integrators/test_rotation.c, cayley_overflow). */
 void rl_cayley(const double w[3], double h, double D[9]);
 
 /* A <- D(Omega) A (eq. 24), A row-major 3x3. */
@@ -111,9 +113,8 @@ void rl_rotate_matrix(double A[9], const double Omega[3], double h);
  * equal to exp[-phi W(w)/w] rho with the angle above). */
 void rl_rotate_axis(double rho[3], const double w[3], double h);
 
-/* Quaternions in the paper's convention q = (xi, eta, zeta, chi) (eqs. 4-5). */
-void rl_quat_to_matrix(const double q[4], double A[9]);     /* eq. 4 (no normalisation)   */
-int rl_matrix_to_quat(const double A[9], double q[4]);      /* inverse of eq. 4, chi >= 0 */
+/* Quaternions in the paper's convention q = (xi, eta, zeta, chi) (eqs. 4-5): rl_quat_to_matrix,
+ * rl_matrix_to_quat in geometry.h. */
 /* q <- G(Omega) q, eq. 23. */
 void rl_quat_rotate(double q[4], const double Omega[3], double h);
 
@@ -162,8 +163,6 @@ void rl_quat_body_angmom(const double q[4], const double p[4], double L[3]);
  * invariant under every sub-rotation. */
 void rl_nosquish_free(const double J[3], double h, double q[4], double p[4]);
 
-/* max |A^T A - I| (elementwise). */
-double rl_orthonormality_error(const double A[9]);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,244 @@
+/* Verlet list + cell list against the brute-force O(N^2) sum on random liquid-like
+ * configurations (water-like asymmetric bodies, point dipoles, ions), both cutoff schemes:
+ * energies and forces/torques agree to 1e-12 relative; small moves reuse the list; pure
+ * rotations, however large, reuse it and stay exact (the list radius holds twice the extent);
+ * large translations trigger a rebuild.  Also: cell-list builds give the same
+ * pair set as the all-pairs scan. */
+#include "ff_testutil.h"
+
+#include "../../forces/pair/neighbor.h"
+
+typedef struct {
+  ff_test_species sp[3];
+  rl_species_ff sff[3];
+  rl_system *sys;
+  double L;
+} liquid;
+
+static void liquid_build(liquid *lq, gsl_rng *rng, int nw, int nd, int ni)
+{
+  memset(lq, 0, sizeof *lq);
+  lq->sys = rl_system_alloc(RL_UNITS_REAL);
+  ff_water(&lq->sp[0]);
+  ff_stockmayer(&lq->sp[1], 0.04);
+  ff_ion(&lq->sp[2], 0.7);
+  int cnt[3] = {nw, nd, ni};
+  for (int k = 0; k < 3; k++) {
+    lq->sp[k].desc.sites = &lq->sp[k].sites[0][0];
+    assert_int_equal(rl_system_add_species(lq->sys, &lq->sp[k].desc, cnt[k], NULL), RL_OK);
+    lq->sff[k] = ff_test_species_ff(&lq->sp[k]);
+  }
+  int n = nw + nd + ni;
+  lq->L = cbrt(n / 33.4);
+  double(*r)[3] = malloc(sizeof *r * (size_t)n);
+  for (int i = 0; i < n; i++) {
+    for (int tries = 0;; tries++) {
+      assert_true(tries < 1000000);
+      double x[3];
+      for (int c = 0; c < 3; c++) x[c] = gsl_ran_flat(rng, 0.0, lq->L);
+      int ok = 1;
+      for (int j = 0; j < i && ok; j++) {
+        double d2 = 0.0;
+        for (int c = 0; c < 3; c++) {
+          double d = x[c] - r[j][c];
+          d -= lq->L * nearbyint(d / lq->L);
+          d2 += d * d;
+        }
+        ok = d2 >= 0.24 * 0.24;
+      }
+      if (ok) {
+        memcpy(r[i], x, sizeof x);
+        break;
+      }
+    }
+    rl_system_set_position(lq->sys, i, r[i]);
+    ff_random_orientation(lq->sys, i, rng);
+  }
+  free(r);
+}
+
+static void compare(rl_forcefield *list, rl_forcefield *brute, rl_system *sys, const char *what)
+{
+  ff_result a, b;
+  ff_result_compute(&a, list, sys);
+  ff_result_compute(&b, brute, sys);
+  char name[200];
+  snprintf(name, sizeof name, "nlist %s: |E_list - E_brute| / |E_brute|", what);
+  FF_CHECK_LE(name, fabs(a.out.energy - b.out.energy) / fabs(b.out.energy), 1e-12);
+  snprintf(name, sizeof name, "nlist %s: max |f_list - f_brute| / max |f|", what);
+  FF_CHECK_LE(name, ff_maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
+                        ff_maxnorm((const double(*)[3])b.f, b.n), 1e-12);
+  snprintf(name, sizeof name, "nlist %s: max |k_list - k_brute| / max |k|", what);
+  FF_CHECK_LE(name, ff_maxdiff((const double(*)[3])a.k, (const double(*)[3])b.k, a.nrot) /
+                        ff_maxnorm((const double(*)[3])b.k, b.nrot), 1e-12);
+  double vd = 0.0, vs = 0.0;
+  for (int c = 0; c < 9; c++) {
+    vd = fmax(vd, fabs(a.out.virial[c] - b.out.virial[c]));
+    vs = fmax(vs, fabs(b.out.virial[c]));
+  }
+  snprintf(name, sizeof name, "nlist %s: max |W_list - W_brute| / max |W|", what);
+  FF_CHECK_LE(name, vd / vs, 1e-12);
+  ff_result_free(&a);
+  ff_result_free(&b);
+}
+
+static void run_scheme(rl_cutoff_scheme scheme, unsigned long seed)
+{
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, seed);
+  liquid lq;
+  liquid_build(&lq, rng, 700, 80, 20);
+  rl_system *sys = lq.sys;
+  int n = rl_system_count(sys);
+  rl_ff_params p;
+  rl_ff_params_default(&p);
+  p.box[0] = p.box[1] = p.box[2] = lq.L;
+  p.cutoff = 0.7;
+  p.skin = 0.06;
+  p.scheme = scheme;
+  p.lj_truncation = RL_LJ_SHIFTED;
+  p.dispersion_correction = 1;
+  rl_forcefield *list = rl_forcefield_alloc(sys, &p, lq.sff, 3);
+  assert_non_null(list);
+  p.neighbor_list = 0;
+  rl_forcefield *brute = rl_forcefield_alloc(sys, &p, lq.sff, 3);
+  assert_non_null(brute);
+  const char *sn = scheme == RL_CUTOFF_SITE ? "site" : "molecule";
+  char what[120];
+
+  snprintf(what, sizeof what, "%s cutoff, %d bodies, initial", sn, n);
+  compare(list, brute, sys, what);
+  FF_CHECK_TRUE("nlist: first compute builds the list once", rl_forcefield_rebuilds(list) == 1);
+
+  /* small moves: every site moves < skin/4, the list must be reused */
+  for (int i = 0; i < n; i++) {
+    double r[3];
+    rl_system_get_position(sys, i, r);
+    for (int c = 0; c < 3; c++) r[c] += gsl_ran_flat(rng, -0.004, 0.004);
+    rl_system_set_position(sys, i, r);
+    double ax[3] = {gsl_ran_gaussian(rng, 1), gsl_ran_gaussian(rng, 1), gsl_ran_gaussian(rng, 1)};
+    double nn = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]), R[9];
+    for (int c = 0; c < 3; c++) ax[c] /= nn;
+    ff_rotation(ax, 0.04, R);
+    ff_rotate_body(sys, i, R);
+  }
+  snprintf(what, sizeof what, "%s cutoff, small moves (list reused)", sn);
+  compare(list, brute, sys, what);
+  FF_CHECK_TRUE("nlist: small moves (< skin/2) do not rebuild", rl_forcefield_rebuilds(list) == 1);
+
+  /* pure rotations, every body turned at random: H sites move ~0.1 nm > skin/2, yet the list
+   * stays valid (its radius includes twice the extent) and the sums must stay exact */
+  for (int i = 0; i < n; i++) ff_random_orientation(sys, i, rng);
+  snprintf(what, sizeof what, "%s cutoff, every body turned at random (list reused)", sn);
+  compare(list, brute, sys, what);
+  FF_CHECK_TRUE("nlist: pure rotations reuse the list", rl_forcefield_rebuilds(list) == 1);
+
+  /* large displacements: everything moves by up to 0.3 nm and turns at random */
+  for (int i = 0; i < n; i++) {
+    double r[3];
+    rl_system_get_position(sys, i, r);
+    for (int c = 0; c < 3; c++) r[c] += gsl_ran_flat(rng, -0.3, 0.3);
+    rl_system_set_position(sys, i, r);
+    ff_random_orientation(sys, i, rng);
+  }
+  snprintf(what, sizeof what, "%s cutoff, large displacements", sn);
+  compare(list, brute, sys, what);
+  FF_CHECK_TRUE("nlist: large displacements trigger a rebuild", rl_forcefield_rebuilds(list) == 2);
+
+  /* a random walk of small steps: the list is rebuilt when (and only when) needed */
+  long before = rl_forcefield_rebuilds(list);
+  for (int step = 0; step < 12; step++) {
+    for (int i = 0; i < n; i++) {
+      double r[3];
+      rl_system_get_position(sys, i, r);
+      for (int c = 0; c < 3; c++) r[c] += gsl_ran_flat(rng, -0.01, 0.01);
+      rl_system_set_position(sys, i, r);
+    }
+    ff_result a, b;
+    ff_result_compute(&a, list, sys);
+    ff_result_compute(&b, brute, sys);
+    double ee = fabs(a.out.energy - b.out.energy) / fabs(b.out.energy);
+    double fe = ff_maxdiff((const double(*)[3])a.f, (const double(*)[3])b.f, a.n) /
+                ff_maxnorm((const double(*)[3])b.f, b.n);
+    ff_result_free(&a);
+    ff_result_free(&b);
+    snprintf(what, sizeof what, "nlist %s cutoff, walk step %2d: max(rel dE, rel df)", sn, step);
+    FF_CHECK_LE(what, fmax(ee, fe), 1e-12);
+  }
+  long walks = rl_forcefield_rebuilds(list) - before;
+  snprintf(what, sizeof what, "nlist %s cutoff: walk rebuilt the list (%ld times in 12 steps)",
+           sn, walks);
+  FF_CHECK_TRUE(what, walks >= 1 && walks < 12);
+
+  rl_forcefield_free(list);
+  rl_forcefield_free(brute);
+  rl_system_free(sys);
+  gsl_rng_free(rng);
+}
+
+static void test_site_scheme(void **state)
+{
+  (void)state;
+  run_scheme(RL_CUTOFF_SITE, 101);
+}
+
+static void test_molecule_scheme(void **state)
+{
+  (void)state;
+  run_scheme(RL_CUTOFF_MOLECULE, 102);
+}
+
+/* The cell-list build and the all-pairs scan find the same pairs. */
+static void test_cells_vs_all_pairs(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 7);
+  int n = 3000;
+  double(*r)[3] = malloc(sizeof *r * (size_t)n);
+  rl_box box;
+  double L[3] = {4.0, 5.0, 4.5};
+  assert_int_equal(rl_box_set(&box, L), RL_OK);
+  for (int i = 0; i < n; i++)
+    for (int c = 0; c < 3; c++) r[i][c] = gsl_ran_flat(rng, -2.0 * L[c], 3.0 * L[c]); /* unwrapped */
+  rl_nlist *a = rl_nlist_alloc(0.1), *b = rl_nlist_alloc(0.1);
+  assert_int_equal(rl_nlist_build(a, &box, 1.2, n, (const double(*)[3])r), RL_OK);
+  assert_int_equal(rl_nlist_build(b, &box, 1.9, n, (const double(*)[3])r), RL_OK);
+  FF_CHECK_TRUE("cells: rlist 1.2 in a 4 x 5 x 4.5 box uses cells", a->used_cells == 1);
+  FF_CHECK_TRUE("cells: rlist 1.9 (< 3 cells along x) uses the all-pairs scan", b->used_cells == 0);
+  /* pairs of a within 1.2 must equal the pairs of b within 1.2 */
+  char *inA = calloc((size_t)n * (size_t)n, 1);
+  long cntA = 0, cntB = 0, missing = 0;
+  for (long k = 0; k < a->npairs; k++) {
+    inA[(size_t)a->pairs[k][0] * (size_t)n + (size_t)a->pairs[k][1]] = 1;
+    cntA++;
+  }
+  for (long k = 0; k < b->npairs; k++) {
+    int i = b->pairs[k][0], j = b->pairs[k][1];
+    double d[3] = {r[i][0] - r[j][0], r[i][1] - r[j][1], r[i][2] - r[j][2]};
+    rl_box_minimum_image(&box, d);
+    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < 1.2 * 1.2) {
+      cntB++;
+      if (!inA[(size_t)i * (size_t)n + (size_t)j]) missing++;
+    }
+  }
+  char name[160];
+  snprintf(name, sizeof name, "cells: same pair set as all-pairs scan (%ld pairs, %ld missing)",
+           cntA, missing);
+  FF_CHECK_TRUE(name, cntA == cntB && missing == 0);
+  free(inA);
+  rl_nlist_free(a);
+  rl_nlist_free(b);
+  free(r);
+  gsl_rng_free(rng);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_cells_vs_all_pairs),
+      cmocka_unit_test(test_site_scheme),
+      cmocka_unit_test(test_molecule_scheme),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
