@@ -385,7 +385,7 @@ static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double tim
     else c->moved_prev = 1;
   }
   if (!st) {
-    rl_checkpoint_meta meta = {time, relax_step >= 0 ? 0 : step, {d->box[0], d->box[1], d->box[2]}, blob, size};
+    rl_checkpoint_meta meta = {time, relax_step >= 0 ? 0 : step, {0, 0, 0}, blob, size}; /* the box: the system's */
     st = rl_checkpoint_write(c->chk_path, c->s.sys, &meta);
     if (!st) c->last_chk = relax_step >= 0 ? 0 : step;
   }
@@ -542,16 +542,16 @@ static int open_topology(run_ctx *c)
 {
   if (!c->site || c->d->trajectory_every <= 0 || outputs_started_p(c->out, OUT_TOPOLOGY)) return RL_OK;
   const rl_molecule *mols[1] = {&c->s.mol};
-  const int st = rl_pdb_write(outputs_part(c->out, OUT_TOPOLOGY), c->s.sys, mols, c->d->box);
+  const int st = rl_pdb_write(outputs_part(c->out, OUT_TOPOLOGY), c->s.sys, mols);
   if (!st) outputs_started(c->out, OUT_TOPOLOGY, 0);
   return st;
 }
 
 static int traj_frame(run_ctx *c, double time, long step)
 {
-  if (c->dcd) return rl_dcd_write_frame(c->dcd, c->s.sys, c->d->box);
+  if (c->dcd) return rl_dcd_write_frame(c->dcd, c->s.sys);
   const char *path = outputs_part(c->out, OUT_TRAJ);
-  int st = rl_xyz_write_frame(c->xyz, path, c->s.sys, c->d->box, time, step);
+  int st = rl_xyz_write_frame(c->xyz, path, c->s.sys, time, step);
   if (!st && ferror(c->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
   return st;
 }
@@ -600,8 +600,9 @@ static void start_check(run_ctx *c)
       const double f = sqrt(F.f[i][0] * F.f[i][0] + F.f[i][1] * F.f[i][1] + F.f[i][2] * F.f[i][2]);
       if (f > fmax) { fmax = f; worst = i; }
     }
-    double ri[3], best = INFINITY;
+    double ri[3], best = INFINITY, L[3];
     int near = -1;
+    rl_system_box(sys, L);
     rl_system_get_position(sys, worst, ri);
     for (int j = 0; j < n; j++) {
       if (j == worst) continue;
@@ -609,7 +610,7 @@ static void start_check(run_ctx *c)
       rl_system_get_position(sys, j, rj);
       for (int k = 0; k < 3; k++) {
         double x = rj[k] - ri[k];
-        x -= d->box[k] * nearbyint(x / d->box[k]);
+        x -= L[k] * nearbyint(x / L[k]);
         r2 += x * x;
       }
       if (r2 < best) { best = r2; near = j; }

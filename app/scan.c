@@ -237,7 +237,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
       analysis_step(an, &info, scene_pressure_out(d, rl_forcefield_pressure(ff, &Ft, info.ke_trans)), &snap, sys);
     }
     if (sample && (k + 1) % sample == 0) {
-      st = rl_rdf_add_sites(r->rdf, sys, d->box, 0, site[0], 0, site[1]);
+      st = rl_rdf_add_sites(r->rdf, sys, 0, site[0], 0, site[1]);
       if (!st && an) st = analysis_sample(an, sys);
     }
   }

@@ -53,6 +53,7 @@ int scene_build(const rl_deck *d, scene *s)
                           : "1e-6 relative");
     }
   }
+  if (rl_system_set_box(s->sys, d->box)) return 1; /* the system owns it from here on */
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
   s->ff = scene_forcefield(d, &s->mol, s->sys);
   return s->ff ? 0 : 1;
@@ -91,6 +92,7 @@ rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const 
 {
   rl_species_ff sff = rl_molecule_ff(mol);
   rl_ff_params p = d->ff;
+  rl_system_box(sys, p.box); /* the system's box */
   p.skin = scene_skin(d, mol);
   rl_forcefield *ff = rl_forcefield_alloc(sys, &p, &sff, 1);
   if (ff && d->model->geometric_mixing) /* OPLS, EPM2: sigma_ab = sqrt(sigma_a sigma_b) */
@@ -278,7 +280,9 @@ static int watch_checks(const rl_deck *d, const scene *s, scene_watch *w, const 
                       info->t, tu, jump, every > 1 ? "since its last evaluation" : "in one step",
                       dt_name, h, hint);
   }
-  double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  double L[3];
+  rl_system_box(s->sys, L);
+  const double Lmin = fmin(L[0], fmin(L[1], L[2]));
   for (int i = 0; i < d->count; i++) {
     double v[3];
     rl_system_get_velocity(s->sys, i, v);
