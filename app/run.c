@@ -24,6 +24,12 @@
 static const char *pressure_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "bar" : "reduced"; }
 static const char *energy_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "kJ/mol" : "reduced"; }
 
+/* The energy components of the terms' last computation, into comp[rl_terms_nenergies]. */
+static void energy_components(const rl_terms *t, double *comp)
+{
+  for (int j = 0; j < rl_terms_nenergies(t); j++) comp[j] = rl_terms_energy(t, j);
+}
+
 int rl_app_energy(const rl_deck *d, int json)
 {
   scene s;
@@ -36,23 +42,24 @@ int rl_app_energy(const rl_deck *d, int json)
   }
   int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
   rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])), 0.0, {0}, 0};
-  int st = F.f && F.k ? rl_forcefield_compute(s.ff, s.sys, &F) : RL_ENOMEM;
+  int st = F.f && F.k ? rl_terms_compute(s.terms, s.sys, &F) : RL_ENOMEM;
   if (st) {
     fprintf(stderr, "rotleap energy: %s\n", rl_last_error());
     free(F.f); free(F.k); scene_free(&s);
     return 1;
   }
-  rl_ff_energies e;
-  rl_forcefield_energies(s.ff, &e);
+  double comp[64];
+  energy_components(s.terms, comp);
+  const int ne = rl_terms_nenergies(s.terms);
   double ke = 0.0;
   for (int i = 0; i < n; i++) {
     double v[3];
     rl_system_get_velocity(s.sys, i, v);
     ke += 0.5 * s.mol.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
-  double P = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &F, ke));
+  double P = scene_pressure_out(d, rl_forces_pressure(s.sys, &F, ke));
   /* a NaN is an error naming its term, as in a run, never a number printed with exit 0 */
-  st = scene_check_finite(d, &e, F.virial, P);
+  st = scene_check_finite(d, s.terms, comp, F.virial, P);
   for (int i = 0; !st && i < n; i++) {
     const int ri = rl_system_rot_index(s.sys, i);
     for (int c = 0; c < 3; c++)
@@ -69,10 +76,13 @@ int rl_app_energy(const rl_deck *d, int json)
   const char *L = d->units == RL_UNITS_REAL ? "nm" : "reduced";
   if (json) {
     printf("{\"units\": {\"energy\": \"%s\", \"length\": \"%s\", \"force\": \"%s/%s\", \"torque\": \"%s\", "
-           "\"pressure\": \"%s\"},\n \"energy\": {\"total\": %.17g, \"lj\": %.17g, \"coulomb\": %.17g, "
-           "\"dipolar\": %.17g, \"quadrupolar\": %.17g, \"dispersion\": %.17g},\n \"virial\": [",
-           energy_unit(d), L, energy_unit(d), L, energy_unit(d), pressure_unit(d), e.total, e.lj,
-           e.coulomb, e.dipolar, e.quadrupolar, e.dispersion);
+           "\"pressure\": \"%s\"},\n \"energy\": {\"total\": %.17g", energy_unit(d), L, energy_unit(d), L,
+           energy_unit(d), pressure_unit(d), F.energy);
+    for (int j = 0; j < ne; j++) printf(", \"%s\": %.17g", rl_terms_energy_name(s.terms, j), comp[j]);
+    printf("},\n \"terms\": [");
+    for (int k = 0; k < rl_terms_count(s.terms); k++)
+      printf("%s\"%s\"", k ? ", " : "", rl_terms_type(s.terms, k)->name);
+    printf("],\n \"virial\": [");
     for (int k = 0; k < 9; k++) printf("%.17g%s", F.virial[k], k < 8 ? ", " : "");
     printf("],\n \"pressure\": %.17g,\n \"molecules\": [", P);
     for (int i = 0; i < n; i++) {
@@ -86,9 +96,9 @@ int rl_app_energy(const rl_deck *d, int json)
   } else {
     printf("# energies in %s, forces in %s/%s, torques in %s, pressure in %s\n", energy_unit(d),
            energy_unit(d), L, energy_unit(d), pressure_unit(d));
-    printf("term,value\ntotal,%.17g\nlj,%.17g\ncoulomb,%.17g\ndipolar,%.17g\nquadrupolar,%.17g\n"
-           "dispersion,%.17g\npressure,%.17g\n", e.total, e.lj, e.coulomb, e.dipolar, e.quadrupolar,
-           e.dispersion, P);
+    printf("term,value\ntotal,%.17g\n", F.energy);
+    for (int j = 0; j < ne; j++) printf("%s,%.17g\n", rl_terms_energy_name(s.terms, j), comp[j]);
+    printf("pressure,%.17g\n", P);
     printf("\nmolecule,fx,fy,fz,tx,ty,tz\n");
     for (int i = 0; i < n; i++) {
       int ri = rl_system_rot_index(s.sys, i);
@@ -164,20 +174,36 @@ static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (S
 
 /* --------------------------------------------------------------------------- thermo rows */
 
-#define THERMO_HEADER                                                                          \
-  "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"        \
-  "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n"
-
-/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k;
- * calE is the running relative fluctuation of the conserved quantity (E). */
-static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
-                      const running *E)
+/* The thermo file's header: step, time, total, potential, the energy components of every force
+ * term (terms.h: lj, coulomb, dipolar, quadrupolar, dispersion for the pair term), kinetic
+ * energies, temperatures, pressure, the conserved quantity, calE and the mid-step temperatures.
+ * malloc'd. */
+static char *thermo_header(const rl_terms *t)
 {
-  if (fprintf(f, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n",
-              k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
-              info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
-              E->n > 1 ? running_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid) < 0)
-    return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
+  char *h = NULL;
+  size_t n = 0;
+  FILE *f = open_memstream(&h, &n);
+  if (!f) return NULL;
+  fputs("step,time,total,potential", f);
+  for (int j = 0; j < rl_terms_nenergies(t); j++) fprintf(f, ",%s", rl_terms_energy_name(t, j));
+  fputs(",ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n", f);
+  if (fclose(f)) { free(h); return NULL; }
+  return h;
+}
+
+/* One row of PREFIX.thermo.csv (thermo_header's columns): the state at the start of step k with
+ * its energy components comp (energy_components at that time); calE is the running relative
+ * fluctuation of the conserved quantity (E). */
+static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_terms *t,
+                      const double *comp, double pr, const running *E)
+{
+  int bad = fprintf(f, "%ld,%.10g,%.10g,%.10g", k, info->t, info->total, info->potential) < 0;
+  for (int j = 0; j < rl_terms_nenergies(t) && !bad; j++) bad = fprintf(f, ",%.10g", comp[j]) < 0;
+  if (!bad)
+    bad = fprintf(f, ",%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n", info->ke_trans, info->ke_rot,
+                  info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
+                  E->n > 1 ? running_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid) < 0;
+  if (bad) return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
   return RL_OK;
 }
 
@@ -319,6 +345,7 @@ typedef struct {
   outputs *out;
   char *chk_path, *chk_prev, *summary_path;
   char *physics;
+  char *header;         /* the thermo file's header (thermo_header)                         */
   int site;             /* a DCD of the sites + PDB topology, else extended XYZ            */
   int same_prefix;      /* system.start is this prefix's checkpoint                        */
   int resumed;          /* the streams continue those of the checkpoint's run              */
@@ -507,7 +534,7 @@ static int open_streams(run_ctx *c, const run_record *rec, const run_record *oth
     if (!(st = outputs_resume(o, OUT_THERMO, &rec->marks[OUT_THERMO], outputs_path(o, OUT_THERMO), outputs_part(o, OUT_THERMO))))
       if (!(c->thermo = outputs_append(o, OUT_THERMO))) st = RL_EINVAL;
   } else if (!(c->thermo = outputs_create(o, OUT_THERMO))) st = RL_EINVAL;
-  else if (fputs(THERMO_HEADER, c->thermo) < 0)
+  else if (!c->header || fputs(c->header, c->thermo) < 0)
     st = rl_error(RL_EINVAL, "cannot write %s: %s", outputs_part(o, OUT_THERMO), strerror(errno));
   c->streams = 1;
   if (!st) st = open_journal(c, rec, other);
@@ -634,10 +661,10 @@ static void step_error(const run_ctx *c, int st)
   const scene *s = &c->s;
   char msg[1024], term[1024] = "";
   snprintf(msg, sizeof msg, "%s", rl_last_error());
-  rl_ff_energies e;
-  if (st == RL_ENONFINITE && s->ff) {
-    rl_forcefield_energies(s->ff, &e);
-    if (scene_check_finite(d, &e, NULL, 0.0)) snprintf(term, sizeof term, ": %s", rl_last_error());
+  if (st == RL_ENONFINITE && s->terms) {
+    double comp[64];
+    energy_components(s->terms, comp);
+    if (scene_check_finite(d, s->terms, comp, NULL, 0.0)) snprintf(term, sizeof term, ": %s", rl_last_error());
   }
   const int early = c->done < 20 && c->first == 0;
   rl_error(st, "%s%s%s%s", msg, term, early && c->start_note[0] ? "; " : "", early ? c->start_note : "");
@@ -949,6 +976,7 @@ int rl_app_run(const rl_deck *d)
   rec.relax_step = -1;
   int cont = 0;
   st = scene_build(d, &c.s);
+  if (!st && !(c.header = thermo_header(c.s.terms))) st = rl_error(RL_ENOMEM, "out of memory");
   if (!st) st = decide_continuation(&c, &rec, &cont);
   const int relax_cont = cont && rec.relax_step >= 0; /* a checkpoint of a stopped relaxation */
   c.resumed = cont && c.same_prefix;
@@ -979,7 +1007,7 @@ int rl_app_run(const rl_deck *d)
     p.force_general = d->force_general;
     p.threads = d->ff.threads; /* run.threads: the rotation solves too */
     p.energy_every = d->energy_every;
-    c.in = rl_integrator_alloc(c.s.sys, &p, rl_forcefield_provider(c.s.ff));
+    c.in = rl_integrator_alloc(c.s.sys, &p, rl_terms_provider(c.s.terms));
     st = !c.in ? RL_EINVAL : cont && !relax_cont ? restore_record(&c, &rec) : rl_integrator_init(c.in);
     if (st) step_error(&c, st);
     else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
@@ -1005,8 +1033,8 @@ int rl_app_run(const rl_deck *d)
     /* the energies, virial and averages on the steps of output.energy_every (the integrator
      * computes forces only on the others; init and resume always compute all) */
     const int ev = k % d->energy_every == 0;
-    rl_ff_energies e;
-    rl_forcefield_energies(c.s.ff, &e); /* terms at the current time t */
+    double comp[64]; /* the energy components at the current time t */
+    energy_components(c.s.terms, comp);
     const rl_forces *F = rl_integrator_forces(c.in);
     double virial[9];
     if (ev) {
@@ -1032,8 +1060,8 @@ int rl_app_run(const rl_deck *d)
     if (ev) {
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, virial, sizeof virial);
-      pr = scene_pressure_out(d, rl_forcefield_pressure(c.s.ff, &Ft, info.ke_trans));
-      if ((st = scene_check_finite(d, &e, virial, pr))) {
+      pr = scene_pressure_out(d, rl_forces_pressure(c.s.sys, &Ft, info.ke_trans));
+      if ((st = scene_check_finite(d, c.s.terms, comp, virial, pr))) {
         fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
         break;
       }
@@ -1058,7 +1086,7 @@ int rl_app_run(const rl_deck *d)
       fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
       break;
     }
-    if (k % d->thermo_every == 0 && (st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), k, &info, &e, pr, &c.E))) {
+    if (k % d->thermo_every == 0 && (st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), k, &info, c.s.terms, comp, pr, &c.E))) {
       fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
       break;
     }
@@ -1089,16 +1117,16 @@ int rl_app_run(const rl_deck *d)
   if (!st && c.streams) st = outputs_mark(c.out, marks);
   if (!st && c.in && c.streams) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
     rl_step_info info;
-    rl_ff_energies e;
+    double comp[64];
     st = rl_integrator_observe(c.in, &info);
     if (!st) {
-      rl_forcefield_energies(c.s.ff, &e);
+      energy_components(c.s.terms, comp);
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, rl_integrator_forces(c.in)->virial, sizeof Ft.virial);
-      const double pr = scene_pressure_out(d, rl_forcefield_pressure(c.s.ff, &Ft, info.ke_trans));
-      if ((st = scene_check_finite(d, &e, Ft.virial, pr)))
+      const double pr = scene_pressure_out(d, rl_forces_pressure(c.s.sys, &Ft, info.ke_trans));
+      if ((st = scene_check_finite(d, c.s.terms, comp, Ft.virial, pr)))
         rl_error_wrap(st, "step %ld (t = %g)", c.first + c.done, info.t);
-      else st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), c.first + c.done, &info, &e, pr, &c.E);
+      else st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), c.first + c.done, &info, c.s.terms, comp, pr, &c.E);
     }
   }
   if (!st && c.streams) {
@@ -1157,7 +1185,7 @@ int rl_app_run(const rl_deck *d)
   scene_free(&c.s);
   catch_signals(0);
   outputs_free(c.out);
-  free(c.chk_path); free(c.chk_prev); free(c.summary_path); free(c.physics);
+  free(c.chk_path); free(c.chk_prev); free(c.summary_path); free(c.physics); free(c.header);
   if (c.stopped && !st && !io_bad) return 128 + c.stopped; /* the outputs are complete; the caller asked to stop */
   return st || io_bad ? 1 : 0;
 }

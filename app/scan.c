@@ -160,7 +160,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   }
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
   rl_system *sys = rl_system_clone(start);
-  rl_forcefield *ff = sys ? scene_forcefield(d, &base->mol, sys) : NULL;
+  rl_terms *ff = sys ? scene_terms(d, &base->mol, sys) : NULL;
   rl_series *E = rl_series_alloc(), *U = rl_series_alloc();
   r->rdf = sample ? rl_rdf_alloc(0.5 * Lmin, 200) : NULL;
   int cap = (int)(r->steps / thermo + 2 < 4096 ? r->steps / thermo + 2 : 4096); /* grows with the run */
@@ -191,7 +191,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     p.groups = d->thermostat_groups;
     p.force_general = d->force_general;
     p.threads = d->ff.threads;
-    in = rl_integrator_alloc(sys, &p, rl_forcefield_provider(ff));
+    in = rl_integrator_alloc(sys, &p, rl_terms_provider(ff));
     st = in ? rl_integrator_init(in) : RL_EINVAL;
   }
   double wall = 0.0, st_sum = 0, stt = 0, sE = 0, stE = 0, sTt = 0, sTr = 0, its = 0;
@@ -234,7 +234,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     if (an) {
       rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
       memcpy(Ft.virial, snap.virial, sizeof Ft.virial);
-      analysis_step(an, &info, scene_pressure_out(d, rl_forcefield_pressure(ff, &Ft, info.ke_trans)), &snap, sys);
+      analysis_step(an, &info, scene_pressure_out(d, rl_forces_pressure(sys, &Ft, info.ke_trans)), &snap, sys);
     }
     if (sample && (k + 1) % sample == 0) {
       st = rl_rdf_add_sites(r->rdf, sys, 0, site[0], 0, site[1]);
@@ -279,7 +279,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   rl_integrator_free(in);
   rl_series_free(E);
   rl_series_free(U);
-  rl_forcefield_free(ff);
+  rl_terms_free(ff);
   rl_system_free(sys);
 }
 

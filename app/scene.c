@@ -55,8 +55,9 @@ int scene_build(const rl_deck *d, scene *s)
   }
   if (rl_system_set_box(s->sys, d->box)) return 1; /* the system owns it from here on */
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
-  s->ff = scene_forcefield(d, &s->mol, s->sys);
-  return s->ff ? 0 : 1;
+  if (!(s->terms = scene_terms(d, &s->mol, s->sys))) return 1;
+  s->ff = rl_terms_find(s->terms, &rl_term_pair);
+  return 0;
 }
 
 static int ends_with(const char *s, const char *tail)
@@ -88,34 +89,29 @@ double scene_skin(const rl_deck *d, const rl_molecule *mol)
   return rl_ff_skin_for_step(d->ff.cutoff, rl_units_kB(d->units) * T, mol->mass, d->timestep);
 }
 
-rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
+rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
   rl_species_ff sff = rl_molecule_ff(mol);
-  rl_ff_params p = d->ff;
-  rl_system_box(sys, p.box); /* the system's box */
-  p.skin = scene_skin(d, mol);
-  rl_forcefield *ff = rl_forcefield_alloc(sys, &p, &sff, 1);
-  if (ff && d->model->geometric_mixing) /* OPLS, EPM2: sigma_ab = sqrt(sigma_a sigma_b) */
-    for (int a = 0; a < mol->nsites; a++)
-      for (int b = a; b < mol->nsites; b++)
-        if (mol->epsilon[a] > 0 && mol->epsilon[b] > 0 &&
-            rl_forcefield_set_lj_pair(ff, 0, a, 0, b, sqrt(mol->sigma[a] * mol->sigma[b]),
-                                      sqrt(mol->epsilon[a] * mol->epsilon[b]))) {
-          rl_forcefield_free(ff);
-          return NULL;
-        }
-  if (ff && p.precision == RL_PRECISION_MIXED && strcmp(rl_forcefield_precision(ff), "mixed") != 0)
+  rl_pair_params pp = {d->ff, &sff, 1, d->model->geometric_mixing}; /* OPLS, EPM2: geometric mixing */
+  pp.p.skin = scene_skin(d, mol);
+  rl_terms *t = rl_terms_alloc(sys);
+  if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL)) {
+    rl_terms_free(t);
+    return NULL;
+  }
+  const rl_forcefield *ff = rl_terms_find(t, &rl_term_pair);
+  if (pp.p.precision == RL_PRECISION_MIXED && strcmp(rl_forcefield_precision(ff), "mixed") != 0)
     fprintf(stderr, "rotleap: interactions.precision = mixed has no effect here: only the TIP4P "
                     "kernel (model %s: kernel '%s') on a CPU with AVX2 (rows '%s') has single-precision "
                     "terms; the pair terms run in double\n",
             d->model->name, rl_forcefield_kernel(ff), rl_forcefield_rows(ff));
-  return ff;
+  return t;
 }
 
 void scene_free(scene *s)
 {
   free(s->blob);
-  rl_forcefield_free(s->ff);
+  rl_terms_free(s->terms);
   rl_system_free(s->sys);
 }
 
@@ -147,7 +143,7 @@ scene_relaxation *scene_relax_begin(const rl_deck *d, scene *s, long k0, double 
   p.seed = d->seed + 2;
   p.T0 = d->temperature;
   p.threads = d->ff.threads;
-  r->in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
+  r->in = rl_integrator_alloc(s->sys, &p, rl_terms_provider(s->terms));
   int st = !r->in ? RL_EINVAL : k0 > 0 ? rl_integrator_resume(r->in, k0, t0) : rl_integrator_init(r->in);
   if (st) {
     relax_error(d, st);
@@ -366,21 +362,31 @@ double scene_rigidity_error(const rl_system *s)
   return worst;
 }
 
-int scene_check_finite(const rl_deck *d, const rl_ff_energies *e, const double *virial, double pressure)
+int scene_check_finite(const rl_deck *d, const rl_terms *t, const double *comp, const double *virial, double pressure)
 {
   char disp[96];
   snprintf(disp, sizeof disp, "interactions.dispersion_correction at interactions.cutoff = %g", d->ff.cutoff);
-  const struct { const char *name, *from; double x; } terms[] = {
-      {"Lennard-Jones energy", "the model's LJ sites, interactions.lj", e->lj},
-      {"Coulomb energy", "the model's charges, interactions.eps_rf", e->coulomb},
-      {"dipolar energy", "the model's dipoles", e->dipolar},
-      {"quadrupolar energy", "the model's quadrupoles", e->quadrupolar},
-      {"dispersion correction", disp, e->dispersion},
-      {"total energy", "the sum of the terms", e->total},
-      {"pressure", "the virial", pressure}};
-  for (size_t k = 0; k < sizeof terms / sizeof terms[0]; k++)
-    if (!isfinite(terms[k].x))
-      return rl_error(RL_ENONFINITE, "the %s is %g, not finite (%s)", terms[k].name, terms[k].x, terms[k].from);
+  /* what produces each component the pair term reports, for the message */
+  static const struct { const char *component, *name, *from; } known[] = {
+      {"lj", "Lennard-Jones energy", "the model's LJ sites, interactions.lj"},
+      {"coulomb", "Coulomb energy", "the model's charges, interactions.eps_rf"},
+      {"dipolar", "dipolar energy", "the model's dipoles"},
+      {"quadrupolar", "quadrupolar energy", "the model's quadrupoles"},
+      {"dispersion", "dispersion correction", NULL}};
+  double total = 0.0;
+  for (int j = 0; j < rl_terms_nenergies(t); j++) {
+    const char *c = rl_terms_energy_name(t, j);
+    const double x = comp[j];
+    total += x;
+    if (isfinite(x)) continue;
+    for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
+      if (!strcmp(c, known[k].component))
+        return rl_error(RL_ENONFINITE, "the %s is %g, not finite (%s)", known[k].name, x, known[k].from ? known[k].from : disp);
+    return rl_error(RL_ENONFINITE, "the %s energy of the %s term is %g, not finite", c,
+                    rl_terms_type(t, rl_terms_energy_term(t, j))->name, x);
+  }
+  if (!isfinite(total)) return rl_error(RL_ENONFINITE, "the total energy is %g, not finite (the sum of the terms)", total);
+  if (!isfinite(pressure)) return rl_error(RL_ENONFINITE, "the pressure is %g, not finite (the virial)", pressure);
   for (int k = 0; virial && k < 9; k++)
     if (!isfinite(virial[k]))
       return rl_error(RL_ENONFINITE, "virial element %d%d is %g: not finite", k / 3 + 1, k % 3 + 1, virial[k]);
@@ -398,7 +404,7 @@ int scene_onstep(const rl_deck *d, scene *s)
   rl_integrator_params p;
   rl_integrator_params_default(&p);
   p.h = d->timestep;
-  rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_forcefield_provider(s->ff));
+  rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_terms_provider(s->terms));
   int st = in ? rl_integrator_resume(in, s->step0, s->t0) : RL_EINVAL;
   if (!st) st = rl_integrator_finish(in);
   rl_integrator_free(in);

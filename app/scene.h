@@ -10,7 +10,8 @@
 typedef struct {
   rl_molecule mol;
   rl_system *sys;
-  rl_forcefield *ff;
+  rl_terms *terms;      /* the interactions, a sum of force terms (terms.h)               */
+  rl_forcefield *ff;    /* the pair term's state (in terms): its kernels, list and checks  */
   int restart;          /* started from a checkpoint                                  */
   long step0;           /* the checkpoint's step and time                             */
   double t0;
@@ -26,8 +27,8 @@ void scene_free(scene *s);
  * inode); then an error naming both, for the caller to stop before anything is written.  A .chk
  * output may be a .chk start: that is a continuation. */
 int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
-/* A force field for `sys` with the deck's interactions (and the model's geometric mixing), or
- * NULL with a message. */
+/* The interactions of the deck for `sys`: the pair term (with the model's geometric mixing),
+ * or NULL with a message. */
 /* The Verlet skin: interactions.skin, or if not given 0.1 cutoff, the fastest in the scans at
  * 2 fs for TIP4P and h* = 0.002 for Stockmayer (bench/skin_*.csv), where a molecule's thermal
  * displacement per step v h (v = sqrt(3 kT / m), T the thermostat's or the start's) is about
@@ -38,7 +39,7 @@ int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
  * of the pair sums (round-off); the kernels' sums do not depend on the candidates beyond the
  * cutoff. */
 double scene_skin(const rl_deck *d, const rl_molecule *mol);
-rl_forcefield *scene_forcefield(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
+rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
 /* The deck's relaxation phase (run.equilibrate steps at run.equilibrate_timestep under Bussi with
  * tau = 20 steps; nothing for a checkpoint start).  scene_relax runs all of it (rotleap scan);
  * rotleap run drives it in parts so that a signal can stop it and a checkpoint continue it. */
@@ -96,7 +97,7 @@ int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_
 /* RL_OK if every energy term, the nine virial elements (virial may be NULL) and the pressure
  * are finite; else RL_ENONFINITE with a message naming the first that is not ("the dispersion
  * energy is -nan") and the interactions that produce it. */
-int scene_check_finite(const rl_deck *d, const rl_ff_energies *e, const double *virial, double pressure);
+int scene_check_finite(const rl_deck *d, const rl_terms *t, const double *comp, const double *virial, double pressure);
 /* 1 if a drift of the conserved energy comes from the isokinetic thermostat (eqs. 17-18) rather
  * than from the time step: under run.ensemble = nvt-isokinetic the scheme pins only the on-step
  * temperature and leaves a period-2 mode of the kinetic energy undamped; a start far from

@@ -12,6 +12,7 @@
 #include "rotleap/integrator.h"
 #include "rotleap/molecule.h"
 #include "rotleap/catalog.h"
+#include "rotleap/terms.h"
 #include "rotleap/forcefield.h"
 #include "rotleap/observables.h"
 #include "rotleap/io.h"
