@@ -16,4 +16,5 @@
 #include "rotleap/forcefield.h"
 #include "rotleap/observables.h"
 #include "rotleap/io.h"
+#include "rotleap/run.h"
 #endif
