@@ -8,7 +8,7 @@
  *      beta = 1 is the plain kick)
  *   3. r(t+h) = r(t) + h v(t+h/2)                                          (eq. 8)
  *   4. rotation by kind, from l(t+h/2)                                     (eqs. 19-36, III.D),
- *      or by a baseline method for every matrix body (integrators/paths/family_baselines.c)
+ *      or by a baseline method for every matrix body (integrators/paths/baselines.c)
  *   5. forces at t+h from the provider.
  * RL_THERMO_LANGEVIN replaces 3-4 by BAOAB's middle: drift and rotate by h/2, an
  * Ornstein-Uhlenbeck step on v and on the body-frame l, drift and rotate by h/2 again. */
@@ -16,7 +16,7 @@
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
 #include "../core/threads.h"
-#include "paths/family.h"
+#include "paths/path.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
