@@ -13,4 +13,8 @@ target_sources(rotleap PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/paths/symmetric.c
   ${CMAKE_CURRENT_LIST_DIR}/paths/asymmetric.c
   ${CMAKE_CURRENT_LIST_DIR}/paths/baselines.c
+  ${CMAKE_CURRENT_LIST_DIR}/stepops/common.c
+  ${CMAKE_CURRENT_LIST_DIR}/stepops/isokinetic.c
+  ${CMAKE_CURRENT_LIST_DIR}/stepops/bussi.c
+  ${CMAKE_CURRENT_LIST_DIR}/stepops/langevin.c
 )
