@@ -10,6 +10,7 @@
 #include "rotleap/system.h"
 #include "rotleap/forces.h"
 #include "rotleap/integrator.h"
+#include "rotleap/stepops.h"
 #include "rotleap/molecule.h"
 #include "rotleap/catalog.h"
 #include "rotleap/terms.h"
