@@ -8,7 +8,7 @@
 # usage: barostat_tests.sh ROTLEAP SRCDIR WORKDIR
 set -u
 rotleap=$1; src=$2; work=$3
-mkdir -p "$work"; cd "$work" || exit 1
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
 deck="$src/tests/cli/stockmayer_short.ini"
 pass=0; fail=0
 check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
