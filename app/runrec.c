@@ -134,7 +134,7 @@ int runrec_encode(const run_record *r, unsigned char **out, size_t *size)
       put(&b, r->ops[k].name, r->ops[k].name_len);
       put_f64(&b, r->ops[k].work);
       put_i64(&b, (int64_t)r->ops[k].size);
-      put(&b, r->ops[k].bytes, r->ops[k].size);
+      if (r->ops[k].size) put(&b, r->ops[k].bytes, r->ops[k].size);
     }
     end_section(&b, at);
   }
