@@ -14,7 +14,8 @@ Run (from the repository root, after building rotleap):
     /usr/bin/python3 validate/npt_stockmayer.py [--rotleap build/rotleap] [--count 256] [--steps 200000]
         [--pressure 1.0] [--jobs 2] [--md validate/npt_stockmayer.md]
 Defaults: 256 molecules, 200,000 steps of h = 0.004 per barostat (20 % discarded), 20 blocks;
-about 4 minutes per run on this 2-core machine with both runs in parallel (--jobs 2).
+about 2 minutes per run on this 2-core machine with both runs in parallel (--jobs 2; 66 s for both at
+--steps 100000, validate/npt_stockmayer.md).
 Writes the Markdown table to --md.
 """
 import argparse
