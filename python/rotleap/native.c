@@ -27,6 +27,7 @@ typedef struct {
   rl_integrator *in;
   rl_watch watch;          /* carried from one run call to the next                    */
   long step;               /* production steps done (from the start's step)            */
+  long now;                /* the step of the state during a reporter's call            */
   const rl_run_report *cur;/* the report a Python reporter is reading                  */
   rlpy_callback cb;
   int cb_status;
@@ -96,7 +97,7 @@ RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
 
 RLPY_API int rlpy_count(const rlpy_sim *p) { return rl_system_count(p->s.sys); }
 RLPY_API int rlpy_nrot(const rlpy_sim *p) { return rl_system_nrot(p->s.sys); }
-RLPY_API long rlpy_step(const rlpy_sim *p) { return p->step; }
+RLPY_API long rlpy_step(const rlpy_sim *p) { return p->cur ? p->now : p->step; }
 RLPY_API double rlpy_time(const rlpy_sim *p) { return rl_integrator_time(p->in); }
 RLPY_API double rlpy_timestep(const rlpy_sim *p) { return p->d.timestep; }
 RLPY_API long rlpy_deck_steps(const rlpy_sim *p) { return p->d.steps; }
@@ -182,6 +183,7 @@ static int call_python(void *ctx, const rl_run_report *r)
   rlpy_rep *rep = ctx;
   rlpy_sim *p = rep->sim;
   p->cur = r;
+  p->now = r->info && !r->last ? r->step + 1 : r->step; /* a step report comes after the step */
   const int st = p->cb(rep->index);
   p->cur = NULL;
   if (st) {
@@ -282,16 +284,12 @@ RLPY_API int rlpy_get(const rlpy_sim *p, int q, double *out)
 /* Sets one quantity (not forces or torques) of every body, then resumes the integrator at the
  * same step and time: forces at the new state, v and l taken as the half-step values they are
  * read as, the thermostat's account and random state kept.  A value the system refuses (an
- * orientation that is not orthonormal, a non-finite number) is an error naming the body; the
- * bodies before it are set, and the state is then what the caller set. */
-RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
+ * orientation that is not orthonormal, an axis that is not unit) is an error naming the body,
+ * and the quantity is left as it was. */
+static int set_all(rl_system *s, int q, const double *in)
 {
-  int st = check_quantity(p, q);
-  if (!st && q >= Q_FORCE) st = rl_error(RL_EINVAL, "forces and torques are computed, not set");
-  if (st) return st;
-  rl_system *s = p->s.sys;
-  const int n = rl_system_count(s);
-  for (int i = 0; i < n && !st; i++) {
+  int st = RL_OK;
+  for (int i = 0; i < rl_system_count(s) && !st; i++) {
     const int ri = rl_system_rot_index(s, i);
     if (q == Q_POS) st = rl_system_set_position(s, i, in + 3 * i);
     else if (q == Q_VEL) st = rl_system_set_velocity(s, i, in + 3 * i);
@@ -300,14 +298,40 @@ RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
     else if (q == Q_AXIS) st = rl_system_set_axis(s, i, in + 3 * i);
     if (st) rl_error_wrap(st, "body %d", i);
   }
+  return st;
+}
+
+RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
+{
+  int st = check_quantity(p, q);
+  if (!st && q >= Q_FORCE) st = rl_error(RL_EINVAL, "forces and torques are computed, not set");
+  if (st) return st;
+  rl_system *s = p->s.sys;
+  const size_t n = (size_t)rl_system_count(s) * (q == Q_ORIENT ? 9 : 3);
+  double *old = malloc(sizeof(double) * (n ? n : 1));
   const size_t nrng = rl_integrator_rng_size(p->in);
   void *rng = nrng ? malloc(nrng) : NULL;
-  if (nrng && !rng) return rl_error(RL_ENOMEM, "out of memory");
+  if (!old || (nrng && !rng)) {
+    free(old);
+    free(rng);
+    return rl_error(RL_ENOMEM, "out of memory");
+  }
+  rlpy_get(p, q, old);
+  st = set_all(s, q, in);
+  if (st) { /* the quantity as it was (values the system took before), the message kept */
+    char msg[1024];
+    snprintf(msg, sizeof msg, "%s", rl_last_error());
+    set_all(s, q, old);
+    free(old);
+    free(rng);
+    return rl_error(st, "%s", msg);
+  }
+  free(old);
   if (rng) memcpy(rng, rl_integrator_rng_state(p->in), nrng);
   const double work = rl_integrator_thermostat_work(p->in);
-  const int rs = rl_integrator_resume(p->in, p->step, rl_integrator_time(p->in));
+  st = rl_integrator_resume(p->in, p->step, rl_integrator_time(p->in));
   if (rng) memcpy(rl_integrator_rng_state(p->in), rng, nrng);
   rl_integrator_set_thermostat_work(p->in, work);
   free(rng);
-  return st ? st : rs;
+  return st;
 }

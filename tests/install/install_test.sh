@@ -17,9 +17,12 @@ args=(--inertia 0.6 1.2 1.7 --angmom 1 0.5 0.3 --h 0.01 --steps 1000 --solver cu
 check() { # the program's output and the library it loaded
   local out
   out=$(LD_LIBRARY_PATH="$lib" "$1" "${args[@]}")
+  # the library's soname, which the programs record
+  grep -q 'Library soname: \[librotleap.so.0\]' <<<"$(readelf -d "$lib/librotleap.so.0.1.0")" || { echo "soname"; exit 1; }
   grep -q "^fallbacks = 0$" <<<"$out" || { echo "$1 printed: $out"; exit 1; }
-  LD_LIBRARY_PATH="$lib" ldd "$1" | grep -q "librotleap.so.0 => $lib/librotleap.so.0" ||
-    { echo "$1 does not load $lib/librotleap.so.0:"; LD_LIBRARY_PATH="$lib" ldd "$1"; exit 1; }
+  local deps
+  deps=$(LD_LIBRARY_PATH="$lib" ldd "$1")
+  grep -q "librotleap.so.0 => $lib/librotleap.so.0" <<<"$deps" || { echo "$1 does not load $lib/librotleap.so.0:"; echo "$deps"; exit 1; }
   echo "ok: $2"
 }
 # 1. pkg-config
