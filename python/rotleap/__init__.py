@@ -8,6 +8,7 @@ docs/python.md describes the interface."""
 from ._native import lib as _lib
 from .simulation import Error, Report, Simulation
 from .reporters import CallbackReporter, Reporter, ThermoReporter
+from .catalog import Model, catalog
 
 __version__ = _lib.rlpy_version().decode()
-__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter"]
+__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "Model", "catalog"]

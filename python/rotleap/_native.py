@@ -46,6 +46,10 @@ def _load():
                                     ctypes.POINTER(ctypes.c_long)]),
         "rlpy_get": (ctypes.c_int, [P, ctypes.c_int, _dbl_p]),
         "rlpy_set": (ctypes.c_int, [P, ctypes.c_int, _dbl_p]),
+        "rlpy_catalog_count": (ctypes.c_int, []),
+        "rlpy_catalog_text": (ctypes.c_char_p, [ctypes.c_int, ctypes.c_int]),
+        "rlpy_catalog_params": (ctypes.c_int, [ctypes.c_int, _dbl_p]),
+        "rlpy_catalog_molecule": (ctypes.c_int, [ctypes.c_int, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
     }
     for name, (res, args) in sigs.items():
         f = getattr(lib, name)

@@ -335,3 +335,56 @@ RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
   free(rng);
   return st;
 }
+
+/* -------------------------------------------------------------------------- the catalogue */
+
+RLPY_API int rlpy_catalog_count(void) { return rl_catalog_count(); }
+
+/* Text fields of model i: 0 name, 1 description, 2 reference, 3 units ("real", "lj"), 4 family
+ * (rl_kind_name); parameter k's name (10 + k) and unit (20 + k).  NULL out of range. */
+RLPY_API const char *rlpy_catalog_text(int i, int field)
+{
+  const rl_model *m = i >= 0 && i < rl_catalog_count() ? rl_catalog_get(i) : NULL;
+  if (!m) return NULL;
+  switch (field) {
+  case 0: return m->name;
+  case 1: return m->description;
+  case 2: return m->reference;
+  case 3: return m->units == RL_UNITS_REAL ? "real" : "lj";
+  case 4: return rl_kind_name(m->family);
+  }
+  if (field >= 10 && field < 10 + m->nparams) return m->param_names[field - 10];
+  if (field >= 20 && field < 20 + m->nparams) return m->param_units[field - 20];
+  return NULL;
+}
+
+/* Parameter count of model i and their defaults (defaults[RL_MODEL_MAX_PARAMS]). */
+RLPY_API int rlpy_catalog_params(int i, double *defaults)
+{
+  const rl_model *m = rl_catalog_get(i);
+  for (int k = 0; k < m->nparams; k++) defaults[k] = m->param_defaults[k];
+  return m->nparams;
+}
+
+/* Model i built with its default parameters: mass, inertia[3], and per site (up to
+ * RL_MOLECULE_MAX_SITES) names[8 each], body-frame positions [3], masses, sigma, epsilon,
+ * charge, dipole and quadrupole (along body Z).  The number of sites, or -1 with a message. */
+RLPY_API int rlpy_catalog_molecule(int i, double *mass, double *inertia, char *names, double *sites, double *site_mass,
+                                   double *sigma, double *epsilon, double *charge, double *dipole, double *quadrupole)
+{
+  rl_molecule m;
+  if (rl_model_build(rl_catalog_get(i), NULL, 0, &m)) return -1;
+  *mass = m.mass;
+  memcpy(inertia, m.inertia, sizeof m.inertia);
+  for (int s = 0; s < m.nsites; s++) {
+    memcpy(names + 8 * s, m.site_names[s], 8);
+    memcpy(sites + 3 * s, m.sites[s], sizeof m.sites[s]);
+    site_mass[s] = m.site_mass[s];
+    sigma[s] = m.sigma[s];
+    epsilon[s] = m.epsilon[s];
+    charge[s] = m.charge[s];
+    dipole[s] = m.dipole[s];
+    quadrupole[s] = m.quadrupole[s];
+  }
+  return m.nsites;
+}

@@ -121,6 +121,25 @@ class Simulation:
         self.energy_names = [lib.rlpy_energy_name(h, j).decode() for j in range(lib.rlpy_nenergies(h))]
         self._nvalues = lib.rlpy_nvalues() + len(self.energy_names)
 
+    @classmethod
+    def from_model(cls, model, count, *, density=None, box=None, temperature=None, params=None, set=None):
+        """A simulation built from a catalogue model, a count and a box (`box`: an edge or three,
+        or `density`), without a deck file: the deck these make, with `params` ({name: value}
+        of the model's parameters) and the other keys in `set` ({"run.timestep": "2 fs", ...});
+        values are numbers in the model's units or strings with a unit ("298 K")."""
+        lines = ["[system]", "model = %s" % model, "count = %d" % count]
+        if box is not None:
+            edges = [box] * 3 if isinstance(box, (int, float, str)) else list(box)
+            lines.append("box = %s" % " ".join(str(e) for e in edges))
+        if density is not None:
+            lines.append("density = %s" % density)
+        if temperature is not None:
+            lines.append("temperature = %s" % temperature)
+        if params:
+            lines.append("[model]")
+            lines += ["%s = %s" % kv for kv in params.items()]
+        return cls(text="\n".join(lines) + "\n", set=set)
+
     # ------------------------------------------------------------------ lifecycle
     def _handle(self):
         if self._h is None:

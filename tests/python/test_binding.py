@@ -248,3 +248,28 @@ def test_ctrl_c_stops_a_run_cleanly():
     sim.step(5)  # usable afterwards, and Python's own Ctrl-C handling is back
     assert sim.current_step == k + 5
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_catalogue_and_from_model():
+    cat = rotleap.catalog()
+    assert "tip4p" in cat and "stockmayer" in cat
+    w = cat["tip4p"]
+    assert w.units == "real" and w.family == "asymmetric" and w.site_names == ("O", "H1", "H2", "M")
+    assert w.charge.sum() == pytest.approx(0.0, abs=1e-12) and w.mass == pytest.approx(18.0154)
+    assert w.sites.shape == (4, 3) and (w.inertia > 0).all()
+    assert cat["stockmayer"].params["mu"][0] == pytest.approx(3 ** 0.5)
+    # the same system from a model, a count and a box as from the deck that names them
+    text = open(example("stockmayer.ini")).read()
+    sets = {"run.equilibrate": 0, "run.steps": 20}
+    a = rotleap.Simulation(text=text, set=sets)
+    keys = {"interactions.cutoff": 2.5, "interactions.lj": "shifted-force", "interactions.dipole": "sf",
+            "run.ensemble": "nvt-bussi", "run.temperature": 1.35, "run.tau": 0.2, "run.timestep": 0.002,
+            "system.orientations": "random"}
+    keys.update(sets)
+    b = rotleap.Simulation.from_model("stockmayer", 256, density=0.8, params={"mu": 1.7320508, "inertia": 0.025},
+                                      set=keys)
+    a.run()
+    b.run()
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.axes, b.axes)
+    with pytest.raises(rotleap.Error, match="no-such-model"):
+        rotleap.Simulation.from_model("no-such-model", 10, box=3, set=keys)
