@@ -171,9 +171,12 @@ class Simulation:
         self.close()
 
     def __del__(self):
-        if getattr(self, "_h", None) is not None and not self._running:
-            lib.rlpy_close(self._h)
-            self._h = None
+        try:
+            if getattr(self, "_h", None) is not None and not self._running:
+                lib.rlpy_close(self._h)
+                self._h = None
+        except Exception:  # interpreter shutdown: the module may be gone
+            pass
 
     # ------------------------------------------------------------------ stepping
     @property
