@@ -167,8 +167,9 @@ RLPY_API int rlpy_observe(rlpy_sim *p, double *out)
   const int ne = rl_terms_nenergies(p->s.terms);
   for (int j = 0; j < ne && j < 64; j++) comp[j] = rl_terms_energy(p->s.terms, j);
   const rl_forces *F = rl_integrator_forces(p->in);
-  const rl_run_report r = {p->step, info.t, 1, &info, comp, rl_forces_pressure(p->s.sys, F, info.ke_trans), F,
-                           p->s.sys, p->s.terms};
+  rl_run_report r = {p->step, info.t, 1, &info, comp, rl_forces_pressure(p->s.sys, F, info.ke_trans), F,
+                     p->s.sys, p->s.terms, {0.0, 0.0, 0.0}};
+  rl_system_box(p->s.sys, r.box); /* the state observed is at the current box */
   values(p, &r, out);
   return RL_OK;
 }
