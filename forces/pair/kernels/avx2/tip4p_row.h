@@ -1,0 +1,56 @@
+/* The TIP4P rows on AVX2 (the pairs in double, ./tip4p_pairs.h, or in single precision,
+ * ../avx2_mixed/tip4p_pairs.h). */
+#ifndef ROTLEAP_PAIR_AVX2_TIP4P_ROW_H
+#define ROTLEAP_PAIR_AVX2_TIP4P_ROW_H
+
+#include "tip4p_pairs.h"
+#include "../avx2_mixed/tip4p_pairs.h"
+
+#if RL_X512
+
+/* tip4p_row512 on AVX2; MIXED: the pairs in single precision (tip4p_pairs8f).  In a box that
+ * needs the other images, the row's neighbours come from the image list (build_images), so the
+ * fill needs no minimum image and no search for images (fill256x). */
+RL_T256 RL_INLINE void tip4p_row256(const int MIXED, const int EV, const int MODE, const int TRUNC,
+                                    const rl_forcefield *ff, const kview *V, const fast_species *K,
+                                    int i, const int *nbr, int len, double (*fs)[3],
+                                    double (*ft4)[16], rl_acc *acc)
+{
+  tip_row T;
+  tip_row_of(MODE, ff, V, K, i, &T);
+  const __m256d z = _mm256_setzero_pd();
+  tip_sums4 S;
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) S.fi[s][c] = z;
+  for (int c = 0; c < 9; c++) S.w[c] = z;
+  S.elj = S.ecoul = z;
+  S.r2min = _mm256_set1_pd(HUGE_VAL);
+  batch b;
+  const double *sh[3] = {NULL, NULL, NULL};
+  const int xl = MODE == P_SHIFT && T.img && V->xstart; /* the image list (build_images) */
+  if (xl) {
+    const int q0 = V->xstart[i];
+    nbr = V->xnbr + q0;
+    len = V->xstart[i + 1] - q0;
+    for (int c = 0; c < 3; c++) sh[c] = V->xs[c] + q0;
+  }
+  for (int pos = 0; pos < len;) {
+    if (xl) fill256x(V->pk4[0], 16, V->pk4[i], nbr, sh, len, &pos, T.rp2, &b);
+    else fill256(V->pk4[0], 16, &T.B, V->pk4[i], nbr, len, &pos, T.rp2, T.img, &b);
+    if (b.n && MIXED) tip4p_pairs8f(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
+    else if (b.n) tip4p_pairs256(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
+  }
+  const int oi = V->soff[i];
+  for (int s = 0; s < 4; s++)
+    for (int c = 0; c < 3; c++) fs[oi + K->perm[s]][c] += hsum4(S.fi[s][c]);
+  if (EV) {
+    acc->lj += hsum4(S.elj);
+    acc->coul += hsum4(S.ecoul);
+    for (int c = 0; c < 9; c++) acc->vir[c] += hsum4(S.w[c]);
+  }
+  /* overlap: a site pair inside the cutoff closer than the minimum distance, as tip4p_row */
+  acc->bad |= _mm256_movemask_pd(_mm256_cmp_pd(S.r2min, _mm256_set1_pd(T.lim), _CMP_LT_OQ)) != 0;
+}
+#endif
+
+#endif

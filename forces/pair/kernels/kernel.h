@@ -1,0 +1,113 @@
+/* The kernel interface of the pair term (internal): the types a row of a specialised kernel
+ * reads, and the row sets that the instance files export. */
+#ifndef ROTLEAP_PAIR_KERNEL_H
+#define ROTLEAP_PAIR_KERNEL_H
+
+#include "../isa.h"
+#include "../forcefield_impl.h"
+
+#define RL_FAST_MAXS 8  /* sites per molecule in the site kernels                   */
+#define RL_FAST_MAXT (RL_FAST_MAXS * RL_FAST_MAXS)
+
+/* nearbyint(x) for |x| < 2^51 in the default rounding mode, written so it vectorises:
+ * x + 1.5 2^52 has unit spacing, so the sum rounds x to the nearest integer (ties to even). */
+#define RL_RND(x) (((x) + 6755399441055744.0) - 6755399441055744.0)
+
+enum { K_NONE = 0, K_SITES = 1, K_DIPOLE = 2, K_TIP4P = 3 };
+enum { T_LJ = 0, T_COUL = 1, T_BOTH = 2 };
+
+typedef struct {
+  int a, b, what;
+  double qq;                     /* kc q_a q_b                                          */
+  double c6, c12, eshift, fshift; /* LJ (rl_lj_coef)                                    */
+} fast_term;
+
+/* What the kernels read: the bodies in the list's (spatial) order, see rl_ff_fast. */
+typedef struct {
+  double (*c)[3];                /* [n] centres                                          */
+  double (*ax)[3];               /* [n] body Z axes                                      */
+  double (*site)[3];             /* [nsites] lab sites                                   */
+  double (*dsite)[3];            /* [nsites] site - centre                               */
+  int *soff;                     /* [n] first site                                       */
+  int *sp;                       /* [n] species                                          */
+  double (*pk)[8];               /* [n] dipole ranks, AVX-512 path: centre, 0, mu axis, 0 */
+  double (*pk4)[16];             /* [n] TIP4P ranks, AVX-512 path: centre, then site       */
+                                 /* perm[s] - centre at 3 + 3 s, 0                      */
+  float (*pk4f)[16];             /* [n] TIP4P ranks, mixed precision: site perm[s] -     */
+                                 /* centre at 3 s, 0                                    */
+  /* The image list of a small box (AVX2 TIP4P rows, see build_images): row m's images are
+   * xnbr[xstart[m] .. xstart[m + 1]), the neighbour's rank, and its separation from m is
+   * centre_m - centre_j + (xs[0][q], xs[1][q], xs[2][q]).  NULL where not in use. */
+  const int *xstart, *xnbr;
+  const double *xs[3];
+} kview;
+
+typedef struct fast_species fast_species;
+typedef void (*row_fn)(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,
+                       const int *nbr, int len, double (*fs)[3], double (*tq)[3],
+                       double (*ft)[8], double (*ft4)[16], rl_acc *acc);
+
+struct fast_species {
+  int kind, ns, nterms;
+  fast_term t[RL_FAST_MAXT];     /* tip4p: t[0] the LJ term, t[1 + 3 p + q] charge p, q  */
+  int perm[RL_FAST_MAXS];        /* batch slot s holds site perm[s] (tip4p: LJ site first) */
+  double extent;                 /* max |site - centre|                                  */
+  double mu;                     /* stockmayer: dipole moment                          */
+  row_fn row[3];                 /* by separation mode (P_SITE, P_SHIFT, P_MOL)         */
+  row_fn row_fo[3];              /* the same for a forces-only compute (acc->forces_only):
+                                    rows without the energy and virial sums where there is
+                                    such a variant (the AVX-512 TIP4P and dipole rows)   */
+};
+
+/* How a kernel forms site separations r = (site a of i) - (site b of j):
+ *   P_SITE   site cutoff, each site pair's own minimum image (boxes with an edge <= rp);
+ *   P_SHIFT  site cutoff, r = R + d_a - d_b with R an image of the centres' separation, three
+ *            fewer roundings per term than P_SITE.  A site pair inside the cutoff has centres
+ *            closer than the pruning radius rp = rc + 2 extent.  When every edge L >= 2 rp the
+ *            centres' minimum image is the only image that close; in smaller boxes (edges
+ *            rp < L < 2 rp, e.g. 256 TIP4P at rc = 0.9 nm) the fills also emit the images
+ *            X -+ L of the components with |X| > L - rp (other_images), each a lane of its own.
+ *            Every site pair is then counted once: L >= 2 rc puts at most one of its images
+ *            inside the cutoff.  Edges L <= rp (2 extent >= rc: molecules as long as the cutoff)
+ *            take P_SITE;
+ *   P_MOL    molecule cutoff: r = R + d_a - d_b, and the pair interacts iff |R| < rc. */
+enum { P_SITE = 0, P_SHIFT = 1, P_MOL = 2 };
+
+/* Batches are padded to a multiple of the widest vector (8 doubles, AVX-512), so the vector
+ * loops never run a scalar remainder; padding lanes carry weight 0. */
+#define RL_FAST_W 8
+
+typedef struct {
+  double L[3], iL[3], rc, rc2, rsw, md2, krf, crf;
+} box_consts;
+
+/* The rows of one kernel on one instruction set, [separation mode][LJ truncation]: ev computes
+ * energies, virial and forces; fo is the same for a forces-only compute (NULL: take ev).  A
+ * NULL ev row: this instruction set has no row for that mode (the portable one runs). */
+typedef struct {
+  row_fn ev[3][4], fo[3][4];
+} rl_row_set;
+
+/* The row sets (kernels/<instruction set>/<pattern>_<vdw>_<elec>.c). */
+extern const rl_row_set rl_rows_portable_sites_lj_rf, rl_rows_portable_tip4p_lj_rf,
+    rl_rows_portable_dipole_lj_rf, rl_rows_portable_dipole_lj_sf;
+#if RL_X512
+extern const rl_row_set rl_rows_avx512_tip4p_lj_rf, rl_rows_avx512_dipole_lj_rf,
+    rl_rows_avx512_dipole_lj_sf, rl_rows_avx2_tip4p_lj_rf, rl_rows_avx2_dipole_lj_rf,
+    rl_rows_avx2_dipole_lj_sf, rl_rows_avx2_mixed_tip4p_lj_rf;
+#endif
+
+/* A row function with the kernels' arguments (every row file). */
+#define ROW_FN_T(ATTR, NAME, BODY)                                                             \
+  ATTR static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,  \
+                        const int *nbr, int len, double (*fs)[3], double (*tq)[3],             \
+                        double (*ft)[8], double (*ft4)[16], rl_acc *acc)                       \
+  {                                                                                            \
+    (void)tq;                                                                                  \
+    (void)ft;                                                                                  \
+    (void)ft4;                                                                                 \
+    BODY;                                                                                      \
+  }
+#define ROW_FN(NAME, BODY) ROW_FN_T(RL_CLONES, NAME, BODY)
+
+#endif
