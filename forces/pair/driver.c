@@ -16,6 +16,7 @@ void rl_ff_fast_free(rl_ff_fast *f)
 {
   if (!f) return;
   free(f->sk);
+  free(f->row);
   rl_nlist_free(f->chk);
   free(f->fstart); free(f->gstart); free(f->fnbr); free(f->gnbr);
   free(f->tlo); free(f->thi); free(f->rmax);
@@ -58,6 +59,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   f->nthreads = T;
   int n = ff->n;
   f->sk = calloc((size_t)ff->nspecies, sizeof *f->sk);
+  f->row = calloc((size_t)(ff->nspecies > 0 ? ff->nspecies : 1), sizeof *f->row);
   f->chk = rl_nlist_alloc(ff->skin);
   f->fstart = calloc((size_t)n + 1, sizeof(int));
   f->gstart = calloc((size_t)n + 1, sizeof(int));
@@ -87,7 +89,7 @@ int rl_ff_fast_setup(rl_forcefield *ff)
     f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
     f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
   }
-  if (!f->sk || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax ||
+  if (!f->sk || !f->row || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax ||
       !f->tr || !f->cand || !f->acc || !f->status || !f->mode || !f->ord || !f->V.soff ||
       !f->V.sp || !f->V.c || !f->V.ax || !f->V.site || !f->V.dsite || !f->pfs || !f->ptq ||
       !f->cell_of || !f->cell_body || !f->bx ||
@@ -176,6 +178,8 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   }
   kview *V = &f->V;
   const int *ord = f->ord;
+  rl_kparams kp; /* what the rows read besides the arrays */
+  rl_ff_kparams(ff, &kp);
   /* every body a dipole rank on the AVX-512 rows (a Stockmayer fluid): the kernels read and
    * write only the 64-byte records, so the copies and the sums below take a short path */
   const int dip_only = f->pft && f->ndip == n;
@@ -249,13 +253,13 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     a->quiet = 1;
     a->forces_only = out->forces_only;
     int st = RL_OK;
-    for (int m = f->tlo[t]; m < f->tlo[t + 1] && !st && !a->bad; m++) {
+    const rl_kout kout = {pfs, ptq, pft, pft4, &a->s};
+    for (int m = f->tlo[t]; m < f->tlo[t + 1] && !st && !a->s.bad; m++) {
       const int i = ord[m], k = ff->body_species[i];
       const fast_species *K = &f->sk[k];
       int fl = f->fstart[m + 1] - f->fstart[m];
       if (fl > 0)
-        (a->forces_only ? K->row_fo : K->row)[mode[k]](ff, V, K, m, f->fnbr + f->fstart[m], fl,
-                                                       pfs, ptq, pft, pft4, a);
+        f->row[k][a->forces_only][mode[k]](&kp, V, K, m, f->fnbr + f->fstart[m], fl, &kout);
       for (int q = f->gstart[m]; q < f->gstart[m + 1] && !st; q++)
         st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
     }
@@ -347,21 +351,21 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
           for (int x = 0; x < 3; x++)
             for (int y = 0; y < 3; y++) cv[3 * x + y] += ff->dsite[oi + a][x] * F[a][y];
     }
-    for (int c = 0; c < 9; c++) f->acc[t].vir[c] += cv[c]; /* this thread's: read in order below */
+    for (int c = 0; c < 9; c++) f->acc[t].s.vir[c] += cv[c]; /* this thread's: read in order below */
   }
   int bad = 0;
   for (int t = 0; t < T; t++) {
-    if (f->status[t] || f->acc[t].bad) bad = 1;
-    out->lj += f->acc[t].lj;
-    out->coul += f->acc[t].coul;
-    out->dip += f->acc[t].dip;
-    out->quad += f->acc[t].quad;
-    for (int c = 0; c < 9; c++) out->vir[c] += f->acc[t].vir[c];
+    if (f->status[t] || f->acc[t].s.bad) bad = 1;
+    out->s.lj += f->acc[t].s.lj;
+    out->s.coul += f->acc[t].s.coul;
+    out->s.dip += f->acc[t].s.dip;
+    out->s.quad += f->acc[t].s.quad;
+    for (int c = 0; c < 9; c++) out->s.vir[c] += f->acc[t].s.vir[c];
   }
   if (bad) return 1; /* the reference loop reruns and reports the overlap */
   if (dip_only || out->forces_only) return RL_OK; /* point dipoles: every d is zero */
   for (int s = 0; s < ns; s++) /* molecular virial: minus sum_sites d (x) F */
     for (int x = 0; x < 3; x++)
-      for (int y = 0; y < 3; y++) out->vir[3 * x + y] -= ff->dsite[s][x] * ff->fs[s][y];
+      for (int y = 0; y < 3; y++) out->s.vir[3 * x + y] -= ff->dsite[s][x] * ff->fs[s][y];
   return RL_OK;
 }

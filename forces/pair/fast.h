@@ -44,6 +44,7 @@
 #ifndef ROTLEAP_PAIR_FAST_H
 #define ROTLEAP_PAIR_FAST_H
 
+#include "forcefield_impl.h"
 #include "kernels/kernel.h"
 
 typedef struct {
@@ -54,6 +55,7 @@ typedef struct {
 struct rl_ff_fast {
   int nthreads;
   fast_species *sk;              /* [nspecies]                                          */
+  row_fn (*row)[2][3];           /* [nspecies][forces only][separation mode]: the rows   */
   const char *name;
   char namebuf[96];
   rl_nlist *chk;                 /* positions at the last build (rebuild test only)     */
@@ -109,6 +111,9 @@ static inline int omp_get_thread_num(void) { return 0; }
 /* select.c: the kernel of each species, the instruction set of the register rows and the
  * precision; f->sk, vec, tmix, ndip, ntip4p and the name. */
 void rl_ff_select(const rl_forcefield *ff, rl_ff_fast *f);
+
+/* select.c: the parameter block of a compute (box, cutoffs, electrostatics). */
+void rl_ff_kparams(const rl_forcefield *ff, rl_kparams *kp);
 
 /* pairlist_rows.c: build the kernels' list (rows by rank, the image list, the threads' row
  * ranges) from the current centres.  Returns RL_OK or an error status. */

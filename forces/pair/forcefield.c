@@ -562,12 +562,12 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
 {
   double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
   if (r2 < ff->min_distance * ff->min_distance) {
-    if (acc->quiet) { acc->bad = 1; return RL_EINVAL; }
+    if (acc->quiet) { acc->s.bad = 1; return RL_EINVAL; }
     return rl_error(RL_EINVAL, "forcefield: overlapping sites: site %d of body %d and site %d of "
                     "body %d are %g apart (minimum %g)", sa - ff->body_site_off[i], i,
                     sb - ff->body_site_off[j], j, sqrt(r2), ff->min_distance);
   }
-  double *const e[NTERMS] = {&acc->lj, &acc->coul, &acc->dip, &acc->dip, &acc->quad};
+  double *const e[NTERMS] = {&acc->s.lj, &acc->s.coul, &acc->s.dip, &acc->s.dip, &acc->s.quad};
   double f[3] = {0.0, 0.0, 0.0};
   site_terms(ff, ff->site_type[sa], ff->site_type[sb], r, r2, ff->axis[i], ff->axis[j], ALL_TERMS,
              e, f, acc->tq[i], acc->tq[j]);
@@ -577,7 +577,7 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
   }
   const double *Rv = acc->site_virial ? r : R;
   for (int x = 0; x < 3; x++)
-    for (int y = 0; y < 3; y++) acc->vir[3 * x + y] += Rv[x] * f[y];
+    for (int y = 0; y < 3; y++) acc->s.vir[3 * x + y] += Rv[x] * f[y];
   return RL_OK;
 }
 
@@ -771,16 +771,16 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
     ff->e = (rl_ff_energies){nan, nan, nan, nan, nan, nan, nan, nan};
     return RL_OK;
   }
-  ff->e.lj = acc.lj;
-  ff->e.coulomb = acc.coul + e_intra;
+  ff->e.lj = acc.s.lj;
+  ff->e.coulomb = acc.s.coul + e_intra;
   ff->e.coulomb_intra = e_intra;
-  ff->e.dipolar = acc.dip;
-  ff->e.quadrupolar = acc.quad;
+  ff->e.dipolar = acc.s.dip;
+  ff->e.quadrupolar = acc.s.quad;
   ff->e.dispersion = e_disp;
   ff->e.pressure_dispersion = p_disp;
-  ff->e.total = acc.lj + acc.coul + e_intra + acc.dip + acc.quad + e_disp;
+  ff->e.total = acc.s.lj + acc.s.coul + e_intra + acc.s.dip + acc.s.quad + e_disp;
   out->energy += ff->e.total;
-  for (int c = 0; c < 9; c++) out->virial[c] += acc.vir[c];
+  for (int c = 0; c < 9; c++) out->virial[c] += acc.s.vir[c];
   for (int c = 0; c < 3; c++) out->virial[4 * c] += p_disp * V; /* tr = 3 V P_disp */
   return RL_OK;
 }

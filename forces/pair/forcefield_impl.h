@@ -9,6 +9,7 @@
 #include "neighbor.h"
 #include "coulomb_rf.h"
 #include "lj.h"
+#include "kernels/kernel.h"
 
 typedef struct rl_ff_fast rl_ff_fast; /* ff_fast.c */
 
@@ -57,15 +58,13 @@ struct rl_forcefield {
 
 /* Accumulators of one pair loop (one per thread in the threaded driver). */
 typedef struct {
-  double lj, coul, dip, quad;
-  double vir[9];
+  rl_ksums s;              /* energies by term, virial, and `bad` (an overlap, with quiet)   */
   double (*fs)[3];         /* [nsites] site forces to add to                               */
   double (*tq)[3];         /* [n] direct torques to add to                                 */
   int site_virial;         /* 0: vir += R (x) f (molecular, the reference); 1: vir += r (x) f
                               with r the site separation (the driver subtracts sum d (x) F) */
   int quiet;               /* 1: an overlap sets `bad` instead of calling rl_error            */
   int forces_only;         /* 1: energies and virial are not needed (kernels may skip them)  */
-  int bad;
 } rl_acc;
 
 /* The reference all-site-pairs routine for bodies i, j (forcefield.c). */

@@ -91,7 +91,9 @@ static int images_wanted(const rl_forcefield *ff)
 {
   const rl_ff_fast *f = ff->fast;
   if ((f->vec != VEC_256 && !f->tmix) || ff->p.scheme == RL_CUTOFF_MOLECULE) return 0;
-  const box_consts B = consts_of(ff);
+  rl_kparams kp;
+  rl_ff_kparams(ff, &kp);
+  const box_consts B = kp.B;
   for (int k = 0; k < ff->nspecies; k++) {
     const fast_species *K = &f->sk[k];
     if (K->kind != K_TIP4P || ff->sp_count[k] == 0) continue;

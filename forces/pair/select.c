@@ -28,10 +28,10 @@ static const row_sets dipole_lj_sf = {&rl_rows_portable_dipole_lj_sf,
                                       RL_REG(rl_rows_avx512_dipole_lj_sf),
                                       RL_REG(rl_rows_avx2_dipole_lj_sf), NULL};
 
-/* K's rows for each separation mode and LJ truncation trunc: the mixed-precision rows where
+/* The rows for each separation mode and LJ truncation trunc: the mixed-precision rows where
  * asked for (tmix) and present, else the register rows of vec, else the portable ones; a
  * forces-only row where the set has one, else the full row. */
-static void take_rows(fast_species *K, const row_sets *S, int vec, int tmix, int trunc)
+static void take_rows(row_fn rows[2][3], const row_sets *S, int vec, int tmix, int trunc)
 {
   const rl_row_set *r = tmix && S->avx2_mixed ? S->avx2_mixed
                         : vec == VEC_512      ? S->avx512
@@ -39,8 +39,8 @@ static void take_rows(fast_species *K, const row_sets *S, int vec, int tmix, int
                                               : NULL;
   for (int m = 0; m < 3; m++) {
     const row_fn ev = r ? r->ev[m][trunc] : NULL, fo = r ? r->fo[m][trunc] : NULL;
-    K->row[m] = ev ? ev : S->portable->ev[m][trunc];
-    K->row_fo[m] = fo ? fo : K->row[m];
+    rows[0][m] = ev ? ev : S->portable->ev[m][trunc];
+    rows[1][m] = fo ? fo : rows[0][m];
   }
 }
 
@@ -55,7 +55,8 @@ static void term_set(const rl_forcefield *ff, int ta, int tb, fast_term *T)
 }
 
 /* The kernel of species k from its sites and the current LJ table. */
-static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_species *K)
+static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_species *K,
+                     row_fn rows[2][3])
 {
   memset(K, 0, sizeof *K);
   int ns = ff->sp_nsites[k], o = ff->type_off[k];
@@ -76,7 +77,7 @@ static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_spe
     K->mu = ff->mu[o];
     K->nterms = 1;
     term_set(ff, o, o, &K->t[0]);
-    take_rows(K, ff->p.dipole_method == RL_DIPOLE_SF ? &dipole_lj_sf : &dipole_lj_rf, vec, tmix,
+    take_rows(rows, ff->p.dipole_method == RL_DIPOLE_SF ? &dipole_lj_sf : &dipole_lj_rf, vec, tmix,
               ff->p.lj_truncation);
     return;
   }
@@ -97,7 +98,7 @@ static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_spe
       if (T->what == T_LJ && a == b) ljsite = a;
       term_set(ff, o + a, o + b, T);
     }
-  take_rows(K, &sites_lj_rf, vec, tmix, ff->p.lj_truncation);
+  take_rows(rows, &sites_lj_rf, vec, tmix, ff->p.lj_truncation);
   /* TIP4P pattern: one LJ site (with itself only, no charge), three charges without LJ */
   if (ns == 4 && nlj == 1 && ljsite >= 0 && ncoul == 9 && nboth == 0) {
     K->kind = K_TIP4P;
@@ -116,7 +117,7 @@ static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_spe
         T->b = 1 + q;
         T->what = T_COUL;
       }
-    take_rows(K, &tip4p_lj_rf, vec, tmix, ff->p.lj_truncation);
+    take_rows(rows, &tip4p_lj_rf, vec, tmix, ff->p.lj_truncation);
   }
 }
 
@@ -124,6 +125,16 @@ static const char *species_name(const fast_species *K)
 {
   return K->kind == K_DIPOLE ? "stockmayer" : K->kind == K_TIP4P ? "tip4p"
                                             : K->kind == K_SITES ? "charge-lj" : NULL;
+}
+
+void rl_ff_kparams(const rl_forcefield *ff, rl_kparams *kp)
+{
+  const double rc = ff->p.cutoff, md = ff->min_distance;
+  box_consts B = {{ff->box.L[0], ff->box.L[1], ff->box.L[2]},
+                  {ff->box.invL[0], ff->box.invL[1], ff->box.invL[2]},
+                  rc, rc * rc, ff->p.r_switch, md * md, ff->rf.krf, ff->rf.crf};
+  kp->B = B;
+  kp->kc = ff->kc;
 }
 
 void rl_ff_select(const rl_forcefield *ff, rl_ff_fast *f)
@@ -142,7 +153,7 @@ void rl_ff_select(const rl_forcefield *ff, rl_ff_fast *f)
   f->tmix = ff->p.precision == RL_PRECISION_MIXED && avx2; /* the AVX2 rows, on AVX-512 too */
 #endif
   for (int k = 0; k < ff->nspecies; k++) {
-    classify(ff, k, f->vec, f->tmix, &f->sk[k]);
+    classify(ff, k, f->vec, f->tmix, &f->sk[k], f->row[k]);
     if (f->sk[k].kind == K_DIPOLE) f->ndip += ff->sp_count[k];
     if (f->sk[k].kind == K_TIP4P) f->ntip4p += ff->sp_count[k];
     if (ff->sp_count[k] == 0 || ff->sp_nsites[k] == 0) continue;

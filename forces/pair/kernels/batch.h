@@ -30,15 +30,6 @@ typedef struct {
   double t[3][RL_FAST_B];                  /* stockmayer: torques on j                       */
 } batch;
 
-static inline box_consts consts_of(const rl_forcefield *ff)
-{
-  const double rc = ff->p.cutoff, md = ff->min_distance;
-  box_consts B = {{ff->box.L[0], ff->box.L[1], ff->box.L[2]},
-                  {ff->box.invL[0], ff->box.invL[1], ff->box.invL[2]},
-                  rc, rc * rc, ff->p.r_switch, md * md, ff->rf.krf, ff->rf.crf};
-  return B;
-}
-
 /* In a box with an edge shorter than twice the pruning radius rp (P_SHIFT), the images of a
  * neighbour other than the centres' minimum image (X, Y, Z) can be closer than rp too.  Only
  * X -+ L can (rp < L), and only where |X| > L - rp: far_axes gives those components as bits
@@ -193,7 +184,7 @@ RL_INLINE const double *site_of_i(const int MODE, const kview *V, int s)
 }
 
 /* Add a row's sums to the thread's accumulators (site virial, symmetric). */
-static inline void acc_add(rl_acc *acc, double elj, double ecoul, const double w[6], double bad)
+static inline void acc_add(rl_ksums *acc, double elj, double ecoul, const double w[6], double bad)
 {
   acc->lj += elj;
   acc->coul += ecoul;

@@ -4,7 +4,7 @@
 #define ROTLEAP_PAIR_KERNEL_H
 
 #include "../isa.h"
-#include "../forcefield_impl.h"
+#include "rotleap/forcefield.h"
 
 #define RL_FAST_MAXS 8  /* sites per molecule in the site kernels                   */
 #define RL_FAST_MAXT (RL_FAST_MAXS * RL_FAST_MAXS)
@@ -42,22 +42,13 @@ typedef struct {
   const double *xs[3];
 } kview;
 
-typedef struct fast_species fast_species;
-typedef void (*row_fn)(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,
-                       const int *nbr, int len, double (*fs)[3], double (*tq)[3],
-                       double (*ft)[8], double (*ft4)[16], rl_acc *acc);
-
-struct fast_species {
+typedef struct {
   int kind, ns, nterms;
   fast_term t[RL_FAST_MAXT];     /* tip4p: t[0] the LJ term, t[1 + 3 p + q] charge p, q  */
   int perm[RL_FAST_MAXS];        /* batch slot s holds site perm[s] (tip4p: LJ site first) */
   double extent;                 /* max |site - centre|                                  */
   double mu;                     /* stockmayer: dipole moment                          */
-  row_fn row[3];                 /* by separation mode (P_SITE, P_SHIFT, P_MOL)         */
-  row_fn row_fo[3];              /* the same for a forces-only compute (acc->forces_only):
-                                    rows without the energy and virial sums where there is
-                                    such a variant (the AVX-512 TIP4P and dipole rows)   */
-};
+} fast_species;
 
 /* How a kernel forms site separations r = (site a of i) - (site b of j):
  *   P_SITE   site cutoff, each site pair's own minimum image (boxes with an edge <= rp);
@@ -81,6 +72,35 @@ typedef struct {
   double L[3], iL[3], rc, rc2, rsw, md2, krf, crf;
 } box_consts;
 
+/* The parameter block of a compute: the box and cutoffs (B) and the Coulomb constant. */
+typedef struct {
+  box_consts B;
+  double kc;
+} rl_kparams;
+
+/* What a row adds to (one per thread): energies by term, the virial, and whether some site
+ * pair inside the cutoff came closer than the minimum distance. */
+typedef struct {
+  double lj, coul, dip, quad;
+  double vir[9];
+  int bad;
+} rl_ksums;
+
+/* Where a row writes (the thread's buffers, by rank): fs [nsites] site forces, tq [n] torques,
+ * ft [n] the dipole records' forces and torques, ft4 [n] the TIP4P records' site forces, and
+ * the sums. */
+typedef struct {
+  double (*fs)[3];
+  double (*tq)[3];
+  double (*ft)[8];
+  double (*ft4)[16];
+  rl_ksums *sums;
+} rl_kout;
+
+/* A row: rank i against the ranks nbr[0 .. len) of its species, in the list's order. */
+typedef void (*row_fn)(const rl_kparams *kp, const kview *V, const fast_species *K, int i,
+                       const int *nbr, int len, const rl_kout *out);
+
 /* The rows of one kernel on one instruction set, [separation mode][LJ truncation]: ev computes
  * energies, virial and forces; fo is the same for a forces-only compute (NULL: take ev).  A
  * NULL ev row: this instruction set has no row for that mode (the portable one runs). */
@@ -99,10 +119,14 @@ extern const rl_row_set rl_rows_avx512_tip4p_lj_rf, rl_rows_avx512_dipole_lj_rf,
 
 /* A row function with the kernels' arguments (every row file). */
 #define ROW_FN_T(ATTR, NAME, BODY)                                                             \
-  ATTR static void NAME(const rl_forcefield *ff, const kview *V, const fast_species *K, int i,  \
-                        const int *nbr, int len, double (*fs)[3], double (*tq)[3],             \
-                        double (*ft)[8], double (*ft4)[16], rl_acc *acc)                       \
+  ATTR static void NAME(const rl_kparams *kp, const kview *V, const fast_species *K, int i,    \
+                        const int *nbr, int len, const rl_kout *out)                           \
   {                                                                                            \
+    double(*const fs)[3] = out->fs, (*const tq)[3] = out->tq;                                  \
+    double(*const ft)[8] = out->ft;                                                            \
+    double(*const ft4)[16] = out->ft4;                                                         \
+    rl_ksums *const acc = out->sums;                                                           \
+    (void)fs;                                                                                  \
     (void)tq;                                                                                  \
     (void)ft;                                                                                  \
     (void)ft4;                                                                                 \

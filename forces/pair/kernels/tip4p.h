@@ -15,10 +15,10 @@ typedef struct {
   lj_consts C;
 } tip_row;
 
-RL_INLINE void tip_row_of(const int MODE, const rl_forcefield *ff, const kview *V,
+RL_INLINE void tip_row_of(const int MODE, const rl_kparams *kp, const kview *V,
                           const fast_species *K, int i, tip_row *T)
 {
-  T->B = consts_of(ff);
+  T->B = kp->B;
   T->rp2 = prune2(MODE, &T->B, K);
   T->img = needs_images(MODE, &T->B, T->rp2);
   T->C = lj_of(&K->t[0]);

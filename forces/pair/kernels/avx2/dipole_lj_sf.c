@@ -10,7 +10,7 @@
   INST(R##3, DSF, EV, RL_LJ_SWITCHED)
 #define DIP_ALL(R) {{R##0, R##1, R##2, R##3}, {R##0, R##1, R##2, R##3}, {R##0, R##1, R##2, R##3}}
 #define DIP256(NAME, DSF, EV, TRUNC)                                                           \
-  ROW_FN_T(RL_T256, NAME, (void)fs; dipole_row256(DSF, EV, TRUNC, ff, V, K, i, nbr, len, ft, acc))
+  ROW_FN_T(RL_T256, NAME, (void)fs; dipole_row256(DSF, EV, TRUNC, kp, V, K, i, nbr, len, ft, acc))
 DIP1(DIP256, dipy_f, 1, 1)
 DIP1(DIP256, dipz_f, 1, 0)
 

@@ -8,14 +8,14 @@
 /* dipole_row512 on AVX2: the neighbours within the cutoff from fill256 (records V->pk:
  * centre, 0, mu axis, 0), four at a time; the terms as dip_pairs8. */
 RL_T256 RL_INLINE void dipole_row256(const int DSF, const int EV, const int TRUNC,
-                                     const rl_forcefield *ff, const kview *V,
+                                     const rl_kparams *kp, const kview *V,
                                      const fast_species *K, int i, const int *nbr, int len,
-                                     double (*ft)[8], rl_acc *acc)
+                                     double (*ft)[8], rl_ksums *acc)
 {
 #define V1(a) _mm256_set1_pd(a)
-  const box_consts B = consts_of(ff);
+  const box_consts B = kp->B;
   const lj_consts C = lj_of(&K->t[0]);
-  const double kc = ff->kc, krf = ff->rf.krf;
+  const double kc = kp->kc, krf = kp->B.krf;
   const double *pr = V->pk[i];
   const __m256d mi[3] = {V1(pr[4]), V1(pr[5]), V1(pr[6])};
   const __m256d zero = _mm256_setzero_pd(), md2 = V1(B.md2);

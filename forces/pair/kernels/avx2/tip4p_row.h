@@ -12,12 +12,12 @@
  * needs the other images, the row's neighbours come from the image list (build_images), so the
  * fill needs no minimum image and no search for images (fill256x). */
 RL_T256 RL_INLINE void tip4p_row256(const int MIXED, const int EV, const int MODE, const int TRUNC,
-                                    const rl_forcefield *ff, const kview *V, const fast_species *K,
+                                    const rl_kparams *kp, const kview *V, const fast_species *K,
                                     int i, const int *nbr, int len, double (*fs)[3],
-                                    double (*ft4)[16], rl_acc *acc)
+                                    double (*ft4)[16], rl_ksums *acc)
 {
   tip_row T;
-  tip_row_of(MODE, ff, V, K, i, &T);
+  tip_row_of(MODE, kp, V, K, i, &T);
   const __m256d z = _mm256_setzero_pd();
   tip_sums4 S;
   for (int s = 0; s < 4; s++)

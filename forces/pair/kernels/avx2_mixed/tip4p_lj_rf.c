@@ -15,7 +15,7 @@
   INST(M##3, EV, P_MOL, RL_LJ_SWITCHED)
 #define TIP256F(NAME, EV, MODE, TRUNC)                                                         \
   ROW_FN_T(RL_T256 RL_SCHED __attribute__((flatten)), NAME,                                    \
-           tip4p_row256(1, EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+           tip4p_row256(1, EV, MODE, TRUNC, kp, V, K, i, nbr, len, fs, ft4, acc))
 TIP_EV(TIP256F, tip4pf_h, tip4pf_m, 1)
 TIP_EV(TIP256F, tip4pg_h, tip4pg_m, 0)
 

@@ -98,14 +98,14 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int EV, const int TRUNC, 
 }
 
 RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUNC,
-                                         const rl_forcefield *ff, const kview *V,
+                                         const rl_kparams *kp, const kview *V,
                                          const fast_species *K, int i, const int *nbr, int len,
                                          double (*fs)[3], double (*tq)[3], double (*ft)[8],
-                                         rl_acc *acc)
+                                         rl_ksums *acc)
 {
-  const box_consts B = consts_of(ff);
+  const box_consts B = kp->B;
   const lj_consts C = lj_of(&K->t[0]);
-  const double kc = ff->kc, krf = ff->rf.krf;
+  const double kc = kp->kc, krf = kp->B.krf;
   const double *pi = V->pk[i]; /* i's record: centre, 0, mu axis, 0 */
   const __m512d mi[3] = {_mm512_set1_pd(pi[4]), _mm512_set1_pd(pi[5]), _mm512_set1_pd(pi[6])};
   const sep8_consts S8 = sep8_of(&B, pi);

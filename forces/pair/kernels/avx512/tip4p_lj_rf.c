@@ -16,7 +16,7 @@
 /* flatten: the fill (with other_images' branch) is too large for GCC to inline on its own */
 #define TIP512(NAME, EV, MODE, TRUNC)                                                          \
   ROW_FN_T(RL_T512 __attribute__((flatten)), NAME,                                             \
-           tip4p_row512(EV, MODE, TRUNC, ff, V, K, i, nbr, len, fs, ft4, acc))
+           tip4p_row512(EV, MODE, TRUNC, kp, V, K, i, nbr, len, fs, ft4, acc))
 TIP_EV(TIP512, tip4px_h, tip4px_m, 1)
 TIP_EV(TIP512, tip4po_h, tip4po_m, 0)
 

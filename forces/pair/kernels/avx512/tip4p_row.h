@@ -232,12 +232,12 @@ RL_T512 RL_INLINE void tip4p_pairs512(const int MODE, const int EV, const int TR
  * registers (tip4p_pairs512), i's site forces and (EV) the energies and R (x) F summed lane by
  * lane over the row and reduced at its end. */
 RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUNC,
-                                    const rl_forcefield *ff, const kview *V, const fast_species *K,
+                                    const rl_kparams *kp, const kview *V, const fast_species *K,
                                     int i, const int *nbr, int len, double (*fs)[3],
-                                    double (*ft4)[16], rl_acc *acc)
+                                    double (*ft4)[16], rl_ksums *acc)
 {
   tip_row T;
-  tip_row_of(MODE, ff, V, K, i, &T);
+  tip_row_of(MODE, kp, V, K, i, &T);
   const __m512d z = _mm512_setzero_pd();
   tip_sums S;
   for (int s = 0; s < 4; s++)

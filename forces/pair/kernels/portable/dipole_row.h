@@ -9,14 +9,14 @@
 /* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
  * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf).  The
  * portable rows (AVX2, baseline, ROTLEAP_NO_AVX512); dipole_row512 is the same on AVX-512. */
-RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_forcefield *ff,
+RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_kparams *kp,
                           const kview *V, const fast_species *K, int i, const int *nbr, int len,
-                          double (*fs)[3], double (*tq)[3], rl_acc *acc)
+                          double (*fs)[3], double (*tq)[3], rl_ksums *acc)
 {
   const int oi = V->soff[i];
-  const box_consts B = consts_of(ff);
+  const box_consts B = kp->B;
   const double rc = B.rc, rc2 = B.rc2, rsw = B.rsw, md2 = B.md2;
-  const double kc = ff->kc, krf = ff->rf.krf, mu = K->mu;
+  const double kc = kp->kc, krf = kp->B.krf, mu = K->mu;
   const lj_consts C = lj_of(&K->t[0]);
   const double mix = mu * V->ax[i][0], miy = mu * V->ax[i][1], miz = mu * V->ax[i][2];
   batch b;

@@ -3,10 +3,10 @@
 #include "sites_row.h"
 
 #define SITES4(M, P)                                                                           \
-  ROW_FN(sites_##M##0, sites_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
-  ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
-  ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
-  ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))
+  ROW_FN(sites_##M##0, sites_row(P, RL_LJ_PLAIN, kp, V, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(sites_##M##1, sites_row(P, RL_LJ_SHIFTED, kp, V, K, i, nbr, len, fs, acc))               \
+  ROW_FN(sites_##M##2, sites_row(P, RL_LJ_SHIFTED_FORCE, kp, V, K, i, nbr, len, fs, acc))         \
+  ROW_FN(sites_##M##3, sites_row(P, RL_LJ_SWITCHED, kp, V, K, i, nbr, len, fs, acc))
 SITES4(s, P_SITE)
 SITES4(h, P_SHIFT)
 SITES4(m, P_MOL)

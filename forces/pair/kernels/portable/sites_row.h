@@ -56,12 +56,12 @@ RL_INLINE void term_loop(const int MODE, const int TRUNC, const int WHAT, const 
 
 /* One row of a site-kernel species ("charge-lj"): rank i against the ranks nbr[0..len) (same
  * species), one loop per term. */
-RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_forcefield *ff, const kview *V,
+RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_kparams *kp, const kview *V,
                          const fast_species *K, int i, const int *nbr, int len,
-                         double (*fs)[3], rl_acc *acc)
+                         double (*fs)[3], rl_ksums *acc)
 {
   const int ns = K->ns, oi = V->soff[i];
-  const box_consts B = consts_of(ff);
+  const box_consts B = kp->B;
   const double rp2 = prune2(MODE, &B, K);
   const int img = needs_images(MODE, &B, rp2);
   batch b;

@@ -3,10 +3,10 @@
 #include "tip4p_row.h"
 
 #define TIP4(M, P)                                                                             \
-  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, ff, V, K, i, nbr, len, fs, acc))                 \
-  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, ff, V, K, i, nbr, len, fs, acc))               \
-  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, ff, V, K, i, nbr, len, fs, acc))         \
-  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, ff, V, K, i, nbr, len, fs, acc))
+  ROW_FN(tip4p_##M##0, tip4p_row(P, RL_LJ_PLAIN, kp, V, K, i, nbr, len, fs, acc))                 \
+  ROW_FN(tip4p_##M##1, tip4p_row(P, RL_LJ_SHIFTED, kp, V, K, i, nbr, len, fs, acc))               \
+  ROW_FN(tip4p_##M##2, tip4p_row(P, RL_LJ_SHIFTED_FORCE, kp, V, K, i, nbr, len, fs, acc))         \
+  ROW_FN(tip4p_##M##3, tip4p_row(P, RL_LJ_SWITCHED, kp, V, K, i, nbr, len, fs, acc))
 TIP4(s, P_SITE)
 TIP4(h, P_SHIFT)
 TIP4(m, P_MOL)

@@ -17,12 +17,12 @@
  * 9 multiply-adds per pair instead of 6 per term.  rl_ff_fast_compute adds back sum d (x) F
  * over these kernels' site forces, which the final site-to-molecule correction subtracts
  * from every site force.  With site images (P_SITE) each term keeps r (x) f. */
-RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_forcefield *ff,
+RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_kparams *kp,
                          const kview *V, const fast_species *K, int i, const int *nbr, int len,
-                         double (*fs)[3], rl_acc *acc)
+                         double (*fs)[3], rl_ksums *acc)
 {
   const int oi = V->soff[i];
-  const box_consts B = consts_of(ff);
+  const box_consts B = kp->B;
   const double rp2 = prune2(MODE, &B, K);
   const int img = needs_images(MODE, &B, rp2);
   const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
