@@ -130,11 +130,12 @@ static const char *species_name(const fast_species *K)
 void rl_ff_kparams(const rl_forcefield *ff, rl_kparams *kp)
 {
   const double rc = ff->p.cutoff, md = ff->min_distance;
-  box_consts B = {{ff->box.L[0], ff->box.L[1], ff->box.L[2]},
-                  {ff->box.invL[0], ff->box.invL[1], ff->box.invL[2]},
-                  rc, rc * rc, ff->p.r_switch, md * md, ff->rf.krf, ff->rf.crf};
+  const box_consts B = {{ff->box.L[0], ff->box.L[1], ff->box.L[2]},
+                        {ff->box.invL[0], ff->box.invL[1], ff->box.invL[2]},
+                        rc, rc * rc, ff->p.r_switch, md * md};
+  const rl_kelec E = {ff->kc, ff->rf.krf, ff->rf.crf, rc};
   kp->B = B;
-  kp->kc = ff->kc;
+  kp->E = E;
 }
 
 void rl_ff_select(const rl_forcefield *ff, rl_ff_fast *f)

@@ -68,14 +68,24 @@ enum { P_SITE = 0, P_SHIFT = 1, P_MOL = 2 };
  * loops never run a scalar remainder; padding lanes carry weight 0. */
 #define RL_FAST_W 8
 
+/* The box and the cutoffs: edges and their inverses, rc and rc^2, the LJ switch, and the minimum
+ * distance squared (a site pair inside the cutoff closer than that is an overlap). */
 typedef struct {
-  double L[3], iL[3], rc, rc2, rsw, md2, krf, crf;
+  double L[3], iL[3], rc, rc2, rsw, md2;
 } box_consts;
 
-/* The parameter block of a compute: the box and cutoffs (B) and the Coulomb constant. */
+/* The parameters of the electrostatics (each header of kernels/elec/ reads its own; a new
+ * electrostatics adds its own here, and rl_ff_kparams in select.c sets them). */
+typedef struct {
+  double kc;        /* Coulomb constant (dipole terms; a charge pair's qq includes it)      */
+  double krf, crf;  /* reaction field (elec/rf.h): rl_rf_coef's krf and crf                 */
+  double rc;        /* cutoff (elec/sf.h, shifted-force dipoles)                            */
+} rl_kelec;
+
+/* The parameter block of a compute, what a row reads besides the arrays. */
 typedef struct {
   box_consts B;
-  double kc;
+  rl_kelec E;
 } rl_kparams;
 
 /* What a row adds to (one per thread): energies by term, the virial, and whether some site
@@ -133,5 +143,43 @@ extern const rl_row_set rl_rows_avx512_tip4p_lj_rf, rl_rows_avx512_dipole_lj_rf,
     BODY;                                                                                      \
   }
 #define ROW_FN(NAME, BODY) ROW_FN_T(RL_CLONES, NAME, BODY)
+
+/* Row instances for the four LJ truncations, R##0 .. R##3, of a template INST(NAME, ..., TRUNC)
+ * (the row templates' RL_*_ROWS use these), and the row-set entries [mode][truncation]. */
+#define RL_ROWS_MODE(INST, R, MODE)                                                            \
+  INST(R##0, MODE, RL_LJ_PLAIN)                                                                \
+  INST(R##1, MODE, RL_LJ_SHIFTED)                                                              \
+  INST(R##2, MODE, RL_LJ_SHIFTED_FORCE)                                                        \
+  INST(R##3, MODE, RL_LJ_SWITCHED)
+#define RL_ROWS_EV(INST, R, EV, MODE)                                                          \
+  INST(R##0, EV, MODE, RL_LJ_PLAIN)                                                            \
+  INST(R##1, EV, MODE, RL_LJ_SHIFTED)                                                          \
+  INST(R##2, EV, MODE, RL_LJ_SHIFTED_FORCE)                                                    \
+  INST(R##3, EV, MODE, RL_LJ_SWITCHED)
+#define RL_SET_TRUNC(R) {R##0, R##1, R##2, R##3}
+/* rows S, H, M for the modes P_SITE, P_SHIFT, P_MOL; NULL: none (the portable row runs) */
+#define RL_SET_MODES(S, H, M) {RL_SET_TRUNC(S), RL_SET_TRUNC(H), RL_SET_TRUNC(M)}
+#define RL_SET_SHIFT_MOL(H, M) {{NULL, NULL, NULL, NULL}, RL_SET_TRUNC(H), RL_SET_TRUNC(M)}
+/* A row set SET of a template INST(NAME, MODE, TRUNC) for every mode: rows S, H, M (P_SITE,
+ * P_SHIFT, P_MOL) + truncation. */
+#define RL_ROWS_ALL_MODES(SET, INST, S, H, M)                                                  \
+  RL_ROWS_MODE(INST, S, P_SITE)                                                                \
+  RL_ROWS_MODE(INST, H, P_SHIFT)                                                               \
+  RL_ROWS_MODE(INST, M, P_MOL)                                                                 \
+  const rl_row_set SET = {RL_SET_MODES(S, H, M), {{0}}};
+/* A row set SET of a template INST(NAME, EV, MODE, TRUNC) for the modes with the centres'
+ * image, with (XH, XM) and without (OH, OM: forces only) the energy and virial sums. */
+#define RL_ROWS_CENTRE_IMAGE(SET, INST, XH, XM, OH, OM)                                        \
+  RL_ROWS_EV(INST, XH, 1, P_SHIFT)                                                             \
+  RL_ROWS_EV(INST, XM, 1, P_MOL)                                                               \
+  RL_ROWS_EV(INST, OH, 0, P_SHIFT)                                                             \
+  RL_ROWS_EV(INST, OM, 0, P_MOL)                                                               \
+  const rl_row_set SET = {RL_SET_SHIFT_MOL(XH, XM), RL_SET_SHIFT_MOL(OH, OM)};
+/* A row set SET of a template INST(NAME, EV, MODE, TRUNC) whose rows do not depend on the mode
+ * (point dipoles: r = R), with (X) and without (O) the energy and virial sums. */
+#define RL_ROWS_ANY_MODE(SET, INST, X, O)                                                      \
+  RL_ROWS_EV(INST, X, 1, P_MOL)                                                                \
+  RL_ROWS_EV(INST, O, 0, P_MOL)                                                                \
+  const rl_row_set SET = {RL_SET_MODES(X, X, X), RL_SET_MODES(O, O, O)};
 
 #endif

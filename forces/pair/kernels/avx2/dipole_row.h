@@ -2,12 +2,17 @@
 #ifndef ROTLEAP_PAIR_AVX2_DIPOLE_ROW_H
 #define ROTLEAP_PAIR_AVX2_DIPOLE_ROW_H
 
+#include "../elec/elec.h"
 #include "simd256.h"
+
+#if !RL_ELEC_DIPOLES
+#error "include a dipolar electrostatics (kernels/elec/) before this template"
+#endif
 
 #if RL_X512
 /* dipole_row512 on AVX2: the neighbours within the cutoff from fill256 (records V->pk:
  * centre, 0, mu axis, 0), four at a time; the terms as dip_pairs8. */
-RL_T256 RL_INLINE void dipole_row256(const int DSF, const int EV, const int TRUNC,
+RL_T256 RL_INLINE void dipole_row256(const int EV, const int TRUNC,
                                      const rl_kparams *kp, const kview *V,
                                      const fast_species *K, int i, const int *nbr, int len,
                                      double (*ft)[8], rl_ksums *acc)
@@ -15,7 +20,7 @@ RL_T256 RL_INLINE void dipole_row256(const int DSF, const int EV, const int TRUN
 #define V1(a) _mm256_set1_pd(a)
   const box_consts B = kp->B;
   const lj_consts C = lj_of(&K->t[0]);
-  const double kc = kp->kc, krf = kp->B.krf;
+  const rl_kelec E = kp->E;
   const double *pr = V->pk[i];
   const __m256d mi[3] = {V1(pr[4]), V1(pr[5]), V1(pr[6])};
   const __m256d zero = _mm256_setzero_pd(), md2 = V1(B.md2);
@@ -40,26 +45,12 @@ RL_T256 RL_INLINE void dipole_row256(const int DSF, const int EV, const int TRUN
       const __m256d rr = r2 * ir;
       __m256d ul, frl;
       lj4(TRUNC, C, &B, ir2, rr, ir, &ul, &frl);
-      /* dip_pairs8's regrouping of rl_dipole_dipole_rf / _sf */
+      /* the dipoles' electrostatics (elec/), regrouped as in dip_pairs8 */
       const __m256d pij = mi[0] * mjx + mi[1] * mjy + mi[2] * mjz;
       const __m256d pi = mi[0] * X + mi[1] * Y + mi[2] * Z;
       const __m256d pj = mjx * X + mjy * Y + mjz * Z;
-      const __m256d m3 = V1(-3.0) * ir5, e15 = V1(-5.0) * m3 * pi * pj * ir2;
-      __m256d Kd, A, s;
-      if (DSF) {
-        const __m256d x = rr * V1(1.0 / B.rc);
-        const __m256d bb = V1(1.0) + x * x * x * (V1(-4.0) + V1(3.0) * x);
-        const __m256d db = x * x * (V1(-12.0) + V1(12.0) * x) * V1(1.0 / B.rc);
-        const __m256d g0 = pij * ir3 + m3 * pi * pj;
-        Kd = V1(kc) * bb;
-        A = Kd * ir3;
-        s = frl - Kd * (m3 * pij + e15) - V1(kc) * g0 * db * ir;
-      } else {
-        Kd = V1(kc);
-        A = Kd * (ir3 - V1(2.0 * krf));
-        s = frl - Kd * (m3 * pij + e15);
-      }
-      const __m256d Bj = Kd * m3 * pj, Bi = Kd * m3 * pi;
+      const rl_dd4 d = rl_elec_dd4(E, frl, rr, ir, ir2, ir3, ir5, pij, pi, pj);
+      const __m256d A = d.A, Bi = d.Bi, Bj = d.Bj, s = d.s;
       const __m256d fx = _mm256_and_pd(live, s * X - Bj * mi[0] - Bi * mjx);
       const __m256d fy = _mm256_and_pd(live, s * Y - Bj * mi[1] - Bi * mjy);
       const __m256d fz = _mm256_and_pd(live, s * Z - Bj * mi[2] - Bi * mjz);
@@ -101,6 +92,12 @@ RL_T256 RL_INLINE void dipole_row256(const int DSF, const int EV, const int TRUN
   acc->bad |= bad != 0;
 #undef V1
 }
+
+/* The rows of every LJ truncation, with (X##0 .. X##3) and without (O##0 .. O##3: forces only)
+ * the energy and virial sums, the same for every separation mode; and the row set SET. */
+#define RL_DIPOLE256_ROW(NAME, EV, MODE, TRUNC)                                                \
+  ROW_FN_T(RL_T256, NAME, dipole_row256(EV, TRUNC, kp, V, K, i, nbr, len, ft, acc))
+#define RL_AVX2_DIPOLE_ROWS(SET, X, O) RL_ROWS_ANY_MODE(SET, RL_DIPOLE256_ROW, X, O)
 #endif
 
 #endif

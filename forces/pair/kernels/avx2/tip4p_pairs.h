@@ -1,9 +1,14 @@
-/* The TIP4P pair terms on AVX2 (double). */
+/* The TIP4P pair terms on AVX2 (double): a template (include an electrostatics with charges,
+ * ../elec/, first). */
 #ifndef ROTLEAP_PAIR_AVX2_TIP4P_PAIRS_H
 #define ROTLEAP_PAIR_AVX2_TIP4P_PAIRS_H
 
 #include "../tip4p.h"
 #include "simd256.h"
+
+#if !RL_ELEC_CHARGES
+#error "include an electrostatics with charges (kernels/elec/) before this template"
+#endif
 
 #if RL_X512
 /* The sums of a TIP4P row on AVX2, lane by lane, as tip_sums. */
@@ -13,14 +18,13 @@ typedef struct {
 
 /* tip4p_pairs512 on four lanes. */
 RL_T256 RL_INLINE void tip4p_pairs256(const int MODE, const int EV, const int TRUNC,
-                                      const lj_consts C, const box_consts *B,
+                                      const lj_consts C, const box_consts *B, const rl_kelec E,
                                       const double a[4][3], const double qq[3][3],
                                       const kview *V, const batch *b, double (*ft4)[16],
                                       tip_sums4 *S)
 {
 #define V1(x) _mm256_set1_pd(x)
   const __m256d zero = _mm256_setzero_pd(), rc2 = V1(B->rc2);
-  const __m256d krf = V1(B->krf), krf2 = V1(2.0 * B->krf), crf = V1(B->crf);
   for (int k = 0; k < b->n; k += 4) {
     const int cnt = b->n - k < 4 ? b->n - k : 4;
     const __m256d live = live4(cnt); /* P_MOL: the padding (P_SHIFT: beyond the cutoff) */
@@ -70,7 +74,7 @@ RL_T256 RL_INLINE void tip4p_pairs256(const int MODE, const int EV, const int TR
 #pragma GCC unroll 3
       for (int c = 0; c < 3; c++) gj[1 + q][c] = zero;
 #pragma GCC unroll 3
-    for (int p = 0; p < 3; p++) { /* charge p of i against charge q of j: rl_coulomb_rf_pair */
+    for (int p = 0; p < 3; p++) { /* charge p of i against charge q of j */
       __m256d ra[3];
 #pragma GCC unroll 3
       for (int c = 0; c < 3; c++) ra[c] = R[c] + V1(a[1 + p][c]);
@@ -83,11 +87,11 @@ RL_T256 RL_INLINE void tip4p_pairs256(const int MODE, const int EV, const int TR
             _mm256_fmadd_pd(d[2], d[2], _mm256_fmadd_pd(d[1], d[1], _mm256_mul_pd(d[0], d[0])));
         const __m256d in = MODE == P_MOL ? live : _mm256_cmp_pd(r2, rc2, _CMP_LT_OQ);
         S->r2min = _mm256_min_pd(S->r2min, r2);
-        const __m256d ir = rsqrt4(r2);
+        __m256d fe, ue; /* the electrostatics (elec/), per qq */
+        rl_elec_qq4(E, r2, rsqrt4(r2), &fe, &ue);
         const __m256d qv = _mm256_and_pd(in, V1(qq[p][q]));
-        const __m256d fr = qv * (ir * ir * ir - krf2);
-        if (EV) /* qq (1/r + krf r^2 - crf) */
-          S->ecoul = _mm256_fmadd_pd(qv, _mm256_fmadd_pd(krf, r2, ir) - crf, S->ecoul);
+        const __m256d fr = qv * fe;
+        if (EV) S->ecoul = _mm256_fmadd_pd(qv, ue, S->ecoul);
 #pragma GCC unroll 3
         for (int c = 0; c < 3; c++) {
           S->fi[1 + p][c] = _mm256_fmadd_pd(fr, d[c], S->fi[1 + p][c]);

@@ -1,4 +1,5 @@
-/* The TIP4P pair terms in single precision on AVX2. */
+/* The TIP4P pair terms in single precision on AVX2: a template (include an electrostatics with
+ * charges, ../elec/, first). */
 #ifndef ROTLEAP_PAIR_AVX2_MIXED_TIP4P_PAIRS_H
 #define ROTLEAP_PAIR_AVX2_MIXED_TIP4P_PAIRS_H
 
@@ -12,14 +13,13 @@
  * on the neighbours' sites go back to their double records, the forces on i's sites, the
  * energies and the virial are summed in double per batch. */
 RL_T256 RL_INLINE void tip4p_pairs8f(const int MODE, const int EV, const int TRUNC,
-                                     const lj_consts C, const box_consts *B,
+                                     const lj_consts C, const box_consts *B, const rl_kelec E,
                                      const double a[4][3], const double qq[3][3],
                                      const kview *V, const batch *b, double (*ft4)[16],
                                      tip_sums4 *S)
 {
 #define V1 RL_V1F
   const __m256 zero = _mm256_setzero_ps(), rc2 = V1(B->rc2);
-  const __m256 krf = V1(B->krf), krf2 = V1(2.0 * B->krf), crf = V1(B->crf);
   const __m256 iota = _mm256_set_ps(7.f, 6.f, 5.f, 4.f, 3.f, 2.f, 1.f, 0.f);
   __m256 fi[4][3], r2min = V1(HUGE_VALF);
   for (int s = 0; s < 4; s++)
@@ -84,10 +84,11 @@ RL_T256 RL_INLINE void tip4p_pairs8f(const int MODE, const int EV, const int TRU
             _mm256_fmadd_ps(d[2], d[2], _mm256_fmadd_ps(d[1], d[1], _mm256_mul_ps(d[0], d[0])));
         const __m256 in = MODE == P_MOL ? live : _mm256_cmp_ps(r2, rc2, _CMP_LT_OQ);
         r2min = _mm256_min_ps(r2min, r2);
-        const __m256 ir = rsqrt8f(r2);
+        __m256 fe, ue; /* the electrostatics (elec/), per qq */
+        rl_elec_qq8f(E, r2, rsqrt8f(r2), &fe, &ue);
         const __m256 qv = _mm256_and_ps(in, V1(qq[p][q]));
-        const __m256 fr = qv * (ir * ir * ir - krf2);
-        if (EV) ec = _mm256_fmadd_ps(qv, _mm256_fmadd_ps(krf, r2, ir) - crf, ec);
+        const __m256 fr = qv * fe;
+        if (EV) ec = _mm256_fmadd_ps(qv, ue, ec);
 #pragma GCC unroll 3
         for (int c = 0; c < 3; c++) {
           fi[1 + p][c] = _mm256_fmadd_ps(fr, d[c], fi[1 + p][c]);

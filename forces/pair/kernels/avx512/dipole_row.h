@@ -2,7 +2,12 @@
 #ifndef ROTLEAP_PAIR_AVX512_DIPOLE_ROW_H
 #define ROTLEAP_PAIR_AVX512_DIPOLE_ROW_H
 
+#include "../elec/elec.h"
 #include "simd512.h"
+
+#if !RL_ELEC_DIPOLES
+#error "include a dipolar electrostatics (kernels/elec/) before this template"
+#endif
 
 #if RL_X512
 /* The dipole rows on AVX-512 without batch arrays (issue 8): eight list entries at a time are
@@ -24,9 +29,9 @@ typedef struct {
 
 /* The pair terms of i with the eight neighbours in lanes (X, Y, Z: centre_i - centre_j,
  * m: mu_j), of which the first nv are real (the others hold copies of lane 0 and add nothing):
- * lj_eval_ir2 and rl_dipole_dipole_rf / _sf as in dipole_row, on vectors. */
-RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int EV, const int TRUNC, const lj_consts C,
-                                      const box_consts *B, double kc, double krf,
+ * lj_eval_ir2 and the electrostatics' dipole pair (rl_elec_dd8), as dipole_row on vectors. */
+RL_T512 RL_INLINE void dip_pairs8(const int EV, const int TRUNC, const lj_consts C,
+                                      const box_consts *B, const rl_kelec E,
                                       const __m512d mi[3], __m512d X, __m512d Y, __m512d Z,
                                       __m512d mjx, __m512d mjy, __m512d mjz, const int *idx,
                                       int nv, double (*ft)[8], dip_sums *S)
@@ -39,29 +44,14 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int EV, const int TRUNC, 
   const __m512d rr = r2 * ir; /* |r|, for the truncations and the shifted-force dipoles */
   __m512d ul, frl;
   lj8(TRUNC, C, B, ir2, rr, ir, &ul, &frl);
-  /* rl_dipole_dipole_rf / _sf (dd_plain in dipole.c), regrouped: with K = kc (RF) or kc b(x)
-   * (SF), m3 = -3 / r^5, Bj = K m3 pj and Bi = K m3 pi, the force on i is s R - Bj mu_i - Bi mu_j,
-   * and the fields are g_i = A mu_j + Bj R, g_j = A mu_i + Bi R with A = K (1 / r^3 - 2 krf)
-   * (RF) or K / r^3 (SF): about 20 fewer multiplies and adds per 8 pairs than dipole_row */
+  /* the dipoles' electrostatics (elec/) in the regrouped form of rl_dd8: the force on i is
+   * s R - Bj mu_i - Bi mu_j, the fields g_i = A mu_j + Bj R, g_j = A mu_i + Bi R (for the
+   * reaction field about 20 fewer multiplies and adds per 8 pairs than dipole_row) */
   const __m512d pij = mi[0] * mjx + mi[1] * mjy + mi[2] * mjz;
   const __m512d pi = mi[0] * X + mi[1] * Y + mi[2] * Z;
   const __m512d pj = mjx * X + mjy * Y + mjz * Z;
-  const __m512d m3 = V1(-3.0) * ir5, e15 = V1(-5.0) * m3 * pi * pj * ir2;
-  __m512d Kd, A, s;
-  if (DSF) { /* rl_dipole_dipole_sf: b(x) = 1 - 4 x^3 + 3 x^4, x = r / rc */
-    const __m512d x = rr * V1(1.0 / B->rc);
-    const __m512d bb = V1(1.0) + x * x * x * (V1(-4.0) + V1(3.0) * x);
-    const __m512d db = x * x * (V1(-12.0) + V1(12.0) * x) * V1(1.0 / B->rc);
-    const __m512d g0 = pij * ir3 + m3 * pi * pj;
-    Kd = V1(kc) * bb;
-    A = Kd * ir3;
-    s = frl - Kd * (m3 * pij + e15) - V1(kc) * g0 * db * ir;
-  } else { /* rl_dipole_dipole_rf */
-    Kd = V1(kc);
-    A = Kd * (ir3 - V1(2.0 * krf));
-    s = frl - Kd * (m3 * pij + e15);
-  }
-  const __m512d Bj = Kd * m3 * pj, Bi = Kd * m3 * pi;
+  const rl_dd8 d = rl_elec_dd8(E, frl, rr, ir, ir2, ir3, ir5, pij, pi, pj);
+  const __m512d A = d.A, Bi = d.Bi, Bj = d.Bj, s = d.s;
   __m512d fx = s * X - Bj * mi[0] - Bi * mjx;
   __m512d fy = s * Y - Bj * mi[1] - Bi * mjy;
   __m512d fz = s * Z - Bj * mi[2] - Bi * mjz;
@@ -97,7 +87,7 @@ RL_T512 RL_INLINE void dip_pairs8(const int DSF, const int EV, const int TRUNC, 
 #undef V1
 }
 
-RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUNC,
+RL_T512 RL_INLINE void dipole_row512(const int EV, const int TRUNC,
                                          const rl_kparams *kp, const kview *V,
                                          const fast_species *K, int i, const int *nbr, int len,
                                          double (*fs)[3], double (*tq)[3], double (*ft)[8],
@@ -105,7 +95,7 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUN
 {
   const box_consts B = kp->B;
   const lj_consts C = lj_of(&K->t[0]);
-  const double kc = kp->kc, krf = kp->B.krf;
+  const rl_kelec E = kp->E;
   const double *pi = V->pk[i]; /* i's record: centre, 0, mu axis, 0 */
   const __m512d mi[3] = {_mm512_set1_pd(pi[4]), _mm512_set1_pd(pi[5]), _mm512_set1_pd(pi[6])};
   const sep8_consts S8 = sep8_of(&B, pi);
@@ -164,7 +154,7 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUN
       continue;
     }
     _mm512_store_si512(idx, aid);
-    dip_pairs8(DSF, EV, TRUNC, C, &B, kc, krf, mi, aX, aY, aZ, amx, amy, amz, idx, RL_FAST_W, ft, &S);
+    dip_pairs8(EV, TRUNC, C, &B, E, mi, aX, aY, aZ, amx, amy, amz, idx, RL_FAST_W, ft, &S);
     pX = nX; pY = nY; pZ = nZ; pmx = nmx; pmy = nmy; pmz = nmz; pid = nid;
     pn += kc8 - RL_FAST_W;
   }
@@ -173,7 +163,7 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUN
     const __m512i z = _mm512_setzero_si512();
 #define RL_PAD(V) _mm512_mask_blend_pd(old, _mm512_permutexvar_pd(z, V), V)
     _mm512_store_si512(idx, pid);
-    dip_pairs8(DSF, EV, TRUNC, C, &B, kc, krf, mi, RL_PAD(pX), RL_PAD(pY), RL_PAD(pZ), RL_PAD(pmx),
+    dip_pairs8(EV, TRUNC, C, &B, E, mi, RL_PAD(pX), RL_PAD(pY), RL_PAD(pZ), RL_PAD(pmx),
                RL_PAD(pmy), RL_PAD(pmz), idx, pn, ft, &S);
 #undef RL_PAD
   }
@@ -192,6 +182,12 @@ RL_T512 RL_INLINE void dipole_row512(const int DSF, const int EV, const int TRUN
   for (int c = 0; c < 9; c++) acc->vir[c] += _mm512_reduce_add_pd(w[c]);
   acc->bad |= S.bad != 0;
 }
+
+/* The rows of every LJ truncation, with (X##0 .. X##3) and without (O##0 .. O##3: forces only)
+ * the energy and virial sums, the same for every separation mode; and the row set SET. */
+#define RL_DIPOLE512_ROW(NAME, EV, MODE, TRUNC)                                                \
+  ROW_FN_T(RL_T512, NAME, dipole_row512(EV, TRUNC, kp, V, K, i, nbr, len, fs, tq, ft, acc))
+#define RL_AVX512_DIPOLE_ROWS(SET, X, O) RL_ROWS_ANY_MODE(SET, RL_DIPOLE512_ROW, X, O)
 #endif
 
 #endif

@@ -1,26 +1,7 @@
-/* The TIP4P rows (LJ + reaction-field charges) in AVX-512 registers: the centres' image
- * (P_SHIFT, P_MOL), every LJ truncation, with (tip4px_*) and without (tip4po_*) the energy and
- * virial sums. */
+/* The TIP4P rows in AVX-512 registers: LJ + reaction-field charges. */
+#include "../elec/rf.h"
 #include "tip4p_row.h"
 
 #if RL_X512
-#define TIP_EV(INST, H, M, EV)                                                                 \
-  INST(H##0, EV, P_SHIFT, RL_LJ_PLAIN)                                                         \
-  INST(H##1, EV, P_SHIFT, RL_LJ_SHIFTED)                                                       \
-  INST(H##2, EV, P_SHIFT, RL_LJ_SHIFTED_FORCE)                                                 \
-  INST(H##3, EV, P_SHIFT, RL_LJ_SWITCHED)                                                      \
-  INST(M##0, EV, P_MOL, RL_LJ_PLAIN)                                                           \
-  INST(M##1, EV, P_MOL, RL_LJ_SHIFTED)                                                         \
-  INST(M##2, EV, P_MOL, RL_LJ_SHIFTED_FORCE)                                                   \
-  INST(M##3, EV, P_MOL, RL_LJ_SWITCHED)
-/* flatten: the fill (with other_images' branch) is too large for GCC to inline on its own */
-#define TIP512(NAME, EV, MODE, TRUNC)                                                          \
-  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME,                                             \
-           tip4p_row512(EV, MODE, TRUNC, kp, V, K, i, nbr, len, fs, ft4, acc))
-TIP_EV(TIP512, tip4px_h, tip4px_m, 1)
-TIP_EV(TIP512, tip4po_h, tip4po_m, 0)
-
-#define TIP_MODES(H, M) {{NULL, NULL, NULL, NULL}, {H##0, H##1, H##2, H##3}, {M##0, M##1, M##2, M##3}}
-const rl_row_set rl_rows_avx512_tip4p_lj_rf = {TIP_MODES(tip4px_h, tip4px_m),
-                                               TIP_MODES(tip4po_h, tip4po_m)};
+RL_AVX512_TIP4P_ROWS(rl_rows_avx512_tip4p_lj_rf, tip4px_h, tip4px_m, tip4po_h, tip4po_m)
 #endif

@@ -5,6 +5,10 @@
 #include "../tip4p.h"
 #include "simd512.h"
 
+#if !RL_ELEC_CHARGES
+#error "include an electrostatics with charges (kernels/elec/) before this template"
+#endif
+
 #if RL_X512
 
 /* batch_fill for the TIP4P rows with the centres' image (P_SHIFT, P_MOL), eight candidates at
@@ -131,14 +135,13 @@ typedef struct {
  * where batch_fill's do, so the sums do not depend on when the list was built.  The cutoff
  * (P_SHIFT) and the padding are masks. */
 RL_T512 RL_INLINE void tip4p_pairs512(const int MODE, const int EV, const int TRUNC,
-                                      const lj_consts C, const box_consts *B,
+                                      const lj_consts C, const box_consts *B, const rl_kelec E,
                                       const double a[4][3], const double qq[3][3],
                                       const kview *V, const batch *b, double (*ft4)[16],
                                       tip_sums *S)
 {
 #define V1(x) _mm512_set1_pd(x)
   const __m512d zero = _mm512_setzero_pd(), half = V1(0.5), rc2 = V1(B->rc2);
-  const __m512d krf = V1(B->krf), krf2 = V1(2.0 * B->krf), crf = V1(B->crf);
   for (int k = 0; k < b->n; k += RL_FAST_W) {
     const int cnt = b->n - k < RL_FAST_W ? b->n - k : RL_FAST_W;
     const __mmask8 live = (__mmask8)((1u << cnt) - 1u);
@@ -182,7 +185,7 @@ RL_T512 RL_INLINE void tip4p_pairs512(const int MODE, const int EV, const int TR
     }
     for (int q = 0; q < 3; q++)
       for (int c = 0; c < 3; c++) gj[1 + q][c] = zero;
-    for (int p = 0; p < 3; p++) { /* charge p of i against charge q of j: rl_coulomb_rf_pair */
+    for (int p = 0; p < 3; p++) { /* charge p of i against charge q of j */
       __m512d ra[3];
       for (int c = 0; c < 3; c++) ra[c] = R[c] + V1(a[1 + p][c]);
       for (int q = 0; q < 3; q++) {
@@ -198,9 +201,10 @@ RL_T512 RL_INLINE void tip4p_pairs512(const int MODE, const int EV, const int TR
         ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, ir * ir, half), ir);
         ir = _mm512_fmadd_pd(ir, _mm512_fnmadd_pd(h, ir * ir, half), ir);
         const __m512d qv = V1(qq[p][q]);
-        const __m512d fr = _mm512_maskz_mul_pd(in, qv, ir * ir * ir - krf2);
-        if (EV) /* qq (1/r + krf r^2 - crf) */
-          S->ecoul = _mm512_mask3_fmadd_pd(qv, _mm512_fmadd_pd(krf, r2, ir) - crf, S->ecoul, in);
+        __m512d fe, ue; /* the electrostatics (elec/), per qq */
+        rl_elec_qq8(E, r2, ir, &fe, &ue);
+        const __m512d fr = _mm512_maskz_mul_pd(in, qv, fe);
+        if (EV) S->ecoul = _mm512_mask3_fmadd_pd(qv, ue, S->ecoul, in);
         for (int c = 0; c < 3; c++) {
           const __m512d f = fr * d[c];
           S->fi[1 + p][c] = S->fi[1 + p][c] + f;
@@ -248,7 +252,7 @@ RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUN
   batch b;
   for (int pos = 0; pos < len;) {
     tip4p_fill512(V, &T.B, i, nbr, len, &pos, T.rp2, T.img, &b);
-    if (b.n) tip4p_pairs512(MODE, EV, TRUNC, T.C, &T.B, T.a, T.qq, V, &b, ft4, &S);
+    if (b.n) tip4p_pairs512(MODE, EV, TRUNC, T.C, &T.B, T.E, T.a, T.qq, V, &b, ft4, &S);
   }
   const int oi = V->soff[i];
   for (int s = 0; s < 4; s++)
@@ -261,6 +265,16 @@ RL_T512 RL_INLINE void tip4p_row512(const int EV, const int MODE, const int TRUN
   /* overlap: a site pair inside the cutoff closer than the minimum distance, as tip4p_row */
   acc->bad |= _mm512_cmp_pd_mask(S.r2min, _mm512_set1_pd(T.lim), _CMP_LT_OQ) != 0;
 }
+
+/* The rows of both modes with the centres' image (H: P_SHIFT, M: P_MOL) and every LJ
+ * truncation, with (X) and without (O: forces only) the energy and virial sums; and the row
+ * set SET (site images, P_SITE, take the portable rows).  flatten: the fill (with its images'
+ * branch) is too large for GCC to inline on its own. */
+#define RL_TIP4P512_ROW(NAME, EV, MODE, TRUNC)                                                 \
+  ROW_FN_T(RL_T512 __attribute__((flatten)), NAME,                                             \
+           tip4p_row512(EV, MODE, TRUNC, kp, V, K, i, nbr, len, fs, ft4, acc))
+#define RL_AVX512_TIP4P_ROWS(SET, XH, XM, OH, OM)                                              \
+  RL_ROWS_CENTRE_IMAGE(SET, RL_TIP4P512_ROW, XH, XM, OH, OM)
 #endif
 
 #endif

@@ -1,4 +1,6 @@
-/* The Stockmayer rows, portable: LJ + point dipoles at the centre. */
+/* The Stockmayer rows, portable: LJ + point dipoles at the centre.  A template: include a
+ * dipolar electrostatics (../elec/) first, then RL_PORTABLE_DIPOLE_ROWS(SET, R) defines the rows
+ * R##0 .. R##3 (by LJ truncation) and their row set SET. */
 #ifndef ROTLEAP_PAIR_PORTABLE_DIPOLE_ROW_H
 #define ROTLEAP_PAIR_PORTABLE_DIPOLE_ROW_H
 
@@ -6,17 +8,23 @@
 #include "../batch.h"
 #include "../vdw_lj.h"
 
+#if !RL_ELEC_DIPOLES
+#error "include a dipolar electrostatics (kernels/elec/) before this template"
+#endif
+
 /* LJ + point dipoles, one site at the centre, so r = R, the centres' minimum image, for both
- * cutoff schemes.  DSF: 0 reaction field (rl_dipole_dipole_rf), 1 shifted force (_sf).  The
- * portable rows (AVX2, baseline, ROTLEAP_NO_AVX512); dipole_row512 is the same on AVX-512. */
-RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_kparams *kp,
+ * cutoff schemes; the dipole pair as the electrostatics gives it (rl_elec_dd: reaction field,
+ * shifted force).  The portable rows (AVX2, baseline, ROTLEAP_NO_AVX512); dipole_row512 is the
+ * same on AVX-512. */
+RL_INLINE void dipole_row(const int TRUNC, const rl_kparams *kp,
                           const kview *V, const fast_species *K, int i, const int *nbr, int len,
                           double (*fs)[3], double (*tq)[3], rl_ksums *acc)
 {
   const int oi = V->soff[i];
   const box_consts B = kp->B;
   const double rc = B.rc, rc2 = B.rc2, rsw = B.rsw, md2 = B.md2;
-  const double kc = kp->kc, krf = kp->B.krf, mu = K->mu;
+  const rl_kelec E = kp->E;
+  const double mu = K->mu;
   const lj_consts C = lj_of(&K->t[0]);
   const double mix = mu * V->ax[i][0], miy = mu * V->ax[i][1], miz = mu * V->ax[i][2];
   batch b;
@@ -37,45 +45,17 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_kparams *kp,
       double r2 = rx * rx + ry * ry + rz * rz;
       const double in = b.w[k] * (r2 < rc2 ? 1.0 : 0.0);
       bad += in * (r2 < md2 ? 1.0 : 0.0);
-      /* dd_plain (dipole.c) */
+      /* LJ, then the dipoles' electrostatics (elec/) */
       const double mjx = b.m[0][k], mjy = b.m[1][k], mjz = b.m[2][k];
-      double ir = rl_rsqrt(r2), ir2 = ir * ir, ir3 = ir * ir2, ir5 = ir3 * ir2;
+      double ir = rl_rsqrt(r2), ir2 = ir * ir;
       double frl, ul = lj_eval_ir2(TRUNC, C, rc, rsw, r2, ir2, &frl);
-      double pij = mix * mjx + miy * mjy + miz * mjz;
-      double pi = mix * rx + miy * ry + miz * rz;
-      double pj = mjx * rx + mjy * ry + mjz * rz;
-      double e15 = 15.0 * pi * pj * ir5 * ir2;
-      double drx = -3.0 * ir5 * (pij * rx + mix * pj + mjx * pi) + e15 * rx;
-      double dry = -3.0 * ir5 * (pij * ry + miy * pj + mjy * pi) + e15 * ry;
-      double drz = -3.0 * ir5 * (pij * rz + miz * pj + mjz * pi) + e15 * rz;
-      double gix = mjx * ir3 - 3.0 * ir5 * pj * rx, giy = mjy * ir3 - 3.0 * ir5 * pj * ry,
-             giz = mjz * ir3 - 3.0 * ir5 * pj * rz;
-      double gjx = mix * ir3 - 3.0 * ir5 * pi * rx, gjy = miy * ir3 - 3.0 * ir5 * pi * ry,
-             gjz = miz * ir3 - 3.0 * ir5 * pi * rz;
-      double rr = sqrt(r2), g0 = pij * ir3 - 3.0 * pi * pj * ir5, ud, fpx, fpy, fpz;
-      if (DSF) { /* rl_dipole_dipole_sf */
-        double x = rr / rc;
-        double bb = 1.0 + x * x * x * (-4.0 + 3.0 * x);
-        double db = x * x * (-12.0 + 12.0 * x) / rc;
-        fpx = -kc * (bb * drx + g0 * db * rx / rr);
-        fpy = -kc * (bb * dry + g0 * db * ry / rr);
-        fpz = -kc * (bb * drz + g0 * db * rz / rr);
-        gix *= kc * bb; giy *= kc * bb; giz *= kc * bb;
-        gjx *= kc * bb; gjy *= kc * bb; gjz *= kc * bb;
-        ud = kc * bb * g0;
-      } else { /* rl_dipole_dipole_rf */
-        fpx = -kc * drx; fpy = -kc * dry; fpz = -kc * drz;
-        gix = kc * (gix - 2.0 * krf * mjx); giy = kc * (giy - 2.0 * krf * mjy);
-        giz = kc * (giz - 2.0 * krf * mjz);
-        gjx = kc * (gjx - 2.0 * krf * mix); gjy = kc * (gjy - 2.0 * krf * miy);
-        gjz = kc * (gjz - 2.0 * krf * miz);
-        ud = kc * (g0 - 2.0 * krf * pij);
-      }
+      const rl_dd d = rl_elec_dd(E, rx, ry, rz, r2, ir, mix, miy, miz, mjx, mjy, mjz);
       double fx = frl * rx, fy = frl * ry, fz = frl * rz; /* site_pair: LJ, then the dipoles */
-      fx += fpx; fy += fpy; fz += fpz;
+      fx += d.fx; fy += d.fy; fz += d.fz;
       fx *= in; fy *= in; fz *= in;
-      gix *= in; giy *= in; giz *= in;
-      gjx *= in; gjy *= in; gjz *= in;
+      const double gix = d.gix * in, giy = d.giy * in, giz = d.giz * in;
+      const double gjx = d.gjx * in, gjy = d.gjy * in, gjz = d.gjz * in;
+      const double ud = d.u;
       elj += in * ul;
       edip += in * ud;
       b.f[0][0][k] = -fx; b.f[0][1][k] = -fy; b.f[0][2][k] = -fz;
@@ -108,5 +88,13 @@ RL_INLINE void dipole_row(const int DSF, const int TRUNC, const rl_kparams *kp,
   acc->vir[6] += w6; acc->vir[7] += w7; acc->vir[8] += w8;
   acc->bad |= bad != 0.0;
 }
+
+/* The rows of every LJ truncation (the same for every separation mode: r = R), each compiled
+ * for AVX-512, AVX2 and baseline x86-64 and picked at load time; and the row set SET. */
+#define RL_DIPOLE_ROW(NAME, MODE, TRUNC)                                                       \
+  ROW_FN(NAME, dipole_row(TRUNC, kp, V, K, i, nbr, len, fs, tq, acc))
+#define RL_PORTABLE_DIPOLE_ROWS(SET, R)                                                        \
+  RL_ROWS_MODE(RL_DIPOLE_ROW, R, P_MOL)                                                        \
+  const rl_row_set SET = {RL_SET_MODES(R, R, R), {{0}}};
 
 #endif

@@ -1,11 +1,16 @@
 /* The "charge-lj" rows, portable: LJ and charges on up to RL_FAST_MAXS sites, one omp simd loop
- * per term. */
+ * per term.  A template: include an electrostatics with charges (../elec/) first, then
+ * RL_PORTABLE_SITES_ROWS(SET) defines the rows and their row set SET. */
 #ifndef ROTLEAP_PAIR_PORTABLE_SITES_ROW_H
 #define ROTLEAP_PAIR_PORTABLE_SITES_ROW_H
 
 #include "../../rsqrt.h"
 #include "../batch.h"
 #include "../vdw_lj.h"
+
+#if !RL_ELEC_CHARGES
+#error "include an electrostatics with charges (kernels/elec/) before this template"
+#endif
 
 typedef struct {
   double fx, fy, fz, elj, ecoul, bad, w[6];
@@ -14,9 +19,10 @@ typedef struct {
 /* One term (site a of body i, site b of every neighbour in the batch) over the batch.
  * WHAT: T_LJ, T_COUL or T_BOTH.  Branch-free: the cutoff and the padding are factors. */
 RL_INLINE void term_loop(const int MODE, const int TRUNC, const int WHAT, const box_consts *B,
-                         const fast_term *T, const double *pa, batch *b, term_sums *s)
+                         const rl_kelec E, const fast_term *T, const double *pa, batch *b,
+                         term_sums *s)
 {
-  const double rc = B->rc, rsw = B->rsw, md2 = B->md2, krf = B->krf, crf = B->crf;
+  const double rc = B->rc, rsw = B->rsw, md2 = B->md2;
   const double ax = pa[0], ay = pa[1], az = pa[2], qq = T->qq;
   const lj_consts C = lj_of(T);
   const int sb = T->b, np = b->np;
@@ -37,10 +43,10 @@ RL_INLINE void term_loop(const int MODE, const int TRUNC, const int WHAT, const 
       elj += in * u;
       fx += fr * dx; fy += fr * dy; fz += fr * dz;
     }
-    if (WHAT != T_LJ) { /* rl_coulomb_rf_pair */
-      double ir = rl_rsqrt(r2);
-      double fr = qq * (ir * ir * ir - 2.0 * krf);
-      double u = qq * (ir + krf * r2 - crf);
+    if (WHAT != T_LJ) { /* the electrostatics (elec/), per qq */
+      double fe, ue = rl_elec_qq(E, r2, rl_rsqrt(r2), &fe);
+      double fr = qq * fe;
+      double u = qq * ue;
       fr *= in;
       ecoul += in * u;
       fx += fr * dx; fy += fr * dy; fz += fr * dz;
@@ -62,6 +68,7 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_kparams *kp, 
 {
   const int ns = K->ns, oi = V->soff[i];
   const box_consts B = kp->B;
+  const rl_kelec E = kp->E;
   const double rp2 = prune2(MODE, &B, K);
   const int img = needs_images(MODE, &B, rp2);
   batch b;
@@ -75,9 +82,9 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_kparams *kp, 
       const fast_term *T = &K->t[t];
       const double *pa = site_of_i(MODE, V, oi + T->a);
       term_sums s = {0};
-      if (T->what == T_LJ) term_loop(MODE, TRUNC, T_LJ, &B, T, pa, &b, &s);
-      else if (T->what == T_COUL) term_loop(MODE, TRUNC, T_COUL, &B, T, pa, &b, &s);
-      else term_loop(MODE, TRUNC, T_BOTH, &B, T, pa, &b, &s);
+      if (T->what == T_LJ) term_loop(MODE, TRUNC, T_LJ, &B, E, T, pa, &b, &s);
+      else if (T->what == T_COUL) term_loop(MODE, TRUNC, T_COUL, &B, E, T, pa, &b, &s);
+      else term_loop(MODE, TRUNC, T_BOTH, &B, E, T, pa, &b, &s);
       fi[T->a][0] += s.fx; fi[T->a][1] += s.fy; fi[T->a][2] += s.fz;
       elj += s.elj; ecoul += s.ecoul; bad += s.bad;
       for (int c = 0; c < 6; c++) w[c] += s.w[c];
@@ -88,5 +95,12 @@ RL_INLINE void sites_row(const int MODE, const int TRUNC, const rl_kparams *kp, 
     for (int c = 0; c < 3; c++) fs[oi + a][c] += fi[a][c];
   acc_add(acc, elj, ecoul, w, bad);
 }
+
+/* The rows of every separation mode and LJ truncation, named S (site images), H (the centres'
+ * image shifted), M (molecule cutoff) + truncation, each compiled for AVX-512, AVX2 and
+ * baseline x86-64 and picked at load time; and the row set SET of them. */
+#define RL_SITES_ROW(NAME, MODE, TRUNC)                                                        \
+  ROW_FN(NAME, sites_row(MODE, TRUNC, kp, V, K, i, nbr, len, fs, acc))
+#define RL_PORTABLE_SITES_ROWS(SET, S, H, M) RL_ROWS_ALL_MODES(SET, RL_SITES_ROW, S, H, M)
 
 #endif

@@ -1,10 +1,16 @@
-/* The TIP4P rows, portable: 1 LJ + 9 charge terms in one omp simd loop. */
+/* The TIP4P rows, portable: 1 LJ + 9 charge terms in one omp simd loop.  A template: include an
+ * electrostatics with charges (../elec/) first, then RL_PORTABLE_TIP4P_ROWS(SET, S, H, M) defines
+ * the rows and their row set SET. */
 #ifndef ROTLEAP_PAIR_PORTABLE_TIP4P_ROW_H
 #define ROTLEAP_PAIR_PORTABLE_TIP4P_ROW_H
 
 #include "../../rsqrt.h"
 #include "../batch.h"
 #include "../vdw_lj.h"
+
+#if !RL_ELEC_CHARGES
+#error "include an electrostatics with charges (kernels/elec/) before this template"
+#endif
 
 /* One LJ site without charge and three charges without LJ (TIP4P and its reparametrisations):
  * the batch's sites are gathered in the order LJ site, charge sites (K->perm), and the 1 LJ
@@ -25,7 +31,8 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_kparams *kp,
   const box_consts B = kp->B;
   const double rp2 = prune2(MODE, &B, K);
   const int img = needs_images(MODE, &B, rp2);
-  const double rc = B.rc, rsw = B.rsw, md2 = B.md2, krf = B.krf, crf = B.crf;
+  const double rc = B.rc, rsw = B.rsw, md2 = B.md2;
+  const rl_kelec E = kp->E;
   const lj_consts C = lj_of(&K->t[0]);
   double a[4][3], qq[3][3];
   for (int s = 0; s < 4; s++)
@@ -67,16 +74,17 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_kparams *kp,
 #pragma GCC unroll 3
       for (int p = 0; p < 3; p++)
 #pragma GCC unroll 3
-        for (int q = 0; q < 3; q++) { /* rl_coulomb_rf_pair */
+        for (int q = 0; q < 3; q++) { /* the electrostatics (elec/) */
           double dx, dy, dz;
           sep(MODE, &B, a[1 + p][0], a[1 + p][1], a[1 + p][2], &b, 1 + q, k, &dx, &dy, &dz);
           double r2 = dx * dx + dy * dy + dz * dz;
           const double in = inside(MODE, &B, &b, k, r2);
           r2min = r2 < r2min ? r2 : r2min;
           /* (qq in) x: the reference's qq x times a 0/1 factor, bit for bit, one multiply less */
-          const double qin = qq[p][q] * in, ir = rl_rsqrt(r2);
-          const double fr = qin * (ir * ir * ir - 2.0 * krf);
-          ecoul += qin * (ir + krf * r2 - crf);
+          const double qin = qq[p][q] * in;
+          double fe, ue = rl_elec_qq(E, r2, rl_rsqrt(r2), &fe);
+          const double fr = qin * fe;
+          ecoul += qin * ue;
           const double fx = fr * dx, fy = fr * dy, fz = fr * dz;
           gi[1 + p][0] += fx; gi[1 + p][1] += fy; gi[1 + p][2] += fz;
           gj[1 + q][0] -= fx; gj[1 + q][1] -= fy; gj[1 + q][2] -= fz;
@@ -131,5 +139,12 @@ RL_INLINE void tip4p_row(const int MODE, const int TRUNC, const rl_kparams *kp,
   acc->vir[3] += v3; acc->vir[4] += v4; acc->vir[5] += v5;
   acc->vir[6] += v6; acc->vir[7] += v7; acc->vir[8] += v8;
 }
+
+/* The rows of every separation mode and LJ truncation, named S, H, M (site images, the centres'
+ * image shifted, molecule cutoff) + truncation, each compiled for AVX-512, AVX2 and baseline
+ * x86-64 and picked at load time; and the row set SET of them. */
+#define RL_TIP4P_ROW(NAME, MODE, TRUNC)                                                        \
+  ROW_FN(NAME, tip4p_row(MODE, TRUNC, kp, V, K, i, nbr, len, fs, acc))
+#define RL_PORTABLE_TIP4P_ROWS(SET, S, H, M) RL_ROWS_ALL_MODES(SET, RL_TIP4P_ROW, S, H, M)
 
 #endif
