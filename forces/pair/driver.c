@@ -10,6 +10,8 @@
 #include <string.h>
 #ifdef _OPENMP
 #include <omp.h>
+#else
+static inline int omp_get_thread_num(void) { return 0; }
 #endif
 
 void rl_ff_fast_free(rl_ff_fast *f)
@@ -17,25 +19,17 @@ void rl_ff_fast_free(rl_ff_fast *f)
   if (!f) return;
   free(f->sk);
   free(f->row);
-  rl_nlist_free(f->chk);
-  free(f->fstart); free(f->gstart); free(f->fnbr); free(f->gnbr);
-  free(f->tlo); free(f->thi); free(f->rmax);
-  if (f->tr)
-    for (int c = 0; c < f->nchunk; c++) { free(f->tr[c].f); free(f->tr[c].g); }
-  free(f->tr);
-  if (f->cand)
-    for (int t = 0; t < f->nthreads; t++) free(f->cand[t]);
-  free(f->cand);
-  free(f->cell_of); free(f->cell_start); free(f->cell_body); free(f->bx);
+  free(f->kernel);
+  free(f->images);
+  rl_rowlist_free(f->list);
+  free(f->tlo); free(f->thi);
   free(f->fsbuf); free(f->tqbuf);
   free(f->acc);
   free(f->status);
   free(f->mode);
-  free(f->ord);
-  free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite); free(f->V.soff); free(f->V.sp);
+  free(f->V.c); free(f->V.ax); free(f->V.site); free(f->V.dsite);
   free(f->pfs); free(f->ptq);
   free(f->V.pk); free(f->pft); free(f->V.pk4); free(f->pft4); free(f->V.pk4f);
-  free(f->xstart); free(f->xnbr); free(f->xsh); free(f->xfar);
   free(f);
 }
 
@@ -58,52 +52,39 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   const int T = rl_threads_resolve(ff->p.threads);
   f->nthreads = T;
   int n = ff->n;
-  f->sk = calloc((size_t)ff->nspecies, sizeof *f->sk);
-  f->row = calloc((size_t)(ff->nspecies > 0 ? ff->nspecies : 1), sizeof *f->row);
-  f->chk = rl_nlist_alloc(ff->skin);
-  f->fstart = calloc((size_t)n + 1, sizeof(int));
-  f->gstart = calloc((size_t)n + 1, sizeof(int));
+  const size_t k1 = (size_t)(ff->nspecies > 0 ? ff->nspecies : 1);
+  f->sk = calloc(k1, sizeof *f->sk);
+  f->row = calloc(k1, sizeof *f->row);
+  f->kernel = calloc(k1, 1);
+  f->images = calloc(k1, 1);
+  f->list = rl_rowlist_alloc(n, T, ff->skin);
   f->tlo = calloc((size_t)T + 1, sizeof(int));
   f->thi = calloc((size_t)T, sizeof(int));
-  f->rmax = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
-  f->nchunk = T > 1 ? 16 * T : 1;
-  f->tr = calloc((size_t)f->nchunk, sizeof *f->tr);
-  f->cand = calloc((size_t)T, sizeof *f->cand);
   f->acc = calloc((size_t)T, sizeof *f->acc);
   f->status = calloc((size_t)T, sizeof *f->status);
-  f->mode = calloc((size_t)(ff->nspecies > 0 ? ff->nspecies : 1), sizeof *f->mode);
-  f->cell_of = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
-  f->cell_body = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  f->mode = calloc(k1, sizeof *f->mode);
   const size_t n1 = (size_t)(n > 0 ? n : 1), s1 = (size_t)(ff->nsites > 0 ? ff->nsites : 1);
-  f->ord = malloc(sizeof(int) * n1);
-  f->V.soff = malloc(sizeof(int) * n1);
-  f->V.sp = malloc(sizeof(int) * n1);
   f->V.c = malloc(sizeof *f->V.c * n1);
   f->V.ax = malloc(sizeof *f->V.ax * n1);
   f->V.site = malloc(sizeof *f->V.site * s1);
   f->V.dsite = malloc(sizeof *f->V.dsite * s1);
   f->pfs = calloc(s1 * (size_t)T, sizeof *f->pfs); /* zero between computes (see the sums) */
   f->ptq = calloc(n1 * (size_t)T, sizeof *f->ptq);
-  f->bx = malloc(sizeof *f->bx * 3 * n1);
   if (T > 1) {
-    f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * (size_t)(ff->nsites > 0 ? ff->nsites : 1));
-    f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * (size_t)(n > 0 ? n : 1));
+    f->fsbuf = malloc(sizeof *f->fsbuf * (size_t)(T - 1) * s1);
+    f->tqbuf = malloc(sizeof *f->tqbuf * (size_t)(T - 1) * n1);
   }
-  if (!f->sk || !f->row || !f->chk || !f->fstart || !f->gstart || !f->tlo || !f->thi || !f->rmax ||
-      !f->tr || !f->cand || !f->acc || !f->status || !f->mode || !f->ord || !f->V.soff ||
-      !f->V.sp || !f->V.c || !f->V.ax || !f->V.site || !f->V.dsite || !f->pfs || !f->ptq ||
-      !f->cell_of || !f->cell_body || !f->bx ||
-      (T > 1 && (!f->fsbuf || !f->tqbuf))) {
+  if (!f->sk || !f->row || !f->kernel || !f->images || !f->list || !f->tlo || !f->thi ||
+      !f->acc || !f->status || !f->mode || !f->V.c || !f->V.ax || !f->V.site || !f->V.dsite ||
+      !f->pfs || !f->ptq || (T > 1 && (!f->fsbuf || !f->tqbuf))) {
     rl_ff_fast_free(f);
     return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
   }
-  for (int t = 0; t < T; t++)
-    if (!(f->cand[t] = malloc(sizeof(int) * (n1 + 16)))) { /* scan512 stores 16 at a time */
-      rl_ff_fast_free(f);
-      return rl_error(RL_ENOMEM, "forcefield: out of memory for the kernels' workspace");
-    }
-  f->chk->builds = builds;
+  f->V.soff = f->list->soff; /* the ranks' first sites and species are the list's */
+  f->V.sp = f->list->sp;
+  f->list->chk->builds = builds;
   rl_ff_select(ff, f);
+  for (int k = 0; k < ff->nspecies; k++) f->kernel[k] = f->sk[k].kind != K_NONE;
   if (f->vec) { /* the register rows' records: 64 bytes (dipoles), 128 (TIP4P) */
     const size_t T1 = (size_t)T;
     if (f->ndip) {
@@ -129,14 +110,69 @@ int rl_ff_fast_setup(rl_forcefield *ff)
 
 void rl_ff_fast_invalidate(rl_ff_fast *f)
 {
-  if (f) rl_nlist_invalidate(f->chk);
+  if (f) rl_nlist_invalidate(f->list->chk);
 }
 int rl_ff_fast_threads(const rl_ff_fast *f) { return f->nthreads; }
-long rl_ff_fast_builds(const rl_ff_fast *f) { return f ? f->chk->builds : 0; }
+long rl_ff_fast_builds(const rl_ff_fast *f) { return f ? f->list->chk->builds : 0; }
 
 const double (*rl_ff_fast_origin(const rl_ff_fast *f, int n))[3]
 {
-  return f && f->chk->n == n && f->chk->r0 ? (const double(*)[3])f->chk->r0 : NULL;
+  const rl_nlist *chk = f ? f->list->chk : NULL;
+  return chk && chk->n == n && chk->r0 ? (const double(*)[3])chk->r0 : NULL;
+}
+
+/* The cost of row m (species k) in units of about one pair term: kernel terms per listed
+ * pair, 16 per reference pair, and for the row itself (its setup, the last partial vector, the
+ * lane sums) 60 for a dipole row and 110 for a site row: the later ranks list fewer neighbours
+ * of higher rank, and without that term the thread with the later rows took 8 % longer (8,000
+ * dipoles).  For the TIP4P rows on AVX2 a fit of cycles per row against its length gave about
+ * 500 + 55 fl cycles, so a row costs as much as 9 of its pairs (12 units each); the all-pairs
+ * list of a small box (256 TIP4P) has rows of 0 to 200 pairs, and thread 1 took twice as many.
+ * The other site rows take the same 110 unmeasured (about 10 CO2 pairs, 37 charge-LJ pairs). */
+static double row_cost(const rl_ff_fast *f, int k, int m)
+{
+  const fast_species *K = &f->sk[k];
+  const rl_rowlist *L = f->list;
+  const int fl = L->fstart[m + 1] - L->fstart[m], gl = L->gstart[m + 1] - L->gstart[m];
+  return K->kind == K_DIPOLE ? 4.0 * fl + (fl > 0 ? 60.0 : 0.0) + 16.0 * gl
+                             : (double)fl * (K->nterms + 2) + (fl > 0 ? 110.0 : 0.0) + 16.0 * gl;
+}
+
+/* Build the kernels' list from the centres c (the current ones, or a restart's origin), and
+ * split its rows between the threads. */
+static int build(rl_forcefield *ff, const double (*c)[3])
+{
+  rl_ff_fast *f = ff->fast;
+  rl_rowlist *L = f->list;
+  const int n = ff->n, T = f->nthreads;
+  const rl_rowlist_in in = {&ff->box, ff->rlist, n, ff->nspecies, c, ff->body_species,
+                            ff->sp_count, ff->sp_nsites, f->kernel,
+                            rl_ff_image_rows(ff, f->images) ? f->images : NULL, f->vec == VEC_512};
+  const int st = rl_rowlist_build(L, &in);
+  if (st) return st;
+  f->V.xstart = L->ximages ? L->xstart : NULL; /* the image list, if built */
+  f->V.xnbr = L->xnbr;
+  for (int d = 0; d < 3; d++) f->V.xs[d] = L->xs[d];
+  /* compute ranges: equal shares of cost (row_cost) */
+  double total = 0.0;
+  for (int i = 0; i < n; i++) total += row_cost(f, ff->body_species[L->ord[i]], i);
+  double run = 0.0;
+  int t = 1;
+  f->tlo[0] = 0;
+  for (int i = 0; i < n && t < T; i++) {
+    run += row_cost(f, ff->body_species[L->ord[i]], i);
+    while (t < T && run >= total * t / T) f->tlo[t++] = i + 1;
+  }
+  while (t <= T) f->tlo[t++] = n;
+  /* the ranks each thread's rows write: its own, and their neighbours (of higher rank), so that
+   * it zeroes and the sums read only those (at 64,000 dipoles on two threads each thread's
+   * buffer was 4 MB, of which the other half stayed zero) */
+  for (int u = 0; u < T; u++) {
+    int hi = f->tlo[u + 1];
+    for (int m = f->tlo[u]; m < f->tlo[u + 1]; m++) hi = L->rmax[m] + 1 > hi ? L->rmax[m] + 1 : hi;
+    f->thi[u] = hi;
+  }
+  return RL_OK;
 }
 
 /* ------------------------------------------------------------------------ compute */
@@ -155,17 +191,15 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     for (int c = 0; c < 3; c++) far |= fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12;
   if (far) return 1;
   if (ff->origin) { /* a restart: first the list the run had, built from its centres */
-    double(*cur)[3] = ff->centre;
-    ff->centre = ff->origin;
-    int st = rl_ff_fast_build(ff);
-    ff->centre = cur;
+    int st = build(ff, (const double(*)[3])ff->origin);
     free(ff->origin);
     ff->origin = NULL;
     if (st) return st;
   }
-  if (rl_nlist_needs_rebuild(f->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL, T) ||
-      f->chk->rlist != ff->rlist) {
-    int st = rl_ff_fast_build(ff);
+  const rl_rowlist *L = f->list;
+  if (rl_nlist_needs_rebuild(L->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL, T) ||
+      L->chk->rlist != ff->rlist) {
+    int st = build(ff, (const double(*)[3])ff->centre);
     if (st) return st;
   }
   /* each species' separation mode (see P_SHIFT): the molecular shift where the box allows */
@@ -177,14 +211,14 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     mode[k] = ff->p.scheme == RL_CUTOFF_MOLECULE ? P_MOL : shift ? P_SHIFT : P_SITE;
   }
   kview *V = &f->V;
-  const int *ord = f->ord;
+  const int *ord = L->ord;
   rl_kparams kp; /* what the rows read besides the arrays */
   rl_ff_kparams(ff, &kp);
   /* every body a dipole rank on the AVX-512 rows (a Stockmayer fluid): the kernels read and
    * write only the 64-byte records, so the copies and the sums below take a short path */
   const int dip_only = f->pft && f->ndip == n;
   /* no pairs for the reference routine: the threads' site-force buffers stay empty */
-  const int general = f->gstart[n] > 0;
+  const int general = L->gstart[n] > 0;
 #pragma omp parallel num_threads(T)
   {
     int t = omp_get_thread_num();
@@ -257,11 +291,11 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
     for (int m = f->tlo[t]; m < f->tlo[t + 1] && !st && !a->s.bad; m++) {
       const int i = ord[m], k = ff->body_species[i];
       const fast_species *K = &f->sk[k];
-      int fl = f->fstart[m + 1] - f->fstart[m];
+      int fl = L->fstart[m + 1] - L->fstart[m];
       if (fl > 0)
-        f->row[k][a->forces_only][mode[k]](&kp, V, K, m, f->fnbr + f->fstart[m], fl, &kout);
-      for (int q = f->gstart[m]; q < f->gstart[m + 1] && !st; q++)
-        st = rl_ff_body_pair(ff, i, f->gnbr[q], a);
+        f->row[k][a->forces_only][mode[k]](&kp, V, K, m, L->fnbr + L->fstart[m], fl, &kout);
+      for (int q = L->gstart[m]; q < L->gstart[m + 1] && !st; q++)
+        st = rl_ff_body_pair(ff, i, L->gnbr[q], a);
     }
     f->status[t] = st;
 #ifdef _OPENMP /* -fopenmp-simd accepts the other directives without OpenMP, not this one */

@@ -6,7 +6,7 @@
 #include "rotleap/forcefield.h"
 
 #include "../../core/box.h"
-#include "neighbor.h"
+#include "pairlist.h"
 #include "coulomb_rf.h"
 #include "lj.h"
 #include "kernels/kernel.h"

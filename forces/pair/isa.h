@@ -1,7 +1,8 @@
 /* Which instruction sets this build compiles for the pair term (internal): the per-CPU clones of
  * the portable rows, the AVX-512 and AVX2 register rows, and the list build's vector scans.  GCC
  * on x86-64 only, and not with ROTLEAP_NO_CLONES (sanitizer builds, the build without OpenMP):
- * there every row is compiled once, portable. */
+ * there every row is compiled once, portable.  Also the minimum image the rows and the kernels'
+ * list share (RL_RND). */
 #ifndef ROTLEAP_PAIR_ISA_H
 #define ROTLEAP_PAIR_ISA_H
 
@@ -35,5 +36,10 @@
 #define RL_T256
 #define RL_SCHED
 #endif
+
+
+/* nearbyint(x) for |x| < 2^51 in the default rounding mode, written so it vectorises:
+ * x + 1.5 2^52 has unit spacing, so the sum rounds x to the nearest integer (ties to even). */
+#define RL_RND(x) (((x) + 6755399441055744.0) - 6755399441055744.0)
 
 #endif

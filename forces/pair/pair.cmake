@@ -1,7 +1,7 @@
 # The pair term (forces/pair/): the force field and its reference routine, the pair lists, kernel
 # selection, the kernels (one folder per instruction set, kernels/) and their threaded driver.
 target_sources(rotleap PRIVATE
-  ${CMAKE_CURRENT_LIST_DIR}/neighbor.c
+  ${CMAKE_CURRENT_LIST_DIR}/pairlist.c
   ${CMAKE_CURRENT_LIST_DIR}/lj.c
   ${CMAKE_CURRENT_LIST_DIR}/coulomb_rf.c
   ${CMAKE_CURRENT_LIST_DIR}/dipole.c
@@ -12,6 +12,7 @@ target_sources(rotleap PRIVATE
 set(RL_PAIR_FAST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/select.c
   ${CMAKE_CURRENT_LIST_DIR}/pairlist_rows.c
+  ${CMAKE_CURRENT_LIST_DIR}/pairlist_images.c
   ${CMAKE_CURRENT_LIST_DIR}/driver.c
   ${CMAKE_CURRENT_LIST_DIR}/kernels/portable/sites_lj_rf.c
   ${CMAKE_CURRENT_LIST_DIR}/kernels/portable/tip4p_lj_rf.c

@@ -2,6 +2,7 @@
  * which instruction set its rows use (at load time, from the CPU and the environment), and in
  * which precision. */
 #include "fast.h"
+#include "kernels/batch.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -136,6 +137,30 @@ void rl_ff_kparams(const rl_forcefield *ff, rl_kparams *kp)
   const rl_kelec E = {ff->kc, ff->rf.krf, ff->rf.crf, rc};
   kp->B = B;
   kp->E = E;
+}
+
+/* Whether the AVX2 TIP4P rows take the image list: some TIP4P species separates its sites by
+ * shifting the centres' separation (P_SHIFT) in a box that needs other images (needs_images),
+ * the modes rl_ff_fast_compute gives it.  Then the rows of every TIP4P species do. */
+int rl_ff_image_rows(const rl_forcefield *ff, unsigned char *images)
+{
+  const rl_ff_fast *f = ff->fast;
+  if ((f->vec != VEC_256 && !f->tmix) || ff->p.scheme == RL_CUTOFF_MOLECULE) return 0;
+  rl_kparams kp;
+  rl_ff_kparams(ff, &kp);
+  const box_consts B = kp.B;
+  for (int k = 0; k < ff->nspecies; k++) {
+    const fast_species *K = &f->sk[k];
+    if (K->kind != K_TIP4P || ff->sp_count[k] == 0) continue;
+    const double rp = ff->p.cutoff + 2.0 * K->extent;
+    int shift = 1;
+    for (int c = 0; c < 3; c++) shift &= ff->box.L[c] > rp && ff->box.L[c] >= 2.0 * ff->p.cutoff;
+    if (shift && needs_images(P_SHIFT, &B, prune2(P_SHIFT, &B, K))) {
+      for (int q = 0; q < ff->nspecies; q++) images[q] = f->sk[q].kind == K_TIP4P;
+      return 1;
+    }
+  }
+  return 0;
 }
 
 void rl_ff_select(const rl_forcefield *ff, rl_ff_fast *f)

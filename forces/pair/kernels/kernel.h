@@ -1,5 +1,21 @@
-/* The kernel interface of the pair term (internal): the types a row of a specialised kernel
- * reads, and the row sets that the instance files export. */
+/* The kernel interface of the pair term (internal): what a row of a specialised kernel reads
+ * and writes, and the row sets the row files export.
+ *
+ * A row is one molecule (rank i: the pair list's spatial order) against the ranks nbr[0 .. len)
+ * of the same species: row_fn(kp, V, K, i, nbr, len, out) with kp the parameter block of the
+ * compute (box, cutoffs, electrostatics), V the bodies' copies in rank order (plain arrays), K
+ * the species' terms, and out the thread's buffers and sums.  A row never sees the force field.
+ *
+ * The tree (docs/interactions.md, "Kernels"):
+ *   kernels/<instruction set>/<pattern>_row.h      the row bodies, templates
+ *   kernels/<instruction set>/<pattern>_<vdw>_<elec>.c   one row set: the template compiled
+ *                                                   with one electrostatics
+ *   kernels/elec/<elec>.h                          the electrostatics (rf.h, sf.h; elec.h)
+ *   kernels/vdw_lj.h, batch.h, tip4p.h             what the rows share
+ * with the instruction sets portable (omp simd, compiled per CPU with target clones), avx512,
+ * avx2 (register rows) and avx2_mixed (AVX2, single precision), the patterns sites
+ * ("charge-lj"), tip4p and dipole (Stockmayer), and each row set holding the rows of every
+ * separation mode and LJ truncation (rl_row_set), picked per species in select.c. */
 #ifndef ROTLEAP_PAIR_KERNEL_H
 #define ROTLEAP_PAIR_KERNEL_H
 
@@ -9,9 +25,6 @@
 #define RL_FAST_MAXS 8  /* sites per molecule in the site kernels                   */
 #define RL_FAST_MAXT (RL_FAST_MAXS * RL_FAST_MAXS)
 
-/* nearbyint(x) for |x| < 2^51 in the default rounding mode, written so it vectorises:
- * x + 1.5 2^52 has unit spacing, so the sum rounds x to the nearest integer (ties to even). */
-#define RL_RND(x) (((x) + 6755399441055744.0) - 6755399441055744.0)
 
 enum { K_NONE = 0, K_SITES = 1, K_DIPOLE = 2, K_TIP4P = 3 };
 enum { T_LJ = 0, T_COUL = 1, T_BOTH = 2 };

@@ -1,4 +1,5 @@
-/* The Stockmayer rows on AVX2. */
+/* The Stockmayer rows on AVX2: a template.  Include a dipolar electrostatics (../elec/) first;
+ * RL_AVX2_DIPOLE_ROWS(SET, X, O) then defines the rows and their row set. */
 #ifndef ROTLEAP_PAIR_AVX2_DIPOLE_ROW_H
 #define ROTLEAP_PAIR_AVX2_DIPOLE_ROW_H
 

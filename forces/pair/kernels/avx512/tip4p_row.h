@@ -1,4 +1,5 @@
-/* The TIP4P rows on AVX-512. */
+/* The TIP4P rows on AVX-512: a template.  Include an electrostatics with charges (../elec/)
+ * first; RL_AVX512_TIP4P_ROWS(SET, XH, XM, OH, OM) then defines the rows and their row set. */
 #ifndef ROTLEAP_PAIR_AVX512_TIP4P_ROW_H
 #define ROTLEAP_PAIR_AVX512_TIP4P_ROW_H
 
