@@ -26,6 +26,7 @@ enum { V_U, V_T, V_TT, V_TR, V_P, V_E, V_EC, V_K, V_F2, V_K2, NV };
 
 struct analysis {
   const rl_deck *d;
+  double box[3];     /* the system's box (a run at constant volume: the same all along)          */
   const rl_molecule *mol;
   int n;
   rl_trace *v[NV];       /* the step series (V_U: U per molecule, V_E: total, V_EC: conserved)   */
@@ -182,7 +183,7 @@ static void header_of(const analysis *a, jheader *h)
     h->site[q][1] = a->rdf_site[q][1];
   }
   h->rmax = a->nrdf ? rl_rdf_rmax(a->rdf[0]) : 0.0;
-  memcpy(h->box, a->d->box, sizeof h->box);
+  memcpy(h->box, a->box, sizeof h->box);
   h->timestep = a->d->timestep;
   h->energy_every = a->d->energy_every;
   h->sample_every = a->d->sample_every;
@@ -239,7 +240,8 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   for (int k = 0; k < 3; k++) ok = (a->M[k] = rl_trace_alloc(0)) && ok;
   ok = (a->M2 = rl_trace_alloc(0)) && ok;
   /* output.rdf: "O-O, H-H" */
-  double rmax = 0.5 * fmin(d->box[0], fmin(d->box[1], d->box[2]));
+  rl_system_box(sys, a->box);
+  double rmax = 0.5 * fmin(a->box[0], fmin(a->box[1], a->box[2]));
   const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
   if (nrdf < 0) { analysis_free(a); return NULL; }
   for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, RDF_BINS);
@@ -344,7 +346,7 @@ static int consume_sample(analysis *a, const unsigned char *p)
     memcpy(&na, p + 8, 4);
     memcpy(a->hist, p + 16, 4 * RDF_BINS);
     p += 16 + 4 * RDF_BINS;
-    st = rl_rdf_add_counts(a->rdf[q], a->d->box, a->hist, pairs, na);
+    st = rl_rdf_add_counts(a->rdf[q], a->box, a->hist, pairs, na);
   }
   if (a->dipolar && !st) {
     double M[3];
@@ -367,7 +369,7 @@ static int consume_sample(analysis *a, const unsigned char *p)
   /* each centre is the image nearest its previous *unwrapped* position (rl_unwrap's contract):
    * nearest the previous raw position, a body would lose its image one sample after crossing */
   if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
-  else rl_unwrap(a->d->box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
+  else rl_unwrap(a->box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
   return rl_vec_series_add(a->pos, (const double(*)[3])a->unwrapped);
 }
 
@@ -443,7 +445,7 @@ int analysis_sample(analysis *a, const rl_system *sys)
   for (int q = 0; q < a->nrdf; q++) {
     double pairs;
     int na;
-    if ((st = rl_rdf_count_sites(a->rdf[q], sys, a->d->box, 0, a->rdf_site[q][0], 0, a->rdf_site[q][1], a->hist,
+    if ((st = rl_rdf_count_sites(a->rdf[q], sys, 0, a->rdf_site[q][0], 0, a->rdf_site[q][1], a->hist,
                                  &pairs, &na)))
       return st;
     const int32_t na32 = na, pad = 0;
@@ -826,7 +828,7 @@ static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, cons
 {
   const rl_deck *d = a->d;
   const int real = d->units == RL_UNITS_REAL;
-  const eps_ctx c = {d, d->box[0] * d->box[1] * d->box[2], T};
+  const eps_ctx c = {d, a->box[0] * a->box[1] * a->box[2], T};
   double dM2 = 0.0, eps;
   for (int k = 0; k < 3; k++) {
     const rl_moments m = rl_trace_moments(a->M[k], j0);

@@ -24,6 +24,12 @@
 static const char *pressure_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "bar" : "reduced"; }
 static const char *energy_unit(const rl_deck *d) { return d->units == RL_UNITS_REAL ? "kJ/mol" : "reduced"; }
 
+/* The energy components of the terms' last computation, into comp[rl_terms_nenergies]. */
+static void energy_components(const rl_terms *t, double *comp)
+{
+  for (int j = 0; j < rl_terms_nenergies(t); j++) comp[j] = rl_terms_energy(t, j);
+}
+
 int rl_app_energy(const rl_deck *d, int json)
 {
   scene s;
@@ -36,23 +42,24 @@ int rl_app_energy(const rl_deck *d, int json)
   }
   int n = rl_system_count(s.sys), nr = rl_system_nrot(s.sys);
   rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])), 0.0, {0}, 0};
-  int st = F.f && F.k ? rl_forcefield_compute(s.ff, s.sys, &F) : RL_ENOMEM;
+  int st = F.f && F.k ? rl_terms_compute(s.terms, s.sys, &F) : RL_ENOMEM;
   if (st) {
     fprintf(stderr, "rotleap energy: %s\n", rl_last_error());
     free(F.f); free(F.k); scene_free(&s);
     return 1;
   }
-  rl_ff_energies e;
-  rl_forcefield_energies(s.ff, &e);
+  double comp[64];
+  energy_components(s.terms, comp);
+  const int ne = rl_terms_nenergies(s.terms);
   double ke = 0.0;
   for (int i = 0; i < n; i++) {
     double v[3];
     rl_system_get_velocity(s.sys, i, v);
     ke += 0.5 * s.mol.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
-  double P = scene_pressure_out(d, rl_forcefield_pressure(s.ff, &F, ke));
+  double P = scene_pressure_out(d, rl_forces_pressure(s.sys, &F, ke));
   /* a NaN is an error naming its term, as in a run, never a number printed with exit 0 */
-  st = scene_check_finite(d, &e, F.virial, P);
+  st = scene_check_finite(d, s.terms, comp, F.virial, P);
   for (int i = 0; !st && i < n; i++) {
     const int ri = rl_system_rot_index(s.sys, i);
     for (int c = 0; c < 3; c++)
@@ -69,10 +76,13 @@ int rl_app_energy(const rl_deck *d, int json)
   const char *L = d->units == RL_UNITS_REAL ? "nm" : "reduced";
   if (json) {
     printf("{\"units\": {\"energy\": \"%s\", \"length\": \"%s\", \"force\": \"%s/%s\", \"torque\": \"%s\", "
-           "\"pressure\": \"%s\"},\n \"energy\": {\"total\": %.17g, \"lj\": %.17g, \"coulomb\": %.17g, "
-           "\"dipolar\": %.17g, \"quadrupolar\": %.17g, \"dispersion\": %.17g},\n \"virial\": [",
-           energy_unit(d), L, energy_unit(d), L, energy_unit(d), pressure_unit(d), e.total, e.lj,
-           e.coulomb, e.dipolar, e.quadrupolar, e.dispersion);
+           "\"pressure\": \"%s\"},\n \"energy\": {\"total\": %.17g", energy_unit(d), L, energy_unit(d), L,
+           energy_unit(d), pressure_unit(d), F.energy);
+    for (int j = 0; j < ne; j++) printf(", \"%s\": %.17g", rl_terms_energy_name(s.terms, j), comp[j]);
+    printf("},\n \"terms\": [");
+    for (int k = 0; k < rl_terms_count(s.terms); k++)
+      printf("%s\"%s\"", k ? ", " : "", rl_terms_type(s.terms, k)->name);
+    printf("],\n \"virial\": [");
     for (int k = 0; k < 9; k++) printf("%.17g%s", F.virial[k], k < 8 ? ", " : "");
     printf("],\n \"pressure\": %.17g,\n \"molecules\": [", P);
     for (int i = 0; i < n; i++) {
@@ -86,9 +96,9 @@ int rl_app_energy(const rl_deck *d, int json)
   } else {
     printf("# energies in %s, forces in %s/%s, torques in %s, pressure in %s\n", energy_unit(d),
            energy_unit(d), L, energy_unit(d), pressure_unit(d));
-    printf("term,value\ntotal,%.17g\nlj,%.17g\ncoulomb,%.17g\ndipolar,%.17g\nquadrupolar,%.17g\n"
-           "dispersion,%.17g\npressure,%.17g\n", e.total, e.lj, e.coulomb, e.dipolar, e.quadrupolar,
-           e.dispersion, P);
+    printf("term,value\ntotal,%.17g\n", F.energy);
+    for (int j = 0; j < ne; j++) printf("%s,%.17g\n", rl_terms_energy_name(s.terms, j), comp[j]);
+    printf("pressure,%.17g\n", P);
     printf("\nmolecule,fx,fy,fz,tx,ty,tz\n");
     for (int i = 0; i < n; i++) {
       int ri = rl_system_rot_index(s.sys, i);
@@ -164,20 +174,36 @@ static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (S
 
 /* --------------------------------------------------------------------------- thermo rows */
 
-#define THERMO_HEADER                                                                          \
-  "step,time,total,potential,lj,coulomb,dipolar,quadrupolar,dispersion,ke_trans,ke_rot,"        \
-  "temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n"
-
-/* One row of PREFIX.thermo.csv (THERMO_HEADER's columns): the state at the start of step k;
- * calE is the running relative fluctuation of the conserved quantity (E). */
-static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_ff_energies *e, double pr,
-                      const running *E)
+/* The thermo file's header: step, time, total, potential, the energy components of every force
+ * term (terms.h: lj, coulomb, dipolar, quadrupolar, dispersion for the pair term), kinetic
+ * energies, temperatures, pressure, the conserved quantity, calE and the mid-step temperatures.
+ * malloc'd. */
+static char *thermo_header(const rl_terms *t)
 {
-  if (fprintf(f, "%ld,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n",
-              k, info->t, info->total, info->potential, e->lj, e->coulomb, e->dipolar, e->quadrupolar, e->dispersion,
-              info->ke_trans, info->ke_rot, info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
-              E->n > 1 ? running_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid) < 0)
-    return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
+  char *h = NULL;
+  size_t n = 0;
+  FILE *f = open_memstream(&h, &n);
+  if (!f) return NULL;
+  fputs("step,time,total,potential", f);
+  for (int j = 0; j < rl_terms_nenergies(t); j++) fprintf(f, ",%s", rl_terms_energy_name(t, j));
+  fputs(",ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n", f);
+  if (fclose(f)) { free(h); return NULL; }
+  return h;
+}
+
+/* One row of PREFIX.thermo.csv (thermo_header's columns): the state at the start of step k with
+ * its energy components comp (energy_components at that time); calE is the running relative
+ * fluctuation of the conserved quantity (E). */
+static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_terms *t,
+                      const double *comp, double pr, const running *E)
+{
+  int bad = fprintf(f, "%ld,%.10g,%.10g,%.10g", k, info->t, info->total, info->potential) < 0;
+  for (int j = 0; j < rl_terms_nenergies(t) && !bad; j++) bad = fprintf(f, ",%.10g", comp[j]) < 0;
+  if (!bad)
+    bad = fprintf(f, ",%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n", info->ke_trans, info->ke_rot,
+                  info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
+                  E->n > 1 ? running_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid) < 0;
+  if (bad) return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
   return RL_OK;
 }
 
@@ -319,19 +345,23 @@ typedef struct {
   outputs *out;
   char *chk_path, *chk_prev, *summary_path;
   char *physics;
+  char *header;         /* the thermo file's header (thermo_header)                         */
   int site;             /* a DCD of the sites + PDB topology, else extended XYZ            */
   int same_prefix;      /* system.start is this prefix's checkpoint                        */
   int resumed;          /* the streams continue those of the checkpoint's run              */
   int moved_prev;       /* this run moved an earlier PREFIX.chk to PREFIX.chk.prev          */
   int streams;          /* the streams are open                                            */
   rl_integrator *in;
+  rl_run *drv;          /* the library's run driver (run.h): the loop, its watch, the reporters */
+  int progress;         /* a progress line on stderr                                        */
+  double t0, last_progress; /* wall clock at the start, and at the last progress line       */
   analysis *an;
   FILE *thermo, *xyz, *journal; /* the analysis journal: PREFIX.samples (outputs.h)           */
   long journal_len;      /* its bytes at the checkpoint continued, to replay             */
   int journal_copied;    /* ... copied from the run of another prefix                    */
   rl_dcd *dcd;
   running E, U, T, Tt, Tr, P; /* E: the conserved quantity (the total energy in NVE)      */
-  scene_watch watch;
+  rl_watch watch;
   long first, done;
   int stopped;          /* the signal that ended the run                                    */
   long last_chk;        /* the step of the last checkpoint this run wrote or continues (-1)  */
@@ -385,7 +415,7 @@ static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double tim
     else c->moved_prev = 1;
   }
   if (!st) {
-    rl_checkpoint_meta meta = {time, relax_step >= 0 ? 0 : step, {d->box[0], d->box[1], d->box[2]}, blob, size};
+    rl_checkpoint_meta meta = {time, relax_step >= 0 ? 0 : step, {0, 0, 0}, blob, size}; /* the box: the system's */
     st = rl_checkpoint_write(c->chk_path, c->s.sys, &meta);
     if (!st) c->last_chk = relax_step >= 0 ? 0 : step;
   }
@@ -507,7 +537,7 @@ static int open_streams(run_ctx *c, const run_record *rec, const run_record *oth
     if (!(st = outputs_resume(o, OUT_THERMO, &rec->marks[OUT_THERMO], outputs_path(o, OUT_THERMO), outputs_part(o, OUT_THERMO))))
       if (!(c->thermo = outputs_append(o, OUT_THERMO))) st = RL_EINVAL;
   } else if (!(c->thermo = outputs_create(o, OUT_THERMO))) st = RL_EINVAL;
-  else if (fputs(THERMO_HEADER, c->thermo) < 0)
+  else if (!c->header || fputs(c->header, c->thermo) < 0)
     st = rl_error(RL_EINVAL, "cannot write %s: %s", outputs_part(o, OUT_THERMO), strerror(errno));
   c->streams = 1;
   if (!st) st = open_journal(c, rec, other);
@@ -542,16 +572,16 @@ static int open_topology(run_ctx *c)
 {
   if (!c->site || c->d->trajectory_every <= 0 || outputs_started_p(c->out, OUT_TOPOLOGY)) return RL_OK;
   const rl_molecule *mols[1] = {&c->s.mol};
-  const int st = rl_pdb_write(outputs_part(c->out, OUT_TOPOLOGY), c->s.sys, mols, c->d->box);
+  const int st = rl_pdb_write(outputs_part(c->out, OUT_TOPOLOGY), c->s.sys, mols);
   if (!st) outputs_started(c->out, OUT_TOPOLOGY, 0);
   return st;
 }
 
 static int traj_frame(run_ctx *c, double time, long step)
 {
-  if (c->dcd) return rl_dcd_write_frame(c->dcd, c->s.sys, c->d->box);
+  if (c->dcd) return rl_dcd_write_frame(c->dcd, c->s.sys);
   const char *path = outputs_part(c->out, OUT_TRAJ);
-  int st = rl_xyz_write_frame(c->xyz, path, c->s.sys, c->d->box, time, step);
+  int st = rl_xyz_write_frame(c->xyz, path, c->s.sys, time, step);
   if (!st && ferror(c->xyz)) st = rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
   return st;
 }
@@ -600,8 +630,9 @@ static void start_check(run_ctx *c)
       const double f = sqrt(F.f[i][0] * F.f[i][0] + F.f[i][1] * F.f[i][1] + F.f[i][2] * F.f[i][2]);
       if (f > fmax) { fmax = f; worst = i; }
     }
-    double ri[3], best = INFINITY;
+    double ri[3], best = INFINITY, L[3];
     int near = -1;
+    rl_system_box(sys, L);
     rl_system_get_position(sys, worst, ri);
     for (int j = 0; j < n; j++) {
       if (j == worst) continue;
@@ -609,7 +640,7 @@ static void start_check(run_ctx *c)
       rl_system_get_position(sys, j, rj);
       for (int k = 0; k < 3; k++) {
         double x = rj[k] - ri[k];
-        x -= d->box[k] * nearbyint(x / d->box[k]);
+        x -= L[k] * nearbyint(x / L[k]);
         r2 += x * x;
       }
       if (r2 < best) { best = r2; near = j; }
@@ -633,12 +664,13 @@ static void step_error(const run_ctx *c, int st)
   const scene *s = &c->s;
   char msg[1024], term[1024] = "";
   snprintf(msg, sizeof msg, "%s", rl_last_error());
-  rl_ff_energies e;
-  if (st == RL_ENONFINITE && s->ff) {
-    rl_forcefield_energies(s->ff, &e);
-    if (scene_check_finite(d, &e, NULL, 0.0)) snprintf(term, sizeof term, ": %s", rl_last_error());
+  if (st == RL_ENONFINITE && s->terms) {
+    double comp[64];
+    energy_components(s->terms, comp);
+    if (scene_check_finite(d, s->terms, comp, NULL, 0.0)) snprintf(term, sizeof term, ": %s", rl_last_error());
   }
-  const int early = c->done < 20 && c->first == 0;
+  /* the start's note, unless the watch already blamed overlapping molecules */
+  const int early = c->done < 20 && c->first == 0 && !strstr(msg, "overlapping molecules");
   rl_error(st, "%s%s%s%s", msg, term, early && c->start_note[0] ? "; " : "", early ? c->start_note : "");
   fprintf(stderr, "rotleap run: %s\n", rl_last_error());
 }
@@ -684,7 +716,7 @@ static int drift_warning(const run_ctx *c, char *buf, size_t cap)
 {
   const rl_deck *d = c->d;
   double sem;
-  const double mean = scene_watch_drift(&c->watch, &sem);
+  const double mean = rl_watch_drift(&c->watch, &sem);
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   const int window = fabs(c->watch.max_rate) > SCENE_DRIFT_WARN;
   const int trend = isfinite(sem) && fabs(mean) > 0.01 && fabs(mean) > 3.0 * sem;
@@ -729,7 +761,7 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   species_text(c, species, sizeof species);
   double sem;
-  const double drift = scene_watch_drift(&c->watch, &sem);
+  const double drift = rl_watch_drift(&c->watch, &sem);
   char drift_fit[200] = "n/a (fewer than two windows)";
   if (isfinite(sem)) snprintf(drift_fit, sizeof drift_fit, "%.3g +- %.2g kT per molecule per %s (mean over %ld windows)",
                               drift, sem, tunit, c->watch.nwin);
@@ -776,6 +808,72 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   if (!st && !error) fputs(text, stdout);
   free(text);
   return st;
+}
+
+/* ---------------------------------------------------------- the run's reporters (run.h) */
+
+/* The summary's running averages and the analysis, on the steps with energies (not the row of the
+ * last state, which is no step of the run). */
+static int report_averages(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  if (r->last) return RL_OK;
+  const double pr = scene_pressure_out(c->d, r->pressure);
+  const int st = analysis_step(c->an, r->info, pr, r->forces, r->sys);
+  if (st) return rl_error_wrap(st, "step %ld", r->step);
+  running_add(&c->E, r->info->conserved);
+  running_add(&c->U, r->info->potential);
+  running_add(&c->T, r->info->temperature);
+  running_add(&c->Tt, r->info->t_trans);
+  running_add(&c->Tr, r->info->t_rot);
+  running_add(&c->P, pr);
+  return RL_OK;
+}
+
+static int report_sample(void *ctx, const rl_run_report *r)
+{
+  const int st = analysis_sample(((run_ctx *)ctx)->an, r->sys);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
+}
+
+static int traj_frame(run_ctx *c, double time, long step);
+static int report_frame(void *ctx, const rl_run_report *r)
+{
+  const int st = traj_frame(ctx, r->time, r->step);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
+}
+
+static int report_thermo(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  const int st = thermo_row(c->thermo, outputs_part(c->out, OUT_THERMO), r->step, r->info, r->terms, r->energies,
+                            scene_pressure_out(c->d, r->pressure), &c->E);
+  return st && !r->last ? rl_error_wrap(st, "step %ld", r->step) : st;
+}
+
+static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double time, long relax_step, double relax_time,
+                            const out_mark *marks);
+/* A checkpoint every output.checkpoint_every steps (the last state's is written at the end). */
+static int report_checkpoint(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  if (r->step >= c->d->steps) return RL_OK;
+  c->watch = *rl_run_watch(c->drv);
+  const int st = write_checkpoint(c, c->in, r->step, r->time, -1, 0.0, NULL);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
+}
+
+static int report_progress(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  const rl_deck *d = c->d;
+  if (now() - c->last_progress <= 0.5) return RL_OK;
+  double el = now() - c->t0, frac = (double)r->step / d->steps;
+  double nsday = d->units == RL_UNITS_REAL ? (r->step - c->first) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
+  fprintf(stderr, "\r%5.1f%%  step %ld/%ld  ETA %.0f s%s%.2f%s   ", 100.0 * frac, r->step, d->steps, el / frac - el,
+          d->units == RL_UNITS_REAL ? "  " : "", nsday, d->units == RL_UNITS_REAL ? " ns/day" : "");
+  c->last_progress = now();
+  return RL_OK;
 }
 
 /* The continuation a checkpoint start asks for.  The run record must describe the simulation
@@ -914,7 +1012,7 @@ int rl_app_run(const rl_deck *d)
   c.d = d;
   c.relax_done = -1;
   c.last_chk = -1;
-  scene_watch_init(&c.watch);
+  rl_watch_init(&c.watch);
   c.chk_path = outputs_name(d->prefix, ".chk");
   c.chk_prev = outputs_name(d->prefix, ".chk.prev");
   c.summary_path = outputs_name(d->prefix, ".summary.txt");
@@ -948,6 +1046,7 @@ int rl_app_run(const rl_deck *d)
   rec.relax_step = -1;
   int cont = 0;
   st = scene_build(d, &c.s);
+  if (!st && !(c.header = thermo_header(c.s.terms))) st = rl_error(RL_ENOMEM, "out of memory");
   if (!st) st = decide_continuation(&c, &rec, &cont);
   const int relax_cont = cont && rec.relax_step >= 0; /* a checkpoint of a stopped relaxation */
   c.resumed = cont && c.same_prefix;
@@ -978,7 +1077,7 @@ int rl_app_run(const rl_deck *d)
     p.force_general = d->force_general;
     p.threads = d->ff.threads; /* run.threads: the rotation solves too */
     p.energy_every = d->energy_every;
-    c.in = rl_integrator_alloc(c.s.sys, &p, rl_forcefield_provider(c.s.ff));
+    c.in = rl_integrator_alloc(c.s.sys, &p, rl_terms_provider(c.s.terms));
     st = !c.in ? RL_EINVAL : cont && !relax_cont ? restore_record(&c, &rec) : rl_integrator_init(c.in);
     if (st) step_error(&c, st);
     else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
@@ -987,93 +1086,36 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
-  const int n = d->count, nrot = c.s.sys ? rl_system_nrot(c.s.sys) : 0;
-  rl_forces fsnap = {calloc((size_t)(n > 0 ? n : 1), sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])),
-                     0.0, {0}, 0};
-  if (!st && (!fsnap.f || !fsnap.k)) st = rl_error(RL_ENOMEM, "out of memory");
-  double last_progress = 0.0;
+  if (!st && !c.stopped && !(c.drv = scene_run_driver(d, &c.s, c.in))) {
+    fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    st = RL_EINVAL;
+  }
+  if (c.drv) *rl_run_watch(c.drv) = c.watch; /* a continuation's, from its checkpoint */
+  c.progress = progress;
+  c.t0 = t0;
+  /* the reporters, in the order a step calls them: averages and analysis of the step's values,
+   * samples, frames, the thermo row, the checkpoint, the progress line */
+  const rl_reporter reps[] = {
+      {"averages", RL_REPORT_STEP, d->energy_every, report_averages, &c},
+      {"samples", RL_REPORT_STATE, d->sample_every > 0 ? d->sample_every : 0, report_sample, &c},
+      {"trajectory", RL_REPORT_STATE, d->trajectory_every > 0 ? d->trajectory_every : 0, report_frame, &c},
+      {"thermo", RL_REPORT_STEP, d->thermo_every, report_thermo, &c},
+      {"checkpoint", RL_REPORT_STATE, d->checkpoint_every > 0 ? d->checkpoint_every : 0, report_checkpoint, &c},
+      {"progress", RL_REPORT_STATE, progress ? 1 : 0, report_progress, &c}};
+  for (size_t q = 0; !st && c.drv && q < sizeof reps / sizeof reps[0]; q++)
+    if (reps[q].every > 0 && (st = rl_run_add_reporter(c.drv, &reps[q]))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   char failure[2048] = "";
-  for (long k = c.first; !st && !c.stopped && k < d->steps; k++) {
-    if (got_signal) {
+  if (!st && !c.stopped) {
+    st = rl_run_steps(c.drv, c.first, d->steps, &got_signal, &c.done);
+    if (st) step_error(&c, st);
+    else if (got_signal && c.first + c.done < d->steps) {
       c.stopped = got_signal;
       fprintf(stderr, "%srotleap run: %s at step %ld of %ld: writing the checkpoint, thermo rows and summary "
-                      "(system.start = %s continues)\n", progress ? "\n" : "", signal_text(c.stopped), k, d->steps,
-              c.chk_path);
-      break;
-    }
-    /* the energies, virial and averages on the steps of output.energy_every (the integrator
-     * computes forces only on the others; init and resume always compute all) */
-    const int ev = k % d->energy_every == 0;
-    rl_ff_energies e;
-    rl_forcefield_energies(c.s.ff, &e); /* terms at the current time t */
-    const rl_forces *F = rl_integrator_forces(c.in);
-    double virial[9];
-    if (ev) {
-      memcpy(virial, F->virial, sizeof virial);
-      memcpy(fsnap.f, F->f, sizeof(double[3]) * (size_t)n);
-      if (nrot) memcpy(fsnap.k, F->k, sizeof(double[3]) * (size_t)nrot);
-    }
-    rl_step_info info;
-    if ((st = rl_integrator_step(c.in, &info))) { /* the library's message names the step and the cause */
-      step_error(&c, st);
-      break;
-    }
-    if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
-      st = rl_error(RL_ESTATE, "internal error: no energies at step %ld", k);
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-      break;
-    }
-    if ((st = scene_watch_step(d, &c.s, &c.watch, &info, k, d->energy_every, d->timestep, "run.timestep"))) {
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-      break;
-    }
-    double pr = 0.0;
-    if (ev) {
-      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
-      memcpy(Ft.virial, virial, sizeof virial);
-      pr = scene_pressure_out(d, rl_forcefield_pressure(c.s.ff, &Ft, info.ke_trans));
-      if ((st = scene_check_finite(d, &e, virial, pr))) {
-        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
-        break;
-      }
-      if ((st = analysis_step(c.an, &info, pr, &fsnap, c.s.sys))) {
-        fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
-        break;
-      }
-      running_add(&c.E, info.conserved);
-      running_add(&c.U, info.potential);
-      running_add(&c.T, info.temperature);
-      running_add(&c.Tt, info.t_trans);
-      running_add(&c.Tr, info.t_rot);
-      running_add(&c.P, pr);
-    }
-    if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && (st = analysis_sample(c.an, c.s.sys))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      break;
-    }
-    c.done++;
-    if (d->trajectory_every > 0 && (k + 1) % d->trajectory_every == 0 &&
-        (st = traj_frame(&c, rl_integrator_time(c.in), k + 1))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      break;
-    }
-    if (k % d->thermo_every == 0 && (st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), k, &info, &e, pr, &c.E))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
-      break;
-    }
-    if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps &&
-        (st = write_checkpoint(&c, c.in, k + 1, rl_integrator_time(c.in), -1, 0.0, NULL))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      break;
-    }
-    if (progress && now() - last_progress > 0.5) {
-      double el = now() - t0, frac = (double)(k + 1) / d->steps;
-      double nsday = d->units == RL_UNITS_REAL ? (k + 1 - c.first) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
-      fprintf(stderr, "\r%5.1f%%  step %ld/%ld  ETA %.0f s%s%.2f%s   ", 100.0 * frac, k + 1, d->steps,
-              el / frac - el, d->units == RL_UNITS_REAL ? "  " : "", nsday, d->units == RL_UNITS_REAL ? " ns/day" : "");
-      last_progress = now();
+                      "(system.start = %s continues)\n", progress ? "\n" : "", signal_text(c.stopped),
+              c.first + c.done, d->steps, c.chk_path);
     }
   }
+  if (c.drv) c.watch = *rl_run_watch(c.drv);
   if (st) snprintf(failure, sizeof failure, "%s", rl_last_error());
   /* The end.  A run that completed (or was stopped by a signal) syncs its streams, renames them
    * to their names and writes its last checkpoint; one that failed leaves them under their
@@ -1086,19 +1128,9 @@ int rl_app_run(const rl_deck *d)
   if (c.dcd && rl_dcd_close(c.dcd) && !st) st = RL_EINVAL;
   c.dcd = NULL;
   if (!st && c.streams) st = outputs_mark(c.out, marks);
-  if (!st && c.in && c.streams) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
-    rl_step_info info;
-    rl_ff_energies e;
-    st = rl_integrator_observe(c.in, &info);
-    if (!st) {
-      rl_forcefield_energies(c.s.ff, &e);
-      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
-      memcpy(Ft.virial, rl_integrator_forces(c.in)->virial, sizeof Ft.virial);
-      const double pr = scene_pressure_out(d, rl_forcefield_pressure(c.s.ff, &Ft, info.ke_trans));
-      if ((st = scene_check_finite(d, &e, Ft.virial, pr)))
-        rl_error_wrap(st, "step %ld (t = %g)", c.first + c.done, info.t);
-      else st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), c.first + c.done, &info, &e, pr, &c.E);
-    }
+  if (!st && c.drv && c.streams) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
+    st = rl_run_finish(c.drv, c.first + c.done);
+    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
   if (!st && c.streams) {
     out_mark synced[OUT_NSTREAMS]; /* the last row on disk before the renames */
@@ -1148,15 +1180,14 @@ int rl_app_run(const rl_deck *d)
   if (!st && !io_bad && drift_warning(&c, dw, sizeof dw)) fprintf(stderr, "rotleap run: warning: %s\n", dw);
   if (!st && c.streams && c.moved_prev) unlink(c.chk_prev); /* the earlier run is replaced by a whole one */
   free(part_summary);
-  free(fsnap.f);
-  free(fsnap.k);
   analysis_free(c.an);
+  rl_run_free(c.drv);
   scene_relax_end(c.relax, 0);
   rl_integrator_free(c.in);
   scene_free(&c.s);
   catch_signals(0);
   outputs_free(c.out);
-  free(c.chk_path); free(c.chk_prev); free(c.summary_path); free(c.physics);
+  free(c.chk_path); free(c.chk_prev); free(c.summary_path); free(c.physics); free(c.header);
   if (c.stopped && !st && !io_bad) return 128 + c.stopped; /* the outputs are complete; the caller asked to stop */
   return st || io_bad ? 1 : 0;
 }

@@ -412,11 +412,52 @@ void rl_system_site_positions(const rl_system *s, double (*out)[3])
   rl_system_site_positions_of(s, 0, s->n, out);
 }
 
+int rl_system_set_cell(rl_system *s, const double h[9])
+{
+  int zero = 1;
+  for (int k = 0; k < 9; k++) {
+    if (!isfinite(h[k])) return rl_error(RL_ENONFINITE, "box: element %d of the cell matrix is %g, not finite", k, h[k]);
+    zero &= h[k] == 0.0;
+  }
+  if (!zero) {
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++)
+        if (a != b && h[3 * a + b] != 0.0)
+          return rl_error(RL_EINVAL, "box: a triclinic cell (element %d%d = %g off the diagonal) is not supported; "
+                          "give an orthorhombic box", a + 1, b + 1, h[3 * a + b]);
+    for (int a = 0; a < 3; a++)
+      if (!(h[4 * a] > 0.0))
+        return rl_error(RL_EINVAL, "box: edge %c = %g must be positive (or every edge 0: no box)", "xyz"[a], h[4 * a]);
+  }
+  if (memcmp(s->cell, h, sizeof s->cell)) {
+    memcpy(s->cell, h, sizeof s->cell);
+    s->box_version++;
+  }
+  return RL_OK;
+}
+
+int rl_system_set_box(rl_system *s, const double L[3])
+{
+  const double h[9] = {L[0], 0, 0, 0, L[1], 0, 0, 0, L[2]};
+  return rl_system_set_cell(s, h);
+}
+
+void rl_system_cell(const rl_system *s, double h[9]) { memcpy(h, s->cell, sizeof s->cell); }
+void rl_system_box(const rl_system *s, double L[3])
+{
+  for (int a = 0; a < 3; a++) L[a] = s->cell[4 * a];
+}
+double rl_system_volume(const rl_system *s) { return s->cell[0] * s->cell[4] * s->cell[8]; }
+int rl_system_periodic(const rl_system *s) { return s->cell[0] > 0.0; }
+unsigned long rl_system_box_version(const rl_system *s) { return s->box_version; }
+
 rl_system *rl_system_clone(const rl_system *s)
 {
   rl_system *c = rl_system_alloc(s->units);
   if (!c) return NULL;
   c->removed_dof = s->removed_dof;
+  memcpy(c->cell, s->cell, sizeof c->cell);
+  c->box_version = s->box_version;
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
     rl_species_desc d = {sp->name, sp->kind, sp->mass, {sp->J[0], sp->J[1], sp->J[2]}, sp->nsites, sp->sites};
@@ -444,6 +485,8 @@ int rl_system_lattice(rl_system *s, const double L[3], rl_lattice lat, int rando
   if (!(L[0] > 0 && L[1] > 0 && L[2] > 0) || !finite3(L))
     return rl_error(RL_EINVAL, "lattice: box %g %g %g must be positive and finite", L[0], L[1], L[2]);
   if (lat != RL_LATTICE_SC && lat != RL_LATTICE_FCC) return rl_error(RL_EINVAL, "lattice: unknown type %d", (int)lat);
+  const int st = rl_system_set_box(s, L);
+  if (st) return st;
   int per = lat == RL_LATTICE_FCC ? 4 : 1;
   /* cells per edge: smallest n with per n^3 >= N (cubic cells in a cubic box) */
   int nc = 1;

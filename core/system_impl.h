@@ -31,6 +31,9 @@ struct rl_system {
   double (*A)[9];   /* [nmat]                                                               */
   double (*rho)[3]; /* [naxis]                                                              */
   int removed_dof;
+  double cell[9];   /* the periodic cell, row-major rows a, b, c (orthorhombic: diagonal); zeros:
+                       no periodic box                                                       */
+  unsigned long box_version; /* counts the changes of the cell (rl_system_box_version)       */
 };
 
 static inline int rl_kind_is_matrix(rl_kind k)

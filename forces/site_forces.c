@@ -2,6 +2,7 @@
 #include "rotleap/forces.h"
 #include "../core/system_impl.h"
 
+#include <math.h>
 #include <stddef.h>
 
 void rl_system_add_site_forces_of(const rl_system *s, const double (*fs)[3], rl_forces *out,
@@ -40,3 +41,12 @@ void rl_system_add_site_forces(const rl_system *s, const double (*fs)[3], rl_for
   rl_system_add_site_forces_of(s, fs, out, 0, s->n);
 }
 
+
+double rl_forces_pressure(const rl_system *sys, const rl_forces *f, double ke_trans)
+{
+  double L[3];
+  rl_system_box(sys, L);
+  const double V = L[0] * L[1] * L[2]; /* as rl_box_volume forms it */
+  if (!(V > 0.0)) return NAN;
+  return (2.0 * ke_trans + f->virial[0] + f->virial[4] + f->virial[8]) / (3.0 * V);
+}

@@ -69,7 +69,9 @@ int rl_checkpoint_write(const char *path, const rl_system *sys, const rl_checkpo
   put_u32(&b, (uint32_t)sys->removed_dof);
   put_f64s(&b, &meta->time, 1);
   put_u64(&b, (uint64_t)(int64_t)meta->step);
-  put_f64s(&b, meta->box, 3);
+  double box[3];
+  rl_system_box(sys, box); /* the system's box (meta->box is what a read found) */
+  put_f64s(&b, box, 3);
   put_u32(&b, (uint32_t)sys->nspecies);
   for (int k = 0; k < sys->nspecies; k++) {
     const rl_species *sp = &sys->sp[k];
@@ -177,7 +179,8 @@ static int ck_validate(const char *path, const ck_data *c)
     return BAD("%s: checkpoint field 'removed_dof' is %d: 0 to 3 expected", path, c->removed_dof);
   if (!isfinite(c->time)) return BAD("%s: checkpoint field 'time' is %g: not finite", path, c->time);
   if (c->step < 0) return BAD("%s: checkpoint field 'step' is %ld: negative", path, c->step);
-  for (int d = 0; d < 3; d++)
+  const int no_box = c->box[0] == 0.0 && c->box[1] == 0.0 && c->box[2] == 0.0; /* a system without a box */
+  for (int d = 0; d < 3 && !no_box; d++)
     if (!(isfinite(c->box[d]) && c->box[d] > 0.0))
       return BAD("%s: checkpoint field 'box' edge %d is %g: must be finite and > 0", path, d + 1, c->box[d]);
   long long n = 0, nrot = 0, nmat = 0, naxis = 0;
@@ -407,6 +410,7 @@ static int ck_restore(const char *path, ck_data *c, rl_system *sys, rl_checkpoin
   if (c->nmat) memcpy(sys->A, c->A, sizeof(double) * 9 * (size_t)c->nmat);
   if (c->naxis) memcpy(sys->rho, c->rho, sizeof(double) * 3 * (size_t)c->naxis);
   sys->removed_dof = c->removed_dof;
+  rl_system_set_box(sys, c->box); /* checked by ck_parse: finite and positive, or all zero */
   if (meta) {
     meta->time = c->time;
     meta->step = c->step;

@@ -263,8 +263,11 @@ rl_dcd *rl_dcd_append(const char *path, const rl_system *sys, long keep_frames)
   return d;
 }
 
-int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys, const double box[3])
+int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys)
 {
+  double Lb[3] = {0, 0, 0};
+  if (sys) rl_system_box(sys, Lb);
+  const double *box = sys && rl_system_periodic(sys) ? Lb : NULL;
   if (!d || !sys) return rl_error(RL_EINVAL, "rl_dcd_write_frame: NULL argument");
   if (d->status) return d->status; /* reported when it happened */
   if (rl_io_natoms(sys) != d->natoms)

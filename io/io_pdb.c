@@ -29,9 +29,11 @@ static void element_of(const rl_system *sys, const rl_molecule *const *mols, int
   if (n == 2 && islower((unsigned char)name[1])) { el[1] = name[1]; el[2] = '\0'; }
 }
 
-int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *const *mols,
-                 const double box[3])
+int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *const *mols)
 {
+  double Lb[3] = {0, 0, 0};
+  if (sys) rl_system_box(sys, Lb);
+  const double *box = sys && rl_system_periodic(sys) ? Lb : NULL;
   if (!path || !sys) return rl_error(RL_EINVAL, "rl_pdb_write: NULL argument");
   double s = rl_io_length_scale(sys);
   double(*x)[3] = rl_io_atom_positions(sys);

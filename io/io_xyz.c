@@ -10,9 +10,11 @@
 #include <string.h>
 #include <strings.h>
 
-int rl_xyz_write_frame(FILE *fp, const char *path, const rl_system *sys, const double box[3],
-                       double time, long step)
+int rl_xyz_write_frame(FILE *fp, const char *path, const rl_system *sys, double time, long step)
 {
+  double Lb[3] = {0, 0, 0};
+  if (sys) rl_system_box(sys, Lb);
+  const double *box = sys && rl_system_periodic(sys) ? Lb : NULL;
   if (!fp || !sys) return rl_error(RL_EINVAL, "rl_xyz_write_frame: NULL argument");
   if (!path) path = "(stream)";
   if (ferror(fp)) return rl_error(RL_EINVAL, "%s: not written: an earlier write to it failed", path);
@@ -38,13 +40,13 @@ fail:
   return rl_io_sys_error(errno, path, "cannot write");
 }
 
-int rl_xyz_write(const char *path, const rl_system *sys, const double box[3], double time, long step)
+int rl_xyz_write(const char *path, const rl_system *sys, double time, long step)
 {
   if (!path) return rl_error(RL_EINVAL, "rl_xyz_write: NULL path");
   rl_atomic_file af;
   int st = rl_atomic_open(&af, path);
   if (st) return st;
-  if ((st = rl_xyz_write_frame(af.fp, path, sys, box, time, step))) { rl_atomic_abort(&af); return st; }
+  if ((st = rl_xyz_write_frame(af.fp, path, sys, time, step))) { rl_atomic_abort(&af); return st; }
   return rl_atomic_commit(&af);
 }
 

@@ -168,10 +168,12 @@ int rl_rdf_add_counts(rl_rdf *g, const double L[3], const uint32_t *hist, double
   return RL_OK;
 }
 
-int rl_rdf_count_sites(const rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+int rl_rdf_count_sites(const rl_rdf *g, const rl_system *sys, int species_a, int site_a,
                        int species_b, int site_b, uint32_t *hist, double *pairs, int *na_out)
 {
-  if (!g || !sys || !L || !hist || !pairs || !na_out) return rl_error(RL_EINVAL, "rl_rdf_add_sites: NULL argument");
+  if (!g || !sys || !hist || !pairs || !na_out) return rl_error(RL_EINVAL, "rl_rdf_add_sites: NULL argument");
+  double L[3]; /* the system's box */
+  rl_system_box(sys, L);
   int ns = rl_system_nspecies(sys);
   if (species_a < 0 || species_a >= ns || species_b < 0 || species_b >= ns)
     return rl_error(RL_EINVAL, "rl_rdf_add_sites: species %d or %d out of range (0..%d)", species_a, species_b,
@@ -212,14 +214,18 @@ done:
   return st;
 }
 
-int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, int species_a, int site_a,
                      int species_b, int site_b)
 {
   uint32_t *hist = g ? malloc(sizeof *hist * (size_t)g->nbins) : NULL;
   if (g && !hist) return rl_error(RL_ENOMEM, "rl_rdf_add_sites: out of memory");
   double pairs = 0.0;
-  int na = 0, st = rl_rdf_count_sites(g, sys, L, species_a, site_a, species_b, site_b, hist, &pairs, &na);
-  if (!st) st = rl_rdf_add_counts(g, L, hist, pairs, na);
+  int na = 0, st = rl_rdf_count_sites(g, sys, species_a, site_a, species_b, site_b, hist, &pairs, &na);
+  if (!st) {
+    double L[3];
+    rl_system_box(sys, L);
+    st = rl_rdf_add_counts(g, L, hist, pairs, na);
+  }
   free(hist);
   return st;
 }

@@ -16,6 +16,7 @@
 #define ROTLEAP_FORCEFIELD_H
 
 #include "rotleap/forces.h"
+#include "rotleap/terms.h"
 #include "rotleap/system.h"
 #include "rotleap/molecule.h"
 
@@ -175,6 +176,19 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
 
 /* The force field as a provider for rl_integrator_alloc (ctx = ff). */
 rl_force_provider rl_forcefield_provider(rl_forcefield *ff);
+
+/* The force field as a force term (terms.h): the term type "pair", whose state is an
+ * rl_forcefield built by rl_forcefield_alloc from this parameter block, with the system's box
+ * (p.box is ignored: the term takes the cell from the system, and follows its changes through
+ * rl_forcefield_set_box).  Its energy components: lj, coulomb, dipolar, quadrupolar, dispersion. */
+typedef struct {
+  rl_ff_params p;
+  const rl_species_ff *species; /* [nspecies], as rl_forcefield_alloc takes them              */
+  int nspecies;
+  int geometric_mixing;         /* 1: every LJ site pair of one species takes sqrt(sigma_a sigma_b),
+                                   sqrt(eps_a eps_b) (OPLS, EPM2) through rl_forcefield_set_lj_pair */
+} rl_pair_params;
+extern const rl_term_type rl_term_pair;
 
 /* Energies of the last successful compute (NaN after one with out->forces_only set). */
 void rl_forcefield_energies(const rl_forcefield *ff, rl_ff_energies *e);

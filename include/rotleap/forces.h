@@ -30,6 +30,12 @@ typedef struct {
   void *ctx;
 } rl_force_provider;
 
+/* Molecular pressure P = (2 ke_trans + tr virial) / (3 V) of a computation f (its virial, which
+ * includes any long-range correction) with the centre-of-mass kinetic energy ke_trans and V the
+ * system's volume.  Units: energy / volume (real: kJ mol^-1 nm^-3 = 16.6054 bar); NaN without a
+ * box. */
+double rl_forces_pressure(const rl_system *sys, const rl_forces *f, double ke_trans);
+
 /* Accumulate site forces fs[nsites][3] (lab) into body forces and torques
  * k += (r_a - r) x f_a.  For providers that work site by site. */
 void rl_system_add_site_forces(const rl_system *sys, const double (*fs)[3], rl_forces *out);

@@ -113,10 +113,10 @@ int rl_dcd_info(const char *path, long *first_step, long *interval, long *frames
  * and the bytes of one frame.  Frame k occupies [header + k frame, header + (k + 1) frame); the
  * header is rewritten in place after each frame (NSET, NSTEP), the frames never are. */
 int rl_dcd_layout(const char *path, long *header_bytes, long *frame_bytes);
-/* Append one frame (one pwrite at the end, then the header's frame count).  box: orthorhombic
- * edge lengths in system units (NULL: no box, zeros).  After a failed write, this and
+/* Append one frame (one pwrite at the end, then the header's frame count), with the system's box
+ * as its unit cell (zeros without a box).  After a failed write, this and
  * rl_dcd_sync return the status of that failure again without a new message. */
-int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys, const double box[3]);
+int rl_dcd_write_frame(rl_dcd *d, const rl_system *sys);
 long rl_dcd_frames(const rl_dcd *d);
 /* Make the frames written so far durable: rewrite the header's frame count, fsync.  (Frames are
  * written with write(2), without a user-space buffer: there is nothing to flush.)  An error names
@@ -128,15 +128,15 @@ int rl_dcd_close(rl_dcd *d);
 
 /* ------------------------------------------------------------------------------ PDB */
 
-/* PDB of the current state: CRYST1 (box in file units, 90 degrees; omitted if box is NULL), one
+/* PDB of the current state: CRYST1 (the system's box in file units, 90 degrees; omitted without
+ * a box), one
  * residue per body (residue name: the first three characters of the species name, upper case;
  * chain A, residue numbers modulo 10000), one ATOM record per atom with name from the site names,
  * element from the name's leading letters for massive sites of real-unit systems, TER and END.
  * Coordinates %8.3f: PDB resolves 1e-3 file units (1e-4 nm for real systems).  Used as the DCD
  * topology and as a final structure.  Written atomically.  More than 99999 atoms: serials wrap
  * (as in GROMACS/MDTraj output). */
-int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *const *mols,
-                 const double box[3]);
+int rl_pdb_write(const char *path, const rl_system *sys, const rl_molecule *const *mols);
 
 /* Count residues (molecules) in a PDB, and optionally read its CRYST1 box (system units for the
  * given unit system; zeros if none). */
@@ -162,12 +162,11 @@ int rl_pdb_read_state(const char *path, rl_system *sys, const rl_molecule *const
  *   Lattice="Lx 0 0 0 Ly 0 0 0 Lz" Properties=species:S:1:pos:R:3:orientation:R:3 Time=t Step=s pbc="T T T"
  * and one line per body: species name, centre (file units, %.10f), body Z axis in the lab
  * (rl_system_get_axis; 0 0 0 for point bodies), %.17g so that a read gives the same unit vector.
- * Lattice and pbc are omitted if box is NULL.  fp: an open stream (a trajectory appends frames).
+ * Lattice (the system's box) and pbc are omitted without a box.  fp: an open stream (a trajectory appends frames).
  * path is used in messages only. */
-int rl_xyz_write_frame(FILE *fp, const char *path, const rl_system *sys, const double box[3],
-                       double time, long step);
+int rl_xyz_write_frame(FILE *fp, const char *path, const rl_system *sys, double time, long step);
 /* One-frame file, written atomically. */
-int rl_xyz_write(const char *path, const rl_system *sys, const double box[3], double time, long step);
+int rl_xyz_write(const char *path, const rl_system *sys, double time, long step);
 
 /* Read the first frame of an extended XYZ into sys (species and counts defined): the count must
  * equal the bodies; line k is body k; its species label must equal the species name (if the
@@ -191,7 +190,8 @@ int rl_xyz_count(const char *path, int *n);
 typedef struct {
   double time;       /* simulation time                                       */
   long step;         /* step count                                            */
-  double box[3];     /* orthorhombic box, system length units                 */
+  double box[3];     /* read: the box in the file (it becomes the system's); write: ignored,
+                        the system's box is written                               */
   const void *blob;  /* write: caller bytes (may be NULL if blob_size = 0)    */
   size_t blob_size;
 } rl_checkpoint_meta;

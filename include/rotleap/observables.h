@@ -213,13 +213,13 @@ int rl_rdf_add(rl_rdf *g, const double L[3], const double (*a)[3], int na, const
  * indices within species; e.g. water O-O is (0, 0, 0, 0), H-H (0, 1, 0, 1) and (0, 1, 0, 2)
  * together -- call once per pair or use rl_rdf_add with a merged set).  Intramolecular pairs
  * are excluded. */
-int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+int rl_rdf_add_sites(rl_rdf *g, const rl_system *sys, int species_a, int site_a,
                      int species_b, int site_b);
 /* One frame's contribution, counted without adding it, and added from its counts: for a
  * journal that replays frames (rl_rdf_add = count, then add the counts; the same bits).
  * out hist[nbins]: ordered pair counts per bin (RL_EINVAL if one exceeds UINT32_MAX), *pairs the
  * frame's allowed ordered pairs P, *na its a points.  in L[3] as in rl_rdf_add. */
-int rl_rdf_count_sites(const rl_rdf *g, const rl_system *sys, const double L[3], int species_a, int site_a,
+int rl_rdf_count_sites(const rl_rdf *g, const rl_system *sys, int species_a, int site_a,
                        int species_b, int site_b, uint32_t *hist, double *pairs, int *na);
 int rl_rdf_add_counts(rl_rdf *g, const double L[3], const uint32_t *hist, double pairs, int na);
 int rl_rdf_nbins(const rl_rdf *g);

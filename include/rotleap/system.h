@@ -110,11 +110,28 @@ void rl_system_get_orientation(const rl_system *sys, int body, double A[9]);
 /* Body Z axis in the lab (rho for axis kinds, the third row of A otherwise). */
 void rl_system_get_axis(const rl_system *sys, int body, double rho[3]);
 
-/* A deep copy (species and state), or NULL with a message. */
+/* The periodic cell the system owns.  Its matrix has the cell vectors a, b, c as rows (row-major
+ * h[9], GROMACS's convention); today every cell is orthorhombic (h diagonal: the box edges Lx,
+ * Ly, Lz), and the representation is the one a triclinic cell will extend.  A system starts
+ * without a box (zeros: free space).  rl_system_set_box is the one call that changes it (a start,
+ * a checkpoint, a barostat); every change increments rl_system_box_version, by which whatever
+ * caches data that depends on the box (pair lists, image lists, kernel tables, meshes) learns
+ * that it must update (the force terms check it before each computation, terms.h). */
+int rl_system_set_box(rl_system *sys, const double L[3]); /* edges > 0 and finite, or all 0: none */
+void rl_system_box(const rl_system *sys, double L[3]);    /* edges (zeros: no box)            */
+/* The cell matrix (rows a, b, c); RL_EINVAL from rl_system_set_cell for a cell that is not
+ * orthorhombic (not supported yet) or not positive. */
+int rl_system_set_cell(rl_system *sys, const double h[9]);
+void rl_system_cell(const rl_system *sys, double h[9]);
+double rl_system_volume(const rl_system *sys);            /* 0 without a box                  */
+int rl_system_periodic(const rl_system *sys);             /* 1 with a box                     */
+unsigned long rl_system_box_version(const rl_system *sys);
+
+/* A deep copy (species, state and cell), or NULL with a message. */
 rl_system *rl_system_clone(const rl_system *sys);
 
 /* Starting states.  Centres on a simple-cubic (sc) or face-centred-cubic (fcc) lattice filling
- * the orthorhombic box L (cells as close to cubic as the body count allows; bodies in order),
+ * the orthorhombic box L, which becomes the system's box (rl_system_set_box) (cells as close to cubic as the body count allows; bodies in order),
  * orientations uniformly random (random = 1, from a GSL mt19937 seeded with `seed`) or all equal
  * to the identity. */
 typedef enum { RL_LATTICE_SC = 0, RL_LATTICE_FCC = 1 } rl_lattice;

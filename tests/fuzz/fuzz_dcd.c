@@ -14,8 +14,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
       rl_system *s = fuzz_system(RL_UNITS_REAL, "ar", (int)natoms);
       rl_dcd *d = rl_dcd_append(path, s, frames / 2);
       if (d) {
-        double box[3] = {5, 5, 5};
-        rl_dcd_write_frame(d, s, box);
+        const double box[3] = {5, 5, 5};
+        rl_system_set_box(s, box);
+        rl_dcd_write_frame(d, s);
         rl_dcd_sync(d);
         rl_dcd_close(d);
       }

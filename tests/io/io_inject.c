@@ -55,7 +55,7 @@ int main(int argc, char **argv)
     const int append = mode[3] != '\0';
     rl_dcd *t = append ? rl_dcd_append(out, sys, 2) : rl_dcd_create(out, sys, 10, 10, 0.002, NULL);
     if (!t) st = report(1);
-    for (int f = 0; f < (append ? 2 : 3) && t && !st; f++) st = report(rl_dcd_write_frame(t, sys, box));
+    for (int f = 0; f < (append ? 2 : 3) && t && !st; f++) st = report(rl_dcd_write_frame(t, sys));
     if (t && !st) st = report(rl_dcd_sync(t));
     if (t && report(rl_dcd_close(t))) st = 1;
   } else if (!strcmp(mode, "xyz")) {
@@ -63,12 +63,12 @@ int main(int argc, char **argv)
     FILE *fp = NULL;
     if (report(rl_file_create(out, &fd))) st = 1;
     else if (!(fp = fdopen(fd, "w"))) st = report(rl_error(RL_EINVAL, "%s: fdopen: %s", out, strerror(errno)));
-    for (int f = 0; f < 3 && fp && !st; f++) st = report(rl_xyz_write_frame(fp, out, sys, box, 0.1 * f, 10L * f));
+    for (int f = 0; f < 3 && fp && !st; f++) st = report(rl_xyz_write_frame(fp, out, sys, 0.1 * f, 10L * f));
     if (fp && fclose(fp) != 0 && report(rl_error(RL_EINVAL, "%s: cannot close: %s", out, strerror(errno)))) st = 1;
   } else if (!strcmp(mode, "pdb")) {
-    st = report(rl_pdb_write(out, sys, mols, box));
+    st = report(rl_pdb_write(out, sys, mols));
   } else if (!strcmp(mode, "xyzsnap")) {
-    st = report(rl_xyz_write(out, sys, box, 1.0, 100));
+    st = report(rl_xyz_write(out, sys, 1.0, 100));
   } else if (!strcmp(mode, "chk")) {
     static char blob[100000];
     rl_checkpoint_meta m = {1.0, 100, {box[0], box[1], box[2]}, blob, sizeof blob};

@@ -56,7 +56,7 @@ static void write_files(void **state)
   io_scene s;
   io_scene_build(&s, RL_UNITS_REAL, NAMES, COUNTS, 2, 1.5, 1);
   const char *dcd = "io_traj.dcd", *pdb = "io_traj.pdb";
-  assert_int_equal(rl_pdb_write(pdb, s.sys, s.mols, s.box), RL_OK);
+  assert_int_equal(rl_pdb_write(pdb, s.sys, s.mols), RL_OK);
   rl_dcd *d = rl_dcd_create(dcd, s.sys, 30, 10, 0.002, "rotleap test_io_dcd");
   assert_non_null(d);
   int na = rl_io_natoms(s.sys);
@@ -66,7 +66,7 @@ static void write_files(void **state)
     double L = 1.5 + 0.01 * f;
     boxes[f][0] = L; boxes[f][1] = L + 0.1; boxes[f][2] = L + 0.2;
     assert_int_equal(rl_system_lattice(s.sys, boxes[f], RL_LATTICE_FCC, 1, 100 + (unsigned long)f), RL_OK);
-    assert_int_equal(rl_dcd_write_frame(d, s.sys, boxes[f]), RL_OK);
+    assert_int_equal((rl_system_set_box(s.sys, boxes[f]), rl_dcd_write_frame(d, s.sys)), RL_OK);
   }
   CHECK_TRUE("DCD header NSET counts frames as they are written", header_nset(dcd) == 4);
   assert_int_equal(rl_dcd_sync(d), RL_OK);
@@ -90,7 +90,7 @@ static void write_files(void **state)
     double L = 1.5 + 0.01 * f;
     boxes[f][0] = L; boxes[f][1] = L + 0.1; boxes[f][2] = L + 0.2;
     assert_int_equal(rl_system_lattice(s.sys, boxes[f], RL_LATTICE_FCC, 1, 100 + (unsigned long)f), RL_OK);
-    assert_int_equal(rl_dcd_write_frame(d, s.sys, boxes[f]), RL_OK);
+    assert_int_equal((rl_system_set_box(s.sys, boxes[f]), rl_dcd_write_frame(d, s.sys)), RL_OK);
   }
   assert_int_equal(rl_dcd_close(d), RL_OK);
   CHECK_TRUE("DCD append: 4 frames after the restart", header_nset(dcd) == 4 && file_size(dcd) == 276 + 4 * fb);

@@ -141,7 +141,7 @@ static void writers(void **state)
   assert_int_equal(symlink(victim, out), 0);
   rl_dcd *d = rl_dcd_create(out, s.sys, 0, 1, 0.002, NULL);
   assert_non_null(d);
-  assert_int_equal(rl_dcd_write_frame(d, s.sys, s.box), RL_OK);
+  assert_int_equal(rl_dcd_write_frame(d, s.sys), RL_OK);
   assert_int_equal(rl_dcd_close(d), RL_OK);
   CHECK_TRUE("DCD create: a link at NAME is replaced, its target untouched", has_text(victim, "precious") && !is_link(out));
   char lnk[256];

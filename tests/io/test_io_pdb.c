@@ -59,7 +59,7 @@ static void round_trip(void **state)
   io_scene_build(&t, RL_UNITS_REAL, NAMES, COUNTS, 4, 2.2, 8);
   char path[256];
   io_path(path, sizeof path, "rt.pdb");
-  assert_int_equal(rl_pdb_write(path, s.sys, s.mols, s.box), RL_OK);
+  assert_int_equal(rl_pdb_write(path, s.sys, s.mols), RL_OK);
   int nres;
   double box[3], rms;
   assert_int_equal(rl_pdb_count(path, RL_UNITS_REAL, &nres, box), RL_OK);
@@ -105,7 +105,7 @@ static void errors(void **state)
   io_scene_build(&s, RL_UNITS_REAL, w3, c8, 1, 1.0, 7);
   char path[256];
   io_path(path, sizeof path, "err.pdb");
-  assert_int_equal(rl_pdb_write(path, s.sys, s.mols, s.box), RL_OK);
+  assert_int_equal(rl_pdb_write(path, s.sys, s.mols), RL_OK);
 
   io_scene_build(&t, RL_UNITS_REAL, spce, c8, 1, 1.0, 9);
   CHECK_MSG("TIP3P geometry read as SPC/E: rejected, naming residue and line",
@@ -125,14 +125,14 @@ static void errors(void **state)
   CHECK_MSG("malformed coordinate: error with the line number and columns",
             rl_pdb_read_state(path, s.sys, s.mols, 0.0, NULL, NULL), RL_EINVAL,
             ":6: y in columns 39-46 is not a number: '12.x45'");
-  assert_int_equal(rl_pdb_write(path, s.sys, s.mols, s.box), RL_OK);
+  assert_int_equal(rl_pdb_write(path, s.sys, s.mols), RL_OK);
   read_lines(path, lines, &n);
   lines[7][40] = '\n';
   lines[7][41] = '\0';
   write_lines(path, lines, n);
   CHECK_MSG("short ATOM record: error with the line number", rl_pdb_read_state(path, s.sys, s.mols, 0.0, NULL, NULL),
             RL_EINVAL, ":8: ATOM record has 40 columns, coordinates need 54");
-  assert_int_equal(rl_pdb_write(path, s.sys, s.mols, s.box), RL_OK);
+  assert_int_equal(rl_pdb_write(path, s.sys, s.mols), RL_OK);
   read_lines(path, lines, &n);
   memcpy(lines[1] + 33, "  60.00", 7);
   write_lines(path, lines, n);

@@ -11,7 +11,7 @@ static void check_round_trip(rl_units units, const char *const *names, const int
   io_scene_build(&t, units, names, counts, ns, L, 22);
   char path[256], name[128];
   io_path(path, sizeof path, "rt.xyz");
-  assert_int_equal(rl_xyz_write(path, s.sys, s.box, 3.5, 700), RL_OK);
+  assert_int_equal(rl_xyz_write(path, s.sys, 3.5, 700), RL_OK);
   double box[3];
   int st = rl_xyz_read_state(path, t.sys, box);
   if (st) printf("error: %s\n", rl_last_error());
@@ -58,7 +58,7 @@ static void header(void **state)
   io_scene_build(&s, RL_UNITS_LJ, lj, c, 1, 2.0, 3);
   char path[256], line[512];
   io_path(path, sizeof path, "hdr.xyz");
-  assert_int_equal(rl_xyz_write(path, s.sys, s.box, 0.0, 0), RL_OK);
+  assert_int_equal(rl_xyz_write(path, s.sys, 0.0, 0), RL_OK);
   FILE *fp = fopen(path, "r");
   assert_non_null(fp);
   assert_non_null(fgets(line, sizeof line, fp));
@@ -118,7 +118,7 @@ static void for_ase(void **state)
   assert_non_null(ref);
   for (int f = 0; f < 2; f++) {
     if (f) assert_int_equal(rl_system_lattice(s.sys, s.box, RL_LATTICE_FCC, 1, 77), RL_OK);
-    assert_int_equal(rl_xyz_write_frame(fp, "io_ase.xyz", s.sys, s.box, 0.25 * f, 50L * f), RL_OK);
+    assert_int_equal(rl_xyz_write_frame(fp, "io_ase.xyz", s.sys, 0.25 * f, 50L * f), RL_OK);
     fprintf(ref, "frame %ld %.17g %.17g %.17g %.17g\n", 50L * f, 0.25 * f, s.box[0], s.box[1], s.box[2]);
     for (int i = 0; i < rl_system_count(s.sys); i++) {
       double r[3], o[3];

@@ -81,7 +81,7 @@ static void sc_lattice(void **state)
   assert_int_equal(rl_system_lattice(sys, L, RL_LATTICE_SC, 1, 3), RL_OK);
   const int nbins = 125; /* dr = 0.024: r = 1 and sqrt 2 fall inside bins, not on edges */
   rl_rdf *g = rl_rdf_alloc(3.0, nbins);
-  assert_int_equal(rl_rdf_add_sites(g, sys, L, 0, 0, 0, 0), RL_OK);
+  assert_int_equal(rl_rdf_add_sites(g, sys, 0, 0, 0, 0), RL_OK);
   double r[125], gr[125];
   assert_int_equal(rl_rdf_get(g, r, gr), RL_OK);
   int kmax = 0;
@@ -95,8 +95,8 @@ static void sc_lattice(void **state)
   CHECK_NEAR("sc lattice: first-shell coordination (0 .. 1.2)", rl_rdf_coordination(g, 0.0, 1.2), 6.0, 1e-12);
   CHECK_NEAR("sc lattice: second-shell coordination (1.2 .. 1.6)", rl_rdf_coordination(g, 1.2, 1.6), 12.0, 1e-12);
   /* out-of-range site and species */
-  assert_int_equal(rl_rdf_add_sites(g, sys, L, 0, 1, 0, 0), RL_EINVAL);
-  assert_int_equal(rl_rdf_add_sites(g, sys, L, 1, 0, 0, 0), RL_EINVAL);
+  assert_int_equal(rl_rdf_add_sites(g, sys, 0, 1, 0, 0), RL_EINVAL);
+  assert_int_equal(rl_rdf_add_sites(g, sys, 1, 0, 0, 0), RL_EINVAL);
   rl_rdf_free(g);
   rl_system_free(sys);
 }
@@ -117,8 +117,9 @@ static void water_exclusion(void **state)
   const double L[3] = {3.0, 3.0, 3.0}, r0[3] = {0, 0, 0}, r1[3] = {0.5, 0, 0};
   rl_system_set_position(sys, 0, r0);
   rl_system_set_position(sys, 1, r1);
+  assert_int_equal(rl_system_set_box(sys, L), RL_OK);
   rl_rdf *g = rl_rdf_alloc(1.5, 150);
-  assert_int_equal(rl_rdf_add_sites(g, sys, L, 0, 1, 0, 2), RL_OK); /* H1-H2 */
+  assert_int_equal(rl_rdf_add_sites(g, sys, 0, 1, 0, 2), RL_OK); /* H1-H2 */
   /* identity orientations: H1 of 0 to H2 of 1 and H1 of 1 to H2 of 0 - the intramolecular
      H1-H2 distance (0.1514 nm) must not appear */
   double bond = 0.0;
