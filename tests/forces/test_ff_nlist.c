@@ -93,9 +93,10 @@ static void run_scheme(rl_cutoff_scheme scheme, unsigned long seed)
   liquid_build(&lq, rng, 700, 80, 20);
   rl_system *sys = lq.sys;
   int n = rl_system_count(sys);
+  const double box[3] = {lq.L, lq.L, lq.L};
+  assert_int_equal(rl_system_set_box(sys, box), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = lq.L;
   p.cutoff = 0.7;
   p.skin = 0.06;
   p.scheme = scheme;
