@@ -26,7 +26,8 @@ enum { V_U, V_T, V_TT, V_TR, V_P, V_E, V_EC, V_K, V_F2, V_K2, NV };
 
 struct analysis {
   const rl_deck *d;
-  double box[3];     /* the system's box (a run at constant volume: the same all along)          */
+  double box[3];     /* the system's box (a run at constant volume: the same all along); the deck's
+                        under a barostat                                                        */
   const rl_molecule *mol;
   int n;
   rl_trace *v[NV];       /* the step series (V_U: U per molecule, V_E: total, V_EC: conserved)   */
@@ -240,7 +241,10 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   for (int k = 0; k < 3; k++) ok = (a->M[k] = rl_trace_alloc(0)) && ok;
   ok = (a->M2 = rl_trace_alloc(0)) && ok;
   /* output.rdf: "O-O, H-H" */
-  rl_system_box(sys, a->box);
+  /* under a barostat, the deck's box (the first run's start; a continuation's box differs): the
+   * RDFs, the unwrapping and the dielectric constant do not yet follow the volume */
+  if (d->barostat) memcpy(a->box, d->box, sizeof a->box);
+  else rl_system_box(sys, a->box);
   double rmax = 0.5 * fmin(a->box[0], fmin(a->box[1], a->box[2]));
   const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
   if (nrdf < 0) { analysis_free(a); return NULL; }

@@ -32,6 +32,7 @@ enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
+  K_BARO, K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING,
   K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_PROGRESS, NKEYS
 };
 
@@ -67,6 +68,12 @@ static const key_def keys[NKEYS] = {
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
+    [K_BARO] = {"run", "barostat", K_CHOICE, Q_NONE, "none", "none|mc|c-rescale", "constant pressure (NPT; needs run.ensemble = nvt-bussi or nvt-langevin and a periodic box): mc, the Monte Carlo barostat (OpenMM's: trial scalings of the molecular centres, molecules rigid); c-rescale, stochastic cell rescaling (Bernetti & Bussi 2020, GROMACS's C-rescale; isotropic). docs/integrators.md, \"Barostats\""},
+    [K_PRESSURE] = {"run", "pressure", K_REAL, Q_PRESSURE, NULL, NULL, "target pressure of run.barostat (bar, atm, Pa, MPa; reduced for lj models); required with a barostat"},
+    [K_BINTERVAL] = {"run", "barostat_interval", K_INT, Q_NONE, NULL, NULL, "steps between barostat moves: Monte Carlo trials (default 25, OpenMM's) or C-rescale couplings (default 10, GROMACS's nstpcouple; a multiple of output.energy_every)"},
+    [K_TAUP] = {"run", "tau_p", K_REAL, Q_TIME, NULL, NULL, "c-rescale: coupling time of the volume; default 1 ps (real), 1000 h (lj)"},
+    [K_COMPRESS] = {"run", "compressibility", K_REAL, Q_COMPRESSIBILITY, NULL, NULL, "c-rescale: isothermal compressibility it assumes (sets the volume's relaxation, not the ensemble); default 4.5e-5 1/bar (water's), 0.1 (lj)"},
+    [K_BCOUPLING] = {"run", "barostat_coupling", K_CHOICE, Q_NONE, "isotropic", "isotropic|anisotropic", "isotropic: the box keeps its shape; anisotropic (mc only): one edge per trial, the three edges independent (OpenMM's MonteCarloAnisotropicBarostat)"},
     [K_PREFIX] = {"output", "prefix", K_PATH, Q_NONE, NULL, NULL, "path prefix of every output file (PREFIX.thermo.csv, ...): a file name, in a directory if you like (out, results/run1), not a directory (results/ is refused); default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
@@ -690,6 +697,40 @@ static void raw_deck_free(raw_deck *r)
   free(r->section);
 }
 
+
+/* run.barostat and its keys (after run.ensemble and output.energy_every): values in the system's
+ * units, each problem naming its key. */
+static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
+{
+  static const int their[] = {K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING};
+  d->barostat = choice(r, K_BARO);
+  if (r->bad[K_BARO]) return;
+  const int mc = d->barostat == 1, lj = u == RL_UNITS_LJ;
+  if (!d->barostat) {
+    for (size_t k = 0; k < sizeof their / sizeof their[0]; k++)
+      if (r->val[their[k]])
+        problem(r, r->line[their[k]], "run.%s is only used with a barostat (run.barostat = mc or c-rescale)", keys[their[k]].name);
+    return;
+  }
+  if (ens_ok && ens != 2 && ens != 3)
+    problem(r, r->line[K_BARO] ? r->line[K_BARO] : r->line[K_ENSEMBLE], "run.barostat = %s needs a stochastic thermostat "
+            "(run.ensemble = nvt-bussi or nvt-langevin): the barostat samples at run.temperature", val(r, K_BARO));
+  if (!r->val[K_PRESSURE]) problem(r, r->line[K_BARO], "run.barostat = %s needs run.pressure", val(r, K_BARO));
+  d->pressure = number(r, K_PRESSURE, u, 0, 0.0);
+  d->baro_interval = integer(r, K_BINTERVAL, 1, mc ? 25 : 10);
+  if (!mc && !r->bad[K_BINTERVAL] && d->energy_every > 0 && d->baro_interval % d->energy_every)
+    problem(r, r->line[K_BINTERVAL] ? r->line[K_BINTERVAL] : r->line[K_ENERGY], "run.barostat_interval = %ld must be a "
+            "multiple of output.energy_every = %ld (C-rescale needs the virial on its steps)", d->baro_interval, d->energy_every);
+  d->tau_p = number(r, K_TAUP, u, 0, lj ? 1000.0 * d->timestep : 1.0);
+  if (r->val[K_TAUP] && mc) problem(r, r->line[K_TAUP], "run.tau_p is only used with run.barostat = c-rescale");
+  else if (!r->bad[K_TAUP] && !(d->tau_p > 0)) problem(r, r->line[K_TAUP], "run.tau_p must be positive");
+  d->compressibility = number(r, K_COMPRESS, u, 0, lj ? 0.1 : 4.5e-5 / 0.0602214076);
+  if (r->val[K_COMPRESS] && mc) problem(r, r->line[K_COMPRESS], "run.compressibility is only used with run.barostat = c-rescale");
+  else if (!r->bad[K_COMPRESS] && !(d->compressibility > 0)) problem(r, r->line[K_COMPRESS], "run.compressibility must be positive");
+  d->baro_aniso = choice(r, K_BCOUPLING);
+  if (d->baro_aniso && !mc) problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = anisotropic needs run.barostat = mc (C-rescale is isotropic)");
+}
+
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
 {
   raw_deck r;
@@ -908,6 +949,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     problem(&r, r.line[K_ENERGY] ? r.line[K_ENERGY] : r.line[K_THERMO],
             "output.thermo_every = %ld must be a multiple of output.energy_every = %ld (a thermo row "
             "needs the energies)", d->thermo_every, d->energy_every);
+  baro_keys(&r, d, u, ens, ens_ok);
   d->checkpoint_every = integer(&r, K_CHECKPOINT, 0, 0);
   d->trajectory_every = integer_in(&r, K_TRAJ, 0, INT32_MAX, 0);
   if (d->trajectory_every > 0 && d->steps > INT32_MAX && d->model) { /* DCD's ISTART, NSTEP: int32 */

@@ -49,6 +49,11 @@ typedef struct {
   double thermostat_temperature, tau;
   unsigned long thermostat_seed;
   rl_thermo_groups thermostat_groups;
+  int barostat;             /* 0 none, 1 Monte Carlo, 2 C-rescale (run.barostat)          */
+  double pressure;          /* run.pressure, energy/volume (real: kJ mol^-1 nm^-3)       */
+  long baro_interval;       /* steps between barostat moves                              */
+  double tau_p, compressibility; /* C-rescale (compressibility: volume/energy)           */
+  int baro_aniso;           /* run.barostat_coupling = anisotropic                       */
   long equilibrate_steps;
   double equilibrate_timestep;
   /* [output] */

@@ -23,6 +23,11 @@ static const unit_def units[] = {
     {Q_TIME, "fs", 1e-3},         {Q_TIME, "ns", 1e3},           {Q_TEMPERATURE, "K", 1.0},
     {Q_DENSITY, "g/cm3", 602.214076}, {Q_DENSITY, "g/cm^3", 602.214076}, {Q_DENSITY, "kg/m3", 0.602214076},
     {Q_ENERGY, "kJ/mol", 1.0},    {Q_ENERGY, "kcal/mol", 4.184}, {Q_ENERGY, "K", RL_KB_KJMOL},
+    /* 1 bar = 1e5 J/m^3 = 0.0602214076 kJ mol^-1 nm^-3 */
+    {Q_PRESSURE, "bar", 0.0602214076}, {Q_PRESSURE, "atm", 0.0602214076 * 1.01325}, {Q_PRESSURE, "Pa", 0.0602214076e-5},
+    {Q_PRESSURE, "MPa", 0.602214076},  {Q_COMPRESSIBILITY, "1/bar", 1.0 / 0.0602214076},
+    {Q_COMPRESSIBILITY, "bar^-1", 1.0 / 0.0602214076}, {Q_COMPRESSIBILITY, "1/Pa", 1e5 / 0.0602214076},
+    {Q_COMPRESSIBILITY, "Pa^-1", 1e5 / 0.0602214076},
 };
 
 const char *rl_dim_unit(rl_dim dim, rl_units u)
@@ -34,6 +39,8 @@ const char *rl_dim_unit(rl_dim dim, rl_units u)
   case Q_TEMPERATURE: return "K";
   case Q_DENSITY: return "g/cm3";
   case Q_ENERGY: return "kJ/mol";
+  case Q_PRESSURE: return "bar";
+  case Q_COMPRESSIBILITY: return "1/bar";
   default: return "";
   }
 }
@@ -46,6 +53,8 @@ const char *rl_dim_suffixes(rl_dim dim)
   case Q_TEMPERATURE: return "K";
   case Q_DENSITY: return "g/cm3, kg/m3";
   case Q_ENERGY: return "kJ/mol, kcal/mol, K";
+  case Q_PRESSURE: return "bar, atm, Pa, MPa";
+  case Q_COMPRESSIBILITY: return "1/bar, bar^-1, 1/Pa, Pa^-1";
   default: return "";
   }
 }
@@ -87,7 +96,8 @@ int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, d
     if (!found) {
       snprintf(err, errlen, "unit '%s' is not a %s unit (use %s)", suffix,
                dim == Q_LENGTH ? "length" : dim == Q_TIME ? "time" : dim == Q_TEMPERATURE ? "temperature"
-               : dim == Q_DENSITY ? "density" : "energy", rl_dim_suffixes(dim));
+               : dim == Q_DENSITY ? "density" : dim == Q_ENERGY ? "energy" : dim == Q_PRESSURE ? "pressure"
+               : "compressibility", rl_dim_suffixes(dim));
       return -1;
     }
   }

@@ -176,9 +176,10 @@ static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (S
 
 /* The thermo file's header: step, time, total, potential, the energy components of every force
  * term (terms.h: lj, coulomb, dipolar, quadrupolar, dispersion for the pair term), kinetic
- * energies, temperatures, pressure, the conserved quantity, calE and the mid-step temperatures.
- * malloc'd. */
-static char *thermo_header(const rl_terms *t)
+ * energies, temperatures, pressure, the conserved quantity, calE and the mid-step temperatures;
+ * under a barostat also the volume, the density (g/cm3; reduced: mass per volume) and the box
+ * edges.  malloc'd. */
+static char *thermo_header(const rl_terms *t, int baro)
 {
   char *h = NULL;
   size_t n = 0;
@@ -186,7 +187,8 @@ static char *thermo_header(const rl_terms *t)
   if (!f) return NULL;
   fputs("step,time,total,potential", f);
   for (int j = 0; j < rl_terms_nenergies(t); j++) fprintf(f, ",%s", rl_terms_energy_name(t, j));
-  fputs(",ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid\n", f);
+  fputs(",ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid", f);
+  fputs(baro ? ",volume,density,Lx,Ly,Lz\n" : "\n", f);
   if (fclose(f)) { free(h); return NULL; }
   return h;
 }
@@ -195,14 +197,19 @@ static char *thermo_header(const rl_terms *t)
  * its energy components comp (energy_components at that time); calE is the running relative
  * fluctuation of the conserved quantity (E). */
 static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_terms *t,
-                      const double *comp, double pr, const running *E)
+                      const double *comp, double pr, const running *E, const double *box, double mass)
 {
   int bad = fprintf(f, "%ld,%.10g,%.10g,%.10g", k, info->t, info->total, info->potential) < 0;
   for (int j = 0; j < rl_terms_nenergies(t) && !bad; j++) bad = fprintf(f, ",%.10g", comp[j]) < 0;
   if (!bad)
-    bad = fprintf(f, ",%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g\n", info->ke_trans, info->ke_rot,
+    bad = fprintf(f, ",%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%.4e,%.6g,%.6g", info->ke_trans, info->ke_rot,
                   info->temperature, info->t_trans, info->t_rot, pr, info->conserved,
                   E->n > 1 ? running_sd(E) / fabs(E->mean) : 0.0, info->t_trans_mid, info->t_rot_mid) < 0;
+  if (!bad && box) {
+    const double V = box[0] * box[1] * box[2];
+    bad = fprintf(f, ",%.10g,%.10g,%.10g,%.10g,%.10g", V, mass / V, box[0], box[1], box[2]) < 0;
+  }
+  if (!bad) bad = fputc('\n', f) == EOF;
   if (bad) return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
   return RL_OK;
 }
@@ -267,6 +274,14 @@ static char *physics_text(const rl_deck *d)
   if (d->thermostat != RL_THERMO_NONE) ADD("run.temperature = %s %s\n", exact(r6, d->thermostat_temperature), Tu);
   if (d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN) ADD("run.tau = %s %s\n", exact(r7, d->tau), tu);
   if (d->thermostat == RL_THERMO_BUSSI) ADD("run.thermostat_groups = %s\n", rl_thermo_groups_name(d->thermostat_groups));
+  if (d->barostat) {
+    char b1[40], b2[40], b3[40];
+    ADD("run.barostat = %s\nrun.pressure = %s %s\nrun.barostat_interval = %ld\nrun.barostat_coupling = %s\n",
+        d->barostat == 1 ? "mc" : "c-rescale", exact(b1, scene_pressure_out(d, d->pressure)), pressure_unit(d),
+        d->baro_interval, d->baro_aniso ? "anisotropic" : "isotropic");
+    if (d->barostat == 2)
+      ADD("run.tau_p = %s %s\nrun.compressibility = %s (system units)\n", exact(b2, d->tau_p), tu, exact(b3, d->compressibility));
+  }
   ADD("output.energy_every = %ld\n", d->energy_every);
   ADD("output.trajectory_every = %ld\n", d->trajectory_every);
   ADD("output.sample_every = %ld\n", d->sample_every);
@@ -372,6 +387,47 @@ typedef struct {
   char heats_term[64];   /* ... the first such term                                          */
 } run_ctx;
 
+/* Every operator's account and own state into r's OPST list (buffers opst[] the caller frees),
+ * when one of them keeps a state (a barostat): none otherwise, as before. */
+static int save_ops(rl_integrator *in, run_record *r, void **opst)
+{
+  int any = 0;
+  for (int k = 0; k < rl_integrator_nops(in); k++) any |= rl_stepop_save(rl_integrator_op(in, k), NULL) > 0;
+  for (int k = 0; any && k < rl_integrator_nops(in) && r->nops < RUNREC_MAX_OPS; k++) {
+    const rl_stepop *op = rl_integrator_op(in, k);
+    const size_t size = rl_stepop_save(op, NULL);
+    if (size && !(opst[r->nops] = malloc(size))) return rl_error(RL_ENOMEM, "out of memory");
+    if (size) rl_stepop_save(op, opst[r->nops]);
+    r->ops[r->nops].name = op->type->name;
+    r->ops[r->nops].name_len = strlen(op->type->name);
+    r->ops[r->nops].bytes = opst[r->nops];
+    r->ops[r->nops].size = size;
+    r->ops[r->nops].work = op->work;
+    r->nops++;
+  }
+  return RL_OK;
+}
+
+/* The accounts and states of a checkpoint's OPST back into in's operators of the same names: all
+ * of them when the checkpoint has the section (one without the state of an operator that keeps
+ * one is not this run's); nothing when neither has one. */
+static int load_ops(rl_integrator *in, const run_record *rec, const char *path)
+{
+  for (int k = 0; k < rl_integrator_nops(in); k++) {
+    rl_stepop *op = rl_integrator_op(in, k);
+    const size_t want = rl_stepop_save(op, NULL);
+    if (!want && !rec->nops) continue;
+    int found = -1;
+    for (int q = 0; q < rec->nops && found < 0; q++)
+      if (rec->ops[q].name_len == strlen(op->type->name) && !memcmp(rec->ops[q].name, op->type->name, rec->ops[q].name_len)) found = q;
+    if (found < 0) return rl_error(RL_EINVAL, "%s holds no state of the %s: it was written by a run without it", path, op->type->label);
+    const int st = rl_stepop_load(op, rec->ops[found].bytes, rec->ops[found].size);
+    if (st) return rl_error_wrap(st, "%s", path);
+    op->work = rec->ops[found].work;
+  }
+  return RL_OK;
+}
+
 /* A checkpoint at `step`, `time` of the integrator `in` (the production's, or the relaxation's
  * with relax_step >= 0).  marks: the streams' marks (NULL: taken now, if the streams are open).
  * Before the first checkpoint of a run that does not continue this prefix's own, an earlier
@@ -406,9 +462,12 @@ static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double tim
     r.list_count = n;
     r.list = (const double(*)[3])origin;
   }
+  void *opst[RUNREC_MAX_OPS] = {NULL};
+  if (!st) st = save_ops(in, &r, opst);
   unsigned char *blob = NULL;
   size_t size = 0;
   if (!st) st = runrec_encode(&r, &blob, &size);
+  for (int k = 0; k < RUNREC_MAX_OPS; k++) free(opst[k]);
   if (!st && !c->same_prefix && !c->moved_prev && access(c->chk_path, F_OK) == 0) {
     if (rename(c->chk_path, c->chk_prev) != 0)
       st = rl_error(RL_EINVAL, "cannot keep the earlier %s as %s: %s", c->chk_path, c->chk_prev, strerror(errno));
@@ -847,7 +906,8 @@ static int report_thermo(void *ctx, const rl_run_report *r)
 {
   run_ctx *c = ctx;
   const int st = thermo_row(c->thermo, outputs_part(c->out, OUT_THERMO), r->step, r->info, r->terms, r->energies,
-                            scene_pressure_out(c->d, r->pressure), &c->E);
+                            scene_pressure_out(c->d, r->pressure), &c->E, c->d->barostat ? r->box : NULL,
+                            scene_density_mass(c->d, c->s.sys));
   return st && !r->last ? rl_error_wrap(st, "step %ld", r->step) : st;
 }
 
@@ -958,6 +1018,7 @@ static int restore_record(run_ctx *c, const run_record *rec)
             rl_thermostat_name(d->thermostat), d->thermostat_seed, rec->seed);
   else if (rec->rng_size) memcpy(rl_integrator_rng_state(c->in), rec->rng, rec->rng_size);
   rl_integrator_set_thermostat_work(c->in, rec->thermo_work);
+  if ((st = load_ops(c->in, rec, d->start))) return st;
   c->E = rec->E; c->U = rec->U; c->T = rec->T; c->Tt = rec->Tt; c->Tr = rec->Tr; c->P = rec->P;
   if (rec->has_watch) c->watch = rec->watch;
   c->last_chk = s->step0;
@@ -1046,7 +1107,7 @@ int rl_app_run(const rl_deck *d)
   rec.relax_step = -1;
   int cont = 0;
   st = scene_build(d, &c.s);
-  if (!st && !(c.header = thermo_header(c.s.terms))) st = rl_error(RL_ENOMEM, "out of memory");
+  if (!st && !(c.header = thermo_header(c.s.terms, d->barostat != 0))) st = rl_error(RL_ENOMEM, "out of memory");
   if (!st) st = decide_continuation(&c, &rec, &cont);
   const int relax_cont = cont && rec.relax_step >= 0; /* a checkpoint of a stopped relaxation */
   c.resumed = cont && c.same_prefix;
@@ -1078,7 +1139,8 @@ int rl_app_run(const rl_deck *d)
     p.threads = d->ff.threads; /* run.threads: the rotation solves too */
     p.energy_every = d->energy_every;
     c.in = rl_integrator_alloc(c.s.sys, &p, rl_terms_provider(c.s.terms));
-    st = !c.in ? RL_EINVAL : cont && !relax_cont ? restore_record(&c, &rec) : rl_integrator_init(c.in);
+    st = !c.in ? RL_EINVAL : scene_add_barostat(d, c.in);
+    if (!st) st = cont && !relax_cont ? restore_record(&c, &rec) : rl_integrator_init(c.in);
     if (st) step_error(&c, st);
     else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }

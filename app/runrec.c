@@ -126,6 +126,18 @@ int runrec_encode(const run_record *r, unsigned char **out, size_t *size)
     put_f64(&b, r->relax_time);
     end_section(&b, at);
   }
+  if (r->nops > 0) {
+    at = begin_section(&b, "OPST");
+    put_i64(&b, r->nops);
+    for (int k = 0; k < r->nops; k++) {
+      put_i64(&b, (int64_t)r->ops[k].name_len);
+      put(&b, r->ops[k].name, r->ops[k].name_len);
+      put_f64(&b, r->ops[k].work);
+      put_i64(&b, (int64_t)r->ops[k].size);
+      if (r->ops[k].size) put(&b, r->ops[k].bytes, r->ops[k].size);
+    }
+    end_section(&b, at);
+  }
   if (b.bad) {
     free(b.p);
     return rl_error(RL_ENOMEM, "out of memory for the checkpoint's run record");
@@ -312,6 +324,25 @@ int runrec_decode(const void *blob, size_t size, int nbodies, const char *path, 
       r->relax_time = get_f64(&s);
       if (s.bad || s.at != s.n || r->relax_step < 0 || !isfinite(r->relax_time))
         return bad_field(path, "relaxation step", "is out of range");
+    } else if (!strcmp(tag, "OPST")) {
+      const int64_t n = get_i64(&s);
+      if (s.bad || n < 1 || n > RUNREC_MAX_OPS) return bad_field(path, "operator states", "have a count out of range");
+      r->nops = (int)n;
+      for (int k = 0; k < r->nops; k++) {
+        const uint64_t nl = get_u64(&s);
+        if (s.bad || nl == 0 || nl > 64 || nl > s.n - s.at) return bad_field(path, "operator states", "have a bad name");
+        r->ops[k].name = (const char *)s.p + s.at;
+        r->ops[k].name_len = (size_t)nl;
+        s.at += (size_t)nl;
+        r->ops[k].work = get_f64(&s);
+        if (!isfinite(r->ops[k].work)) return bad_field(path, "operator states", "have an account that is not finite");
+        const uint64_t size = get_u64(&s);
+        if (s.bad || size > s.n - s.at) return bad_field(path, "operator states", "are cut short");
+        r->ops[k].bytes = s.p + s.at;
+        r->ops[k].size = (size_t)size;
+        s.at += (size_t)size;
+      }
+      if (s.at != s.n) return bad_field(path, "OPST", "section has the wrong size");
     }
     /* an unknown tag: a section of a later rotleap, skipped */
     b.at += (size_t)len;

@@ -11,6 +11,8 @@
  *   MARK  per output stream: where it was, its length and hash (outputs.h)
  *   WTCH  the blow-up and drift watch (rl_watch, run.h)
  *   RLAX  present when the checkpoint was written during the relaxation: its step and time
+ *   OPST  every step operator's account and own state (a barostat's random stream, trial size,
+ *         counts), by operator name                (omitted unless one keeps a state)
  * Versions 1 to 4 (a fixed struct, older rotleap) are read for the state's bookkeeping only. */
 #ifndef ROTLEAP_APP_RUNREC_H
 #define ROTLEAP_APP_RUNREC_H
@@ -19,6 +21,8 @@
 #include "scene.h"
 
 #include <stddef.h>
+
+#define RUNREC_MAX_OPS 8
 
 /* Welford running mean and variance. */
 typedef struct { long n; double mean, m2; } running;
@@ -42,6 +46,15 @@ typedef struct {
   out_mark marks[OUT_NSTREAMS];
   int has_watch;
   rl_watch watch;
+  int nops;               /* OPST: the operators' saved states (rl_stepop_save)              */
+  struct {
+    const char *name;     /* the operator's type name (not NUL-terminated when decoded)          */
+    size_t name_len;
+    const unsigned char *bytes;
+    size_t size;
+    double work;          /* its account (rl_stepop.work): restored one by one, so that their sum
+                             is the uninterrupted run's to the bit                                 */
+  } ops[RUNREC_MAX_OPS];
   long relax_step;        /* -1: production; else the relaxation's step of the checkpoint      */
   double relax_time;
 } run_record;

@@ -42,7 +42,9 @@ int scene_build(const rl_deck *d, scene *s)
    * the deck's box. */
   const int pdb = !strcmp(ext, ".pdb");
   const double file_unit = d->units == RL_UNITS_REAL ? 0.1 : 1.0; /* A or sigma, in nm or sigma */
-  for (int c = 0; c < 3; c++) {
+  /* under a barostat the box is part of the state: the start's, whatever the deck's was */
+  const int own_box = d->barostat && box[0] > 0;
+  for (int c = 0; c < 3 && !own_box; c++) {
     const double tol = pdb ? 1e-3 * file_unit * (1.0 + 1e-9) : 1e-6 * d->box[c];
     if (box[0] > 0 && !(fabs(box[c] - d->box[c]) <= tol)) {
       const char *lu = rl_dim_unit(Q_LENGTH, d->units);
@@ -53,7 +55,7 @@ int scene_build(const rl_deck *d, scene *s)
                           : "1e-6 relative");
     }
   }
-  if (rl_system_set_box(s->sys, d->box)) return 1; /* the system owns it from here on */
+  if (rl_system_set_box(s->sys, own_box ? box : d->box)) return 1; /* the system owns it from here on */
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
   if (!(s->terms = scene_terms(d, &s->mol, s->sys))) return 1;
   s->ff = rl_terms_find(s->terms, &rl_term_pair);
@@ -251,6 +253,31 @@ rl_run *scene_run_driver(const rl_deck *d, scene *s, rl_integrator *in)
   rl_run_params rp = {.energy_every = d->energy_every, .h = d->timestep, .check = run_check, .check_ctx = (void *)d};
   scene_watch_params(d, 0, &rp.watch);
   return rl_run_alloc(s->sys, in, s->terms, &rp);
+}
+
+int scene_add_barostat(const rl_deck *d, rl_integrator *in)
+{
+  if (!d->barostat) return RL_OK;
+  const rl_barostat_params bp = {.P0 = d->pressure, .T0 = d->thermostat_temperature, .interval = d->baro_interval,
+                                 .tau_p = d->tau_p, .compressibility = d->compressibility,
+                                 .coupling = d->baro_aniso ? RL_BARO_ANISOTROPIC : RL_BARO_ISOTROPIC,
+                                 .min_edge = 2.0 * d->ff.cutoff, .seed = d->thermostat_seed + SCENE_BARO_SEED};
+  return rl_integrator_add_op(in, d->barostat == 1 ? &rl_stepop_mc_barostat : &rl_stepop_crescale, &bp);
+}
+
+double scene_density_mass(const rl_deck *d, const rl_system *sys)
+{
+  double m = 0.0;
+  for (int i = 0; i < rl_system_count(sys); i++) m += rl_system_mass(sys, i);
+  return d->units == RL_UNITS_REAL ? m / 602.214076 : m;
+}
+
+rl_stepop *scene_barostat(const rl_deck *d, rl_integrator *in)
+{
+  const rl_stepop_type *T = d->barostat == 1 ? &rl_stepop_mc_barostat : d->barostat == 2 ? &rl_stepop_crescale : NULL;
+  for (int k = 0; T && in && k < rl_integrator_nops(in); k++)
+    if (rl_integrator_op(in, k)->type == T) return rl_integrator_op(in, k);
+  return NULL;
 }
 
 /* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */

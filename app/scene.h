@@ -75,6 +75,17 @@ void scene_integrator_params(const rl_deck *d, scene_purpose what, rl_integrator
 /* The driver of a production run of the deck over the scene's system, terms and `in`, with
  * rotleap's watch and checks (scene_check_finite); NULL with a message. */
 rl_run *scene_run_driver(const rl_deck *d, scene *s, rl_integrator *in);
+/* The deck's barostat (run.barostat) added to the production integrator in, before its init or
+ * resume: RL_OK (nothing without one) or the operator's error.  Its random stream is seeded with
+ * run.seed + SCENE_BARO_SEED (not the thermostat's stream); a move that would bring a box edge below
+ * twice the cutoff stops the run. */
+#define SCENE_BARO_SEED 1000003ul
+int scene_add_barostat(const rl_deck *d, rl_integrator *in);
+/* The system's mass in the unit whose ratio to the volume is the deck's density (g/cm3 for real
+ * units: amu / 602.214076; reduced: the mass). */
+double scene_density_mass(const rl_deck *d, const rl_system *sys);
+/* The barostat of the production integrator in (its operator), or NULL. */
+rl_stepop *scene_barostat(const rl_deck *d, rl_integrator *in);
 /* RL_OK if every energy component comp (of the terms t), the nine virial elements (virial may
  * be NULL) and the pressure are finite; else RL_ENONFINITE with a message naming the first that
  * is not ("the dispersion correction is -nan") and the interactions that produce it. */

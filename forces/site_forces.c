@@ -46,6 +46,11 @@ double rl_forces_pressure(const rl_system *sys, const rl_forces *f, double ke_tr
 {
   double L[3];
   rl_system_box(sys, L);
+  return rl_forces_pressure_in(L, f, ke_trans);
+}
+
+double rl_forces_pressure_in(const double L[3], const rl_forces *f, double ke_trans)
+{
   const double V = L[0] * L[1] * L[2]; /* as rl_box_volume forms it */
   if (!(V > 0.0)) return NAN;
   return (2.0 * ke_trans + f->virial[0] + f->virial[4] + f->virial[8]) / (3.0 * V);

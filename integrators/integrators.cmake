@@ -17,4 +17,5 @@ target_sources(rotleap PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/stepops/isokinetic.c
   ${CMAKE_CURRENT_LIST_DIR}/stepops/bussi.c
   ${CMAKE_CURRENT_LIST_DIR}/stepops/langevin.c
+  ${CMAKE_CURRENT_LIST_DIR}/stepops/barostat.c
 )

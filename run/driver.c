@@ -127,6 +127,8 @@ int rl_run_steps(rl_run *r, long first, long last, const volatile sig_atomic_t *
       if (nr) memcpy(r->snap.k, F->k, sizeof(double[3]) * (size_t)nr);
     }
     rl_step_info info;
+    double L[3]; /* the box at t_k: a barostat may change it during the step */
+    rl_system_box(r->sys, L);
     if ((st = rl_integrator_step(r->in, &info))) break; /* the library's message names the step and the cause */
     if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy cadence */
       st = rl_error(RL_ESTATE, "internal error: no energies at step %ld (the driver's energy cadence %ld is not the "
@@ -134,12 +136,13 @@ int rl_run_steps(rl_run *r, long first, long last, const volatile sig_atomic_t *
       break;
     }
     if ((st = rl_watch_step(&r->watch, &r->p.watch, r->sys, &info, k, r->p.energy_every, r->p.h))) break;
-    rl_run_report step = {k, info.t, 0, &info, r->comp, NAN, &r->snap, r->sys, r->terms};
+    rl_run_report step = {k, info.t, 0, &info, r->comp, NAN, &r->snap, r->sys, r->terms, {L[0], L[1], L[2]}};
     if (ev) {
-      step.pressure = rl_forces_pressure(r->sys, &r->snap, info.ke_trans);
+      step.pressure = rl_forces_pressure_in(L, &r->snap, info.ke_trans);
       if ((st = check(r, &step))) break;
     }
-    const rl_run_report state = {k + 1, rl_integrator_time(r->in), 0, NULL, NULL, NAN, NULL, r->sys, r->terms};
+    rl_run_report state = {k + 1, rl_integrator_time(r->in), 0, NULL, NULL, NAN, NULL, r->sys, r->terms, {0, 0, 0}};
+    rl_system_box(r->sys, state.box);
     steps++;
     for (int q = 0; q < r->nrep && !st; q++) {
       rl_reporter *rep = &r->rep[q];
@@ -160,7 +163,9 @@ int rl_run_finish(rl_run *r, long step)
   const int ne = rl_terms_nenergies(r->terms);
   for (int j = 0; j < ne; j++) r->comp[j] = rl_terms_energy(r->terms, j);
   const rl_forces *F = rl_integrator_forces(r->in);
-  rl_run_report rep = {step, info.t, 1, &info, r->comp, rl_forces_pressure(r->sys, F, info.ke_trans), F, r->sys, r->terms};
+  rl_run_report rep = {step, info.t, 1, &info, r->comp, rl_forces_pressure(r->sys, F, info.ke_trans), F, r->sys, r->terms,
+                       {0, 0, 0}};
+  rl_system_box(r->sys, rep.box);
   if ((st = check(r, &rep))) return st;
   for (int q = 0; q < r->nrep && !st; q++)
     if (r->rep[q].when == RL_REPORT_STEP) st = call(&r->rep[q], &rep);

@@ -31,5 +31,14 @@ done
 [ "$failed" -eq 0 ]
 echo "scripts/test.sh: built build-test, build-noomp and build-asan (logs: build-*.log)"
 ctest --test-dir build-test --output-on-failure -j"$jobs"
+# The Python package as `pip install .` installs it (docs/python.md), from build-test's native
+# module into a folder of that build (the system's Python is left alone); the binding's tests
+# then run against the installed copy, from outside the source tree.
+site="$PWD/build-test/python-site"
+rm -rf "$site"
+ROTLEAP_BUILD_DIR="$PWD/build-test" /usr/bin/python3 -m pip install -q --no-build-isolation --no-index --no-deps \
+  --root-user-action=ignore --target "$site" .
+(cd build-test && PYTHONPATH="$site" ROTLEAP_CLI="$PWD/rotleap" /usr/bin/python3 -m pytest -q -p no:cacheprovider \
+  ../tests/python)
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j"$jobs"

@@ -35,6 +35,9 @@ typedef struct {
  * system's volume.  Units: energy / volume (real: kJ mol^-1 nm^-3 = 16.6054 bar); NaN without a
  * box. */
 double rl_forces_pressure(const rl_system *sys, const rl_forces *f, double ke_trans);
+/* The same in a box of edges L (the box the virial was computed in, when the system's has changed
+ * since: a barostat). */
+double rl_forces_pressure_in(const double L[3], const rl_forces *f, double ke_trans);
 
 /* Accumulate site forces fs[nsites][3] (lab) into body forces and torques
  * k += (r_a - r) x f_a.  For providers that work site by site. */

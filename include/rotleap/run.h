@@ -104,6 +104,8 @@ typedef struct {
   const rl_forces *forces;     /* STEP: forces, torques, energy and virial at t_k                  */
   const rl_system *sys;        /* the system (STATE: at t_{k+1}, v and l at half steps)            */
   const rl_terms *terms;       /* the force terms (names of the energy components)                 */
+  double box[3];               /* STEP: the box edges at t_k (those of the virial and pressure: a
+                                  barostat changes the system's during the step); STATE: at t_{k+1} */
 } rl_run_report;
 
 typedef struct {

@@ -124,9 +124,22 @@ struct rl_stepop_type {
   /* What the operator reports for the current time without stepping (rl_integrator_observe):
    * writes c->info only (may be NULL). */
   void (*observe)(const rl_stepop *op, rl_stepop_ctx *c);
-  /* The random state to checkpoint: its bytes and their count, or NULL (may be NULL). */
+  /* The random state to checkpoint: its bytes and their count, or NULL (may be NULL).  Only the
+   * first operator with one is the integrator's (rl_integrator_rng_state: the thermostat's). */
   void *(*rng_state)(rl_stepop *op, size_t *size);
+  /* The operator's own state for a checkpoint, beyond rng_state: a barostat's random stream,
+   * adapted trial size and counters (both may be NULL: nothing to keep).  save writes it into buf
+   * and returns its size in bytes (buf NULL: the size only); load puts back what save wrote
+   * (RL_EINVAL, naming the operator, for bytes of another size or out of range). */
+  size_t (*save)(const rl_stepop *op, void *buf);
+  int (*load)(rl_stepop *op, const void *buf, size_t size);
 };
+
+/* The operator's checkpoint state (type->save): its size, written into buf unless NULL; 0 if it
+ * keeps none. */
+size_t rl_stepop_save(const rl_stepop *op, void *buf);
+/* Put it back (type->load); RL_EINVAL if the operator keeps none and size > 0. */
+int rl_stepop_load(rl_stepop *op, const void *buf, size_t size);
 
 /* The most operators one integrator carries. */
 #define RL_STEPOP_MAX 8
@@ -161,10 +174,68 @@ typedef struct {
  * (RL_STEP_MID_DRIFT); rl_integrator.h's rl_thermostat has what each does. */
 extern const rl_stepop_type rl_stepop_isokinetic, rl_stepop_bussi, rl_stepop_langevin;
 
-/* The descriptor named `name` ("isokinetic", "bussi", "langevin"), or NULL. */
+/* The descriptor named `name` ("isokinetic", "bussi", "langevin", "mc-barostat", "c-rescale"), or NULL. */
 const rl_stepop_type *rl_stepop_find(const char *name);
 /* The operator rl_integrator_params.thermostat = t adds (NULL for RL_THERMO_NONE or unknown). */
 const rl_stepop_type *rl_stepop_for_thermostat(rl_thermostat t);
+
+/* ------------------------------------------------------------------------- the barostats */
+
+/* How a barostat changes the cell: every edge by one factor, one edge at a time (Monte Carlo:
+ * OpenMM's MonteCarloAnisotropicBarostat), or x and y together and z alone (stochastic cell
+ * rescaling, semi-isotropic: not yet). */
+typedef enum {
+  RL_BARO_ISOTROPIC = 0,
+  RL_BARO_ANISOTROPIC = 1
+} rl_baro_coupling;
+
+/* The parameter block of the barostats (integrators/stepops/barostat.c).  Energies, volumes and
+ * pressures in the system's units (real: kJ/mol, nm^3, kJ mol^-1 nm^-3 = 16.6054 bar). */
+typedef struct {
+  double P0;               /* target pressure (any finite value; > 0 for an ideal gas)            */
+  double T0;               /* temperature of the ensemble (> 0): the thermostat's                 */
+  long interval;           /* steps between moves (>= 1): Monte Carlo trials; C-rescale couplings  */
+  double tau_p;            /* C-rescale: coupling time (> 0)                                       */
+  double compressibility;  /* C-rescale: the isothermal compressibility it assumes (> 0), 1/pressure */
+  double trial;            /* Monte Carlo: first trial size as a fraction of V (0: 0.01, OpenMM's) */
+  rl_baro_coupling coupling;
+  double min_edge;         /* a move to a box edge below this stops the run (0: no check; rotleap:
+                              twice the cutoff, the least the pair term can follow)               */
+  unsigned long seed;      /* GSL mt19937 seed of the barostat's own stream                       */
+} rl_barostat_params;
+
+/* Monte Carlo barostat (RL_STEP_END, every `interval` steps): a random change of the volume
+ * dV uniform in [-s, s] (a walk in V, as OpenMM's), the centres of mass scaled by (V'/V)^(1/3)
+ * (anisotropic: one edge, picked at random, by V'/V), the molecules rigid with their
+ * orientations and velocities kept; accepted with min(1, exp(-w/kT)),
+ * w = dU + P0 dV - N kT ln(V'/V), N the molecules.  s (one per edge when anisotropic) starts at
+ * trial V and is adapted as OpenMM does: after every 10 trials, divided by 1.1 below 25 %
+ * acceptance, multiplied by 1.1 (at most 0.3 V) above 75 %.  The account takes -dU of an
+ * accepted move (the conserved quantity stays continuous; it is not conserved under MC). */
+extern const rl_stepop_type rl_stepop_mc_barostat;
+/* Stochastic cell rescaling (Bernetti & Bussi 2020), isotropic, at RL_STEP_AFTER_DRIFT of every
+ * `interval`-th step: with the molecular pressure P(t) = (2 K_trans(t) + tr W(t)) / 3V and
+ * dt = interval h, eps = ln V moves by
+ *   d eps = -(kappa dt / tau_p) (P0 - P) + sqrt(2 kT kappa dt / (V tau_p)) xi
+ * (xi a standard normal; the stationary law of this Ito walk is V^N exp(-(U + P0 V)/kT) dV with P's
+ * kinetic part N kT/V, the Monte Carlo barostat's: docs/integrators.md, "Barostats"),
+ * the centres r(t+h) and the box are scaled by mu = exp(d eps / 3) and v(t+h/2) by 1/mu.  The
+ * account takes the energy the move changes, -(dK + dU) with dK exact and dU the trapezoid
+ * -(tr W + tr W') ln mu / 2 (W' the virial in the new box at RL_STEP_END, computed there if the
+ * step has no energy), so that the total energy plus the accounts is the effective energy of the
+ * paper, conserved up to the integration error (with dU to first order only, -tr W ln mu, the
+ * noise's second-order term drifts at a rate that does not fall with h).  Needs the virial at t on
+ * its steps: interval must be a multiple of the integrator's energy_every. */
+extern const rl_stepop_type rl_stepop_crescale;
+
+/* A barostat's counts: Monte Carlo trials and acceptances (per edge when anisotropic: [0..2],
+ * isotropic in [0]), the current trial sizes; C-rescale: moves in attempted[0], accepted = moves. */
+typedef struct {
+  long attempted[3], accepted[3];
+  double trial[3];
+} rl_barostat_stats;
+/* RL_EINVAL if op is not a barostat. */
+int rl_barostat_stats_of(const rl_stepop *op, rl_barostat_stats *out);
 
 #ifdef __cplusplus
 }

@@ -9,7 +9,8 @@
 
 const rl_stepop_type *rl_stepop_find(const char *name)
 {
-  static const rl_stepop_type *const all[] = {&rl_stepop_isokinetic, &rl_stepop_bussi, &rl_stepop_langevin};
+  static const rl_stepop_type *const all[] = {&rl_stepop_isokinetic, &rl_stepop_bussi, &rl_stepop_langevin,
+                                                  &rl_stepop_mc_barostat, &rl_stepop_crescale};
   for (size_t k = 0; name && k < sizeof all / sizeof *all; k++)
     if (!strcmp(all[k]->name, name)) return all[k];
   return NULL;
@@ -54,4 +55,13 @@ void *rl_thermostat_rng_state(rl_stepop *op, size_t *size)
 {
   *size = gsl_rng_size(op->state);
   return gsl_rng_state(op->state);
+}
+
+size_t rl_stepop_save(const rl_stepop *op, void *buf) { return op && op->type->save ? op->type->save(op, buf) : 0; }
+
+int rl_stepop_load(rl_stepop *op, const void *buf, size_t size)
+{
+  if (op && op->type->load) return op->type->load(op, buf, size);
+  if (size) return rl_error(RL_EINVAL, "the %s keeps no state, but %zu bytes were given", op ? op->type->label : "(null)", size);
+  return RL_OK;
 }

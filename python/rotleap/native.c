@@ -1,0 +1,390 @@
+/* The Python binding's native part: a deck's simulation (app/: deck -> scene -> relaxation ->
+ * production integrator, as `rotleap run` builds it) behind a flat C interface for ctypes
+ * (python/rotleap/_native.py declares every function below).  Plain types only: ints, longs,
+ * doubles, double arrays the caller owns, and one callback.  Every call that can fail returns
+ * an rl status (RL_OK = 0) with the message in rlpy_error(); the library never prints. */
+#include "deck.h"
+#include "scene.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define RLPY_API __attribute__((visibility("default")))
+
+/* A run stopped by SIGINT (Ctrl-C) between two steps: rlpy_run's status, for a KeyboardInterrupt. */
+#define RLPY_INTERRUPTED (-2)
+/* A Python reporter raised: the exception is Python's to re-raise. */
+#define RLPY_REPORTER_RAISED (-3)
+
+typedef int (*rlpy_callback)(int reporter);
+
+typedef struct {
+  rl_deck d;
+  scene s;
+  rl_integrator *in;
+  rl_watch watch;          /* carried from one run call to the next                    */
+  long step;               /* production steps done (from the start's step)            */
+  long now;                /* the step of the state during a reporter's call            */
+  const rl_run_report *cur;/* the report a Python reporter is reading                  */
+  rlpy_callback cb;
+  int cb_status;
+} rlpy_sim;
+
+typedef struct {
+  rlpy_sim *sim;
+  int index;
+} rlpy_rep;
+
+/* --------------------------------------------------------------------------- lifecycle */
+
+RLPY_API const char *rlpy_error(void) { return rl_last_error(); }
+RLPY_API const char *rlpy_version(void) { return ROTLEAP_VERSION; }
+
+RLPY_API void rlpy_close(rlpy_sim *p)
+{
+  if (!p) return;
+  rl_integrator_free(p->in);
+  scene_free(&p->s);
+  free(p);
+}
+
+/* The deck at `path` with the overrides sets[nsets] ("section.key=value"): the scene, the
+ * relaxation (run.equilibrate) and the production integrator, at the step the start gives (0,
+ * or a checkpoint's).  NULL with the deck's problems, one a line, or the library's message. */
+RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
+{
+  rlpy_sim *p = calloc(1, sizeof *p);
+  if (!p) { rl_error(RL_ENOMEM, "out of memory"); return NULL; }
+  char *msg = NULL;
+  size_t len = 0;
+  FILE *err = open_memstream(&msg, &len);
+  if (!err) { free(p); rl_error(RL_ENOMEM, "out of memory"); return NULL; }
+  const int problems = rl_deck_load(path, sets, nsets, &p->d, err);
+  fclose(err);
+  if (problems) {
+    while (len > 0 && msg[len - 1] == '\n') msg[--len] = '\0';
+    rl_error(RL_EINVAL, "%s", msg ? msg : "the deck has problems");
+    free(msg);
+    free(p);
+    return NULL;
+  }
+  free(msg);
+  rl_error_clear();
+  int st = scene_build(&p->d, &p->s) ? RL_EINVAL : RL_OK;
+  if (!st && !p->s.restart) st = scene_relax(&p->d, &p->s);
+  if (!st) {
+    rl_integrator_params ip;
+    scene_integrator_params(&p->d, SCENE_RUN, &ip);
+    p->in = rl_integrator_alloc(p->s.sys, &ip, rl_terms_provider(p->s.terms));
+    /* a checkpoint holds v and l at half steps: continue from them (without the run record's
+     * random state and list origin, so not bit for bit with `rotleap run`'s continuation) */
+    st = !p->in ? RL_EINVAL : p->s.restart ? rl_integrator_resume(p->in, p->s.step0, p->s.t0) : rl_integrator_init(p->in);
+  }
+  if (st) {
+    if (!rl_last_error()[0]) rl_error(st, "cannot build the simulation of %s", path);
+    rlpy_close(p);
+    return NULL;
+  }
+  p->step = p->s.restart ? p->s.step0 : 0;
+  rl_watch_init(&p->watch);
+  return p;
+}
+
+/* ------------------------------------------------------------------------------ queries */
+
+RLPY_API int rlpy_count(const rlpy_sim *p) { return rl_system_count(p->s.sys); }
+RLPY_API int rlpy_nrot(const rlpy_sim *p) { return rl_system_nrot(p->s.sys); }
+RLPY_API long rlpy_step(const rlpy_sim *p) { return p->cur ? p->now : p->step; }
+RLPY_API double rlpy_time(const rlpy_sim *p) { return rl_integrator_time(p->in); }
+RLPY_API double rlpy_timestep(const rlpy_sim *p) { return p->d.timestep; }
+RLPY_API long rlpy_deck_steps(const rlpy_sim *p) { return p->d.steps; }
+RLPY_API long rlpy_energy_every(const rlpy_sim *p) { return p->d.energy_every; }
+RLPY_API long rlpy_thermo_every(const rlpy_sim *p) { return p->d.thermo_every; }
+RLPY_API int rlpy_real_units(const rlpy_sim *p) { return p->d.units == RL_UNITS_REAL; }
+RLPY_API const char *rlpy_model(const rlpy_sim *p) { return p->d.model->name; }
+RLPY_API long rlpy_fallbacks(const rlpy_sim *p) { return rl_integrator_fallbacks(p->in); }
+/* The kind of the bodies (rl_kind: all of one species). */
+RLPY_API int rlpy_kind(const rlpy_sim *p) { return (int)rl_system_species_kind(p->s.sys, 0); }
+RLPY_API int rlpy_nenergies(const rlpy_sim *p) { return rl_terms_nenergies(p->s.terms); }
+RLPY_API const char *rlpy_energy_name(const rlpy_sim *p, int j) { return rl_terms_energy_name(p->s.terms, j); }
+RLPY_API void rlpy_box(const rlpy_sim *p, double L[3]) { rl_system_box(p->s.sys, L); }
+
+/* ----------------------------------------------------------------- values of a report */
+
+/* The values of an on-step report, RLPY_NVALUES + nenergies of them: */
+enum {
+  V_STEP, V_TIME, V_LAST, V_TOTAL, V_POTENTIAL, V_KE_TRANS, V_KE_ROT, V_TEMPERATURE, V_T_TRANS, V_T_ROT,
+  V_PRESSURE, V_CONSERVED, V_T_TRANS_MID, V_T_ROT_MID, V_MAX_H_OMEGA, V_FALLBACKS, V_VIRIAL,
+  RLPY_NVALUES = V_VIRIAL + 9
+};
+RLPY_API int rlpy_nvalues(void) { return RLPY_NVALUES; }
+
+static void values(const rlpy_sim *p, const rl_run_report *r, double *out)
+{
+  const rl_step_info *i = r->info;
+  const double v[] = {(double)r->step, r->time, (double)r->last, i->total, i->potential, i->ke_trans, i->ke_rot,
+                      i->temperature, i->t_trans, i->t_rot, scene_pressure_out(&p->d, r->pressure), i->conserved,
+                      i->t_trans_mid, i->t_rot_mid, i->max_h_omega, (double)i->fallbacks};
+  memcpy(out, v, sizeof v);
+  memcpy(out + V_VIRIAL, r->forces->virial, sizeof(double[9]));
+  for (int j = 0; j < rl_terms_nenergies(r->terms); j++) out[RLPY_NVALUES + j] = r->energies[j];
+}
+
+/* The report a Python reporter is called with: STEP (1: values into out) or STATE (0: step and
+ * time into out[0], out[1]); RL_ESTATE outside a reporter. */
+RLPY_API int rlpy_report(const rlpy_sim *p, double *out)
+{
+  if (!p->cur) return rl_error(RL_ESTATE, "no report: this is read in a reporter's call");
+  if (p->cur->info) {
+    values(p, p->cur, out);
+    return 1;
+  }
+  out[0] = (double)p->cur->step;
+  out[1] = p->cur->time;
+  return 0;
+}
+
+/* Forces [n][3] and torques [nrot][3] of a STEP report (at its step). */
+RLPY_API int rlpy_report_forces(const rlpy_sim *p, double *f, double *k)
+{
+  if (!p->cur || !p->cur->forces) return rl_error(RL_ESTATE, "no forces: they are read in a step reporter's call");
+  memcpy(f, p->cur->forces->f, sizeof(double[3]) * (size_t)rl_system_count(p->s.sys));
+  memcpy(k, p->cur->forces->k, sizeof(double[3]) * (size_t)rl_system_nrot(p->s.sys));
+  return RL_OK;
+}
+
+/* The on-step values of the current state, as a step report (rl_integrator_observe: the forces
+ * and what follows are unchanged). */
+RLPY_API int rlpy_observe(rlpy_sim *p, double *out)
+{
+  rl_step_info info;
+  int st = rl_integrator_observe(p->in, &info);
+  if (st) return st;
+  double comp[64];
+  const int ne = rl_terms_nenergies(p->s.terms);
+  for (int j = 0; j < ne && j < 64; j++) comp[j] = rl_terms_energy(p->s.terms, j);
+  const rl_forces *F = rl_integrator_forces(p->in);
+  const rl_run_report r = {p->step, info.t, 1, &info, comp, rl_forces_pressure(p->s.sys, F, info.ke_trans), F,
+                           p->s.sys, p->s.terms};
+  values(p, &r, out);
+  return RL_OK;
+}
+
+/* ------------------------------------------------------------------------------ running */
+
+static volatile sig_atomic_t got_sigint;
+static void on_sigint(int sig) { (void)sig; got_sigint = 1; }
+
+static int call_python(void *ctx, const rl_run_report *r)
+{
+  rlpy_rep *rep = ctx;
+  rlpy_sim *p = rep->sim;
+  p->cur = r;
+  p->now = r->info && !r->last ? r->step + 1 : r->step; /* a step report comes after the step */
+  const int st = p->cb(rep->index);
+  p->cur = NULL;
+  if (st) {
+    p->cb_status = st;
+    return rl_error(RL_EINVAL, "reporter %d raised an exception", rep->index);
+  }
+  return RL_OK;
+}
+
+/* nsteps production steps with the reporters when[i] (RL_REPORT_STEP 0 / RL_REPORT_STATE 1)
+ * every[i] steps, each calling cb(i); with `finish`, the row of the last state to the STEP
+ * reporters (last = 1) as `rotleap run` writes it.  With catch_sigint (the caller's main
+ * thread), SIGINT stops the run between two steps: RLPY_INTERRUPTED, *done steps taken.  A
+ * reporter returning nonzero stops it: RLPY_REPORTER_RAISED. */
+RLPY_API int rlpy_run(rlpy_sim *p, long nsteps, int nrep, const int *when, const long *every, rlpy_callback cb,
+                      int finish, int catch_sigint, long *done)
+{
+  *done = 0;
+  if (nsteps < 0) return rl_error(RL_EINVAL, "steps = %ld: a run takes 0 or more steps", nsteps);
+  rl_run *drv = scene_run_driver(&p->d, &p->s, p->in);
+  if (!drv) return RL_ENOMEM;
+  *rl_run_watch(drv) = p->watch;
+  rlpy_rep *reps = calloc((size_t)(nrep > 0 ? nrep : 1), sizeof *reps);
+  int st = reps ? RL_OK : rl_error(RL_ENOMEM, "out of memory");
+  p->cb = cb;
+  p->cb_status = 0;
+  for (int i = 0; !st && i < nrep; i++) {
+    reps[i] = (rlpy_rep){p, i};
+    char name[32];
+    snprintf(name, sizeof name, "python reporter %d", i);
+    const rl_reporter r = {name, when[i] ? RL_REPORT_STATE : RL_REPORT_STEP, every[i], call_python, &reps[i]};
+    st = rl_run_add_reporter(drv, &r);
+  }
+  struct sigaction old, sa;
+  if (!st && catch_sigint) {
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    got_sigint = 0;
+    sigaction(SIGINT, &sa, &old);
+  }
+  if (!st) {
+    st = rl_run_steps(drv, p->step, p->step + nsteps, catch_sigint ? &got_sigint : NULL, done);
+    p->step += *done;
+    p->watch = *rl_run_watch(drv);
+    if (!st && finish && !(catch_sigint && got_sigint)) st = rl_run_finish(drv, p->step);
+  }
+  if (catch_sigint) sigaction(SIGINT, &old, NULL);
+  if (p->cb_status) st = RLPY_REPORTER_RAISED;
+  else if (!st && catch_sigint && got_sigint) st = RLPY_INTERRUPTED;
+  free(reps);
+  rl_run_free(drv);
+  return st;
+}
+
+/* -------------------------------------------------------------------------- the state */
+
+/* Quantities: 0 centres [n][3], 1 velocities [n][3] (v(t - h/2), as the leapfrog and a checkpoint
+ * hold them), 2 angular momenta [nrot][3] (lab frame, l(t - h/2)), 3 orientations [n][9] (A: lab
+ * to body), 4 axes [n][3] (point dipoles, linear bodies), 5 forces [n][3], 6 torques [nrot][3]. */
+enum { Q_POS, Q_VEL, Q_ANGMOM, Q_ORIENT, Q_AXIS, Q_FORCE, Q_TORQUE };
+
+static int matrix_kind(rl_kind k) { return k != RL_KIND_POINT && k != RL_KIND_DIPOLE && k != RL_KIND_LINEAR; }
+static int axis_kind(rl_kind k) { return k == RL_KIND_DIPOLE || k == RL_KIND_LINEAR; }
+
+static int check_quantity(const rlpy_sim *p, int q)
+{
+  const rl_kind k = (rl_kind)rlpy_kind(p);
+  if (q == Q_ORIENT && !matrix_kind(k))
+    return rl_error(RL_EINVAL, "the bodies (%s) have no orientation matrix%s", rl_kind_name(k),
+                    axis_kind(k) ? ": use axes" : "");
+  if (q == Q_AXIS && !axis_kind(k))
+    return rl_error(RL_EINVAL, "the bodies (%s) have no axis%s", rl_kind_name(k), matrix_kind(k) ? ": use orientations" : "");
+  if (q < Q_POS || q > Q_TORQUE) return rl_error(RL_EINVAL, "quantity %d: no such quantity", q);
+  return RL_OK;
+}
+
+RLPY_API int rlpy_get(const rlpy_sim *p, int q, double *out)
+{
+  int st = check_quantity(p, q);
+  if (st) return st;
+  const rl_system *s = p->s.sys;
+  const int n = rl_system_count(s);
+  const rl_forces *F = rl_integrator_forces(p->in);
+  if (q == Q_FORCE) memcpy(out, F->f, sizeof(double[3]) * (size_t)n);
+  if (q == Q_TORQUE) memcpy(out, F->k, sizeof(double[3]) * (size_t)rl_system_nrot(s));
+  for (int i = 0; i < n && q < Q_FORCE; i++) {
+    const int ri = rl_system_rot_index(s, i);
+    if (q == Q_POS) rl_system_get_position(s, i, out + 3 * i);
+    else if (q == Q_VEL) rl_system_get_velocity(s, i, out + 3 * i);
+    else if (q == Q_ANGMOM && ri >= 0) rl_system_get_angmom(s, i, out + 3 * ri);
+    else if (q == Q_ORIENT) rl_system_get_orientation(s, i, out + 9 * i);
+    else if (q == Q_AXIS) rl_system_get_axis(s, i, out + 3 * i);
+  }
+  return RL_OK;
+}
+
+/* Sets one quantity (not forces or torques) of every body, then resumes the integrator at the
+ * same step and time: forces at the new state, v and l taken as the half-step values they are
+ * read as, the thermostat's account and random state kept.  A value the system refuses (an
+ * orientation that is not orthonormal, an axis that is not unit) is an error naming the body,
+ * and the quantity is left as it was. */
+static int set_all(rl_system *s, int q, const double *in)
+{
+  int st = RL_OK;
+  for (int i = 0; i < rl_system_count(s) && !st; i++) {
+    const int ri = rl_system_rot_index(s, i);
+    if (q == Q_POS) st = rl_system_set_position(s, i, in + 3 * i);
+    else if (q == Q_VEL) st = rl_system_set_velocity(s, i, in + 3 * i);
+    else if (q == Q_ANGMOM && ri >= 0) st = rl_system_set_angmom(s, i, in + 3 * ri);
+    else if (q == Q_ORIENT) st = rl_system_set_orientation(s, i, in + 9 * i);
+    else if (q == Q_AXIS) st = rl_system_set_axis(s, i, in + 3 * i);
+    if (st) rl_error_wrap(st, "body %d", i);
+  }
+  return st;
+}
+
+RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
+{
+  int st = check_quantity(p, q);
+  if (!st && q >= Q_FORCE) st = rl_error(RL_EINVAL, "forces and torques are computed, not set");
+  if (st) return st;
+  rl_system *s = p->s.sys;
+  const size_t n = (size_t)rl_system_count(s) * (q == Q_ORIENT ? 9 : 3);
+  double *old = malloc(sizeof(double) * (n ? n : 1));
+  const size_t nrng = rl_integrator_rng_size(p->in);
+  void *rng = nrng ? malloc(nrng) : NULL;
+  if (!old || (nrng && !rng)) {
+    free(old);
+    free(rng);
+    return rl_error(RL_ENOMEM, "out of memory");
+  }
+  rlpy_get(p, q, old);
+  st = set_all(s, q, in);
+  if (st) { /* the quantity as it was (values the system took before), the message kept */
+    char msg[1024];
+    snprintf(msg, sizeof msg, "%s", rl_last_error());
+    set_all(s, q, old);
+    free(old);
+    free(rng);
+    return rl_error(st, "%s", msg);
+  }
+  free(old);
+  if (rng) memcpy(rng, rl_integrator_rng_state(p->in), nrng);
+  const double work = rl_integrator_thermostat_work(p->in);
+  st = rl_integrator_resume(p->in, p->step, rl_integrator_time(p->in));
+  if (rng) memcpy(rl_integrator_rng_state(p->in), rng, nrng);
+  rl_integrator_set_thermostat_work(p->in, work);
+  free(rng);
+  return st;
+}
+
+/* -------------------------------------------------------------------------- the catalogue */
+
+RLPY_API int rlpy_catalog_count(void) { return rl_catalog_count(); }
+
+/* Text fields of model i: 0 name, 1 description, 2 reference, 3 units ("real", "lj"), 4 family
+ * (rl_kind_name); parameter k's name (10 + k) and unit (20 + k).  NULL out of range. */
+RLPY_API const char *rlpy_catalog_text(int i, int field)
+{
+  const rl_model *m = i >= 0 && i < rl_catalog_count() ? rl_catalog_get(i) : NULL;
+  if (!m) return NULL;
+  switch (field) {
+  case 0: return m->name;
+  case 1: return m->description;
+  case 2: return m->reference;
+  case 3: return m->units == RL_UNITS_REAL ? "real" : "lj";
+  case 4: return rl_kind_name(m->family);
+  }
+  if (field >= 10 && field < 10 + m->nparams) return m->param_names[field - 10];
+  if (field >= 20 && field < 20 + m->nparams) return m->param_units[field - 20];
+  return NULL;
+}
+
+/* Parameter count of model i and their defaults (defaults[RL_MODEL_MAX_PARAMS]). */
+RLPY_API int rlpy_catalog_params(int i, double *defaults)
+{
+  const rl_model *m = rl_catalog_get(i);
+  for (int k = 0; k < m->nparams; k++) defaults[k] = m->param_defaults[k];
+  return m->nparams;
+}
+
+/* Model i built with its default parameters: mass, inertia[3], and per site (up to
+ * RL_MOLECULE_MAX_SITES) names[8 each], body-frame positions [3], masses, sigma, epsilon,
+ * charge, dipole and quadrupole (along body Z).  The number of sites, or -1 with a message. */
+RLPY_API int rlpy_catalog_molecule(int i, double *mass, double *inertia, char *names, double *sites, double *site_mass,
+                                   double *sigma, double *epsilon, double *charge, double *dipole, double *quadrupole)
+{
+  rl_molecule m;
+  if (rl_model_build(rl_catalog_get(i), NULL, 0, &m)) return -1;
+  *mass = m.mass;
+  memcpy(inertia, m.inertia, sizeof m.inertia);
+  for (int s = 0; s < m.nsites; s++) {
+    memcpy(names + 8 * s, m.site_names[s], 8);
+    memcpy(sites + 3 * s, m.sites[s], sizeof m.sites[s]);
+    site_mass[s] = m.site_mass[s];
+    sigma[s] = m.sigma[s];
+    epsilon[s] = m.epsilon[s];
+    charge[s] = m.charge[s];
+    dipole[s] = m.dipole[s];
+    quadrupole[s] = m.quadrupole[s];
+  }
+  return m.nsites;
+}

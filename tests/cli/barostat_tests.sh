@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# The barostats from a deck (run.barostat, issue 34): 2N steps in one run and N steps + a
+# continuation of the checkpoint + N steps give byte-identical final checkpoints and thermo files,
+# for the Monte Carlo barostat (isotropic and anisotropic) and for C-rescale (the barostat's own
+# random stream and trial size travel in the checkpoint's OPST section); the thermo file has the
+# volume, density and box edges; bad keys are refused naming the key; a box that would shrink
+# below twice the cutoff stops the run with the step and the cause, its last checkpoint kept.
+# usage: barostat_tests.sh ROTLEAP SRCDIR WORKDIR
+set -u
+rotleap=$1; src=$2; work=$3
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+deck="$src/tests/cli/stockmayer_short.ini"
+pass=0; fail=0
+check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+npt=(--set system.count=125 --set run.ensemble=nvt-bussi --set run.temperature=1.35 --set run.pressure=1.0 --set run.timestep=0.004)
+# three_runs NAME ARGS...: NAME-A 2N steps; NAME-B N steps, then continued to 2N under its prefix
+three_runs() {
+  local name=$1; shift
+  local N=60
+  "$rotleap" run "$deck" "${npt[@]}" "$@" --set run.steps=$((2 * N)) --set output.checkpoint_every=$N --set output.prefix="$work/$name-A" >/dev/null 2>"$name.err" || true
+  "$rotleap" run "$deck" "${npt[@]}" "$@" --set run.steps=$N --set output.prefix="$work/$name-B" >/dev/null 2>>"$name.err" || true
+  "$rotleap" run "$deck" "${npt[@]}" "$@" --set run.steps=$((2 * N)) --set system.start="$work/$name-B.chk" --set output.prefix="$work/$name-B" >/dev/null 2>>"$name.err" || true
+  check "$name: all runs succeeded" "[ ! -s $name.err ] && [ -e $name-A.chk ] && [ -e $name-B.chk ]"
+  check "$name: final checkpoints byte-identical (2N vs N + continuation + N)" "cmp -s $name-A.chk $name-B.chk"
+  check "$name: thermo files byte-identical" "cmp -s $name-A.thermo.csv $name-B.thermo.csv"
+  check "$name: the box moved (volume column)" "awk -F, 'NR==2{v=\$(NF-4)} END{exit !(\$(NF-4) != v)}' $name-A.thermo.csv"
+}
+three_runs mc --set run.barostat=mc --set run.barostat_interval=3
+three_runs mc-aniso --set run.barostat=mc --set run.barostat_interval=2 --set run.barostat_coupling=anisotropic
+three_runs crescale --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.tau_p=0.5 --set run.compressibility=0.1
+check "thermo header has volume, density, box edges" "head -1 mc-A.thermo.csv | grep -q ',volume,density,Lx,Ly,Lz$'"
+check "no barostat: no volume columns" "'$rotleap' run '$deck' --set output.prefix=$work/nve >/dev/null 2>&1 && ! head -1 nve.thermo.csv | grep -q volume"
+# a continuation whose deck has no barostat (or another) is another simulation
+"$rotleap" run "$deck" "${npt[@]}" --set run.steps=130 --set system.start="$work/mc-B.chk" --set output.prefix="$work/mc-B" >/dev/null 2>other.err
+check "a continuation without the barostat is refused as another simulation" "grep -q 'run.barostat' other.err"
+# bad input, each naming its key
+bad() { # NAME FRAGMENT ARGS...
+  local name=$1 frag=$2; shift 2
+  "$rotleap" run "$deck" --set output.prefix="$work/bad" "$@" >/dev/null 2>"bad-$name.err"
+  local rc=$?
+  check "bad $name: refused naming $frag" "[ $rc -ne 0 ] && grep -q -- '$frag' bad-$name.err"
+}
+bad pressure-only "run.pressure is only used with a barostat" --set run.pressure=1
+bad no-pressure "needs run.pressure" --set run.barostat=mc --set run.ensemble=nvt-bussi --set run.temperature=1.35
+bad no-thermostat "needs a stochastic thermostat" --set run.barostat=mc --set run.pressure=1
+bad compressibility "run.compressibility must be positive" "${npt[@]}" --set run.barostat=c-rescale --set run.compressibility=0
+bad tau_p "run.tau_p must be positive" "${npt[@]}" --set run.barostat=c-rescale --set run.tau_p=-1
+bad tau_p-mc "run.tau_p is only used with run.barostat = c-rescale" "${npt[@]}" --set run.barostat=mc --set run.tau_p=1
+bad aniso-crescale "anisotropic needs run.barostat = mc" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_coupling=anisotropic
+bad interval "must be a multiple of output.energy_every" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_interval=3 --set output.energy_every=2 --set output.thermo_every=10
+bad pressure-unit "run.pressure: reduced (lj) units take no unit suffix" "${npt[@]}" --set run.barostat=mc --set run.pressure="1 bar"
+# collapse: an absurd pressure shrinks the box below twice the cutoff; the run stops naming the step
+# and the cause, and keeps its last checkpoint
+"$rotleap" run "$deck" "${npt[@]}" --set interactions.cutoff=2.6 --set run.barostat=c-rescale --set run.pressure=30 --set run.barostat_interval=1 \
+  --set run.tau_p=1 --set run.steps=400 --set output.checkpoint_every=5 --set output.prefix="$work/collapse" >/dev/null 2>collapse.err
+rc=$?
+check "collapse: the run stops (exit != 0)" "[ $rc -ne 0 ]"
+check "collapse: the message names the step and the cause" "grep -q 'would shrink the box edge' collapse.err && grep -q 'at step [0-9]' collapse.err && grep -q 'twice the cutoff' collapse.err"
+check "collapse: the last checkpoint is kept" "[ -e collapse.chk ] && grep -q 'collapse.chk (step 10) continues' collapse.err"
+echo "barostat tests: $pass passed, $fail failed"
+[ $fail -eq 0 ]

@@ -1,0 +1,275 @@
+"""rotleap from Python: the same runs as `rotleap run`, reporters on their steps, the state as
+arrays, and every wrong use a clear exception."""
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import rotleap
+from conftest import example, run_cli
+
+# short versions of the examples: Stockmayer (point dipoles, reduced units, Bussi) and TIP4P
+# (asymmetric tops, real units, Bussi; pressure in bar), each with its relaxation
+STOCKMAYER = {"run.steps": 300, "run.equilibrate": 100}
+TIP4P = {"run.steps": 60, "run.equilibrate": 20, "output.thermo_every": 10, "output.energy_every": 2}
+NVE = {"run.steps": 200, "run.equilibrate": 50, "output.thermo_every": 20, "output.energy_every": 5}
+
+
+def nve_deck(tmp_path):
+    """stockmayer.ini as an NVE run from system.temperature (the run's thermostat keys dropped)."""
+    text = open(example("stockmayer.ini")).read()
+    for key in ("ensemble", "temperature", "tau"):
+        text = text.replace("\n%s = " % key, "\n; %s = " % key)
+    text = text.replace("[system]\n", "[system]\ntemperature = 1.35\n")
+    path = tmp_path / "nve.ini"
+    path.write_text(text)
+    return str(path)
+
+
+def sets_of(d):
+    return ["%s=%s" % kv for kv in d.items()]
+
+
+def small_sim(**extra):
+    s = dict(STOCKMAYER)
+    s.update(extra)
+    return rotleap.Simulation(example("stockmayer.ini"), set=s)
+
+
+def test_import():
+    assert rotleap.__version__ == "0.1.0"
+    for name in rotleap.__all__:
+        assert hasattr(rotleap, name)
+
+
+@pytest.mark.parametrize("deck,sets", [("stockmayer.ini", STOCKMAYER), ("tip4p.ini", TIP4P),
+                                       ("nve", NVE)], ids=["stockmayer", "tip4p", "stockmayer-nve"])
+def test_same_run_as_cli(cli, tmp_path, deck, sets):
+    """The deck run by rotleap run and from Python: thermo files byte for byte, and the final
+    state (read back from rotleap run's checkpoint) bit for bit."""
+    deck = nve_deck(tmp_path) if deck == "nve" else example(deck)
+    run_cli(cli, deck, tmp_path, *sets_of(sets), "output.prefix=cli")
+    sim = rotleap.Simulation(deck, set=sets)
+    th = rotleap.ThermoReporter(str(tmp_path / "py.thermo.csv"))
+    sim.run(reporters=[th])
+    th.close()
+    cli_rows = (tmp_path / "cli.thermo.csv").read_text()
+    assert (tmp_path / "py.thermo.csv").read_text() == cli_rows
+    assert len(cli_rows.splitlines()) > 3
+    back = rotleap.Simulation(deck, set=dict(sets, **{"system.start": str(tmp_path / "cli.chk")}))
+    assert back.current_step == sim.current_step == sets["run.steps"]
+    quantities = ["positions", "velocities", "angular_momenta"]
+    quantities.append("axes" if sim.kind in ("dipole", "linear") else "orientations")
+    for q in quantities:
+        a, b = getattr(sim, q), getattr(back, q)
+        assert a.shape == b.shape and a.size > 0
+        assert np.array_equal(a, b), q
+
+
+def test_reporters_called_at_their_steps():
+    sim = small_sim(**{"output.energy_every": 5})
+    seen = {"step": [], "state": [], "last": []}
+
+    def on_step(s, r):
+        (seen["last"] if r.last else seen["step"]).append(r.step)
+        assert r.kind == "step" and np.isfinite(r.potential) and set(r.energies) == set(s.energy_names)
+        assert r.forces().shape == (s.count, 3)
+
+    def on_state(s, r):
+        assert r.kind == "state" and s.current_step == r.step  # the state after the step
+        seen["state"].append(r.step)
+
+    reps = [rotleap.CallbackReporter(on_step, every=20), rotleap.CallbackReporter(on_state, every=7, when="state")]
+    sim.run(100, reporters=reps)
+    assert seen["step"] == list(range(0, 100, 20))
+    assert seen["last"] == [100]
+    assert seen["state"] == list(range(7, 101, 7))
+    for v in seen.values():
+        v.clear()
+    sim.run(50, reporters=reps)  # steps are counted on: 100..149
+    assert seen["step"] == [100, 120, 140] and seen["last"] == [150]
+    assert seen["state"] == [105, 112, 119, 126, 133, 140, 147]
+
+
+def test_split_runs_and_state_round_trip_are_bitwise():
+    """run(150) = run(100) + run(50) = step(100), every array read and set back, step(50)."""
+    a = small_sim()
+    a.run(150)
+    b = small_sim()
+    b.run(100)
+    b.run(50)
+    c = small_sim()
+    c.step(100)
+    for q in ("positions", "velocities", "angular_momenta", "axes"):
+        setattr(c, q, getattr(c, q))
+    c.step(50)
+    for q in ("positions", "velocities", "angular_momenta", "axes", "forces", "torques"):
+        assert np.array_equal(getattr(a, q), getattr(b, q)), q
+        assert np.array_equal(getattr(a, q), getattr(c, q)), q
+    assert a.energies() == b.energies() == c.energies()
+
+
+def test_state_arrays_are_copies_and_setters_apply():
+    sim = small_sim()
+    x = sim.positions
+    x[0, 0] += 1e-3
+    assert sim.positions[0, 0] != x[0, 0]  # a copy
+    sim.positions = x
+    assert sim.positions[0, 0] == x[0, 0]
+    f_new = sim.forces  # forces at the new state
+    sim.step(1)
+    assert np.isfinite(f_new).all()
+    e = sim.energies()
+    assert set(e) >= {"potential", "kinetic", "total", "lj", "dipolar"}
+    assert e["total"] == pytest.approx(e["potential"] + e["kinetic"], rel=1e-12)
+    assert np.isfinite(sim.pressure)
+    tip = rotleap.Simulation(example("tip4p.ini"), set={"run.equilibrate": 0})
+    A = tip.orientations
+    assert A.shape == (216, 3, 3)
+    assert np.allclose(A @ A.transpose(0, 2, 1), np.eye(3), atol=1e-12)
+    assert tip.torques.shape == (216, 3) and tip.angular_momenta.shape == (216, 3)
+    B = A.copy()
+    B[2] *= 1.01
+    with pytest.raises(rotleap.Error, match="body 2"):
+        tip.orientations = B
+    assert np.array_equal(tip.orientations, A)  # left as it was
+    with pytest.raises(ValueError, match=r"expected \(216, 3, 3\)"):
+        tip.orientations = A.reshape(216, 9)
+    with pytest.raises(rotleap.Error, match="no axis: use orientations"):
+        tip.axes
+
+
+def test_deck_text():
+    text = open(example("stockmayer.ini")).read()
+    sim = rotleap.Simulation(text=text, set={"run.equilibrate": 0, "system.count": 108})
+    assert sim.count == 108 and sim.model == "stockmayer" and sim.units == "lj"
+    sim.step(10)
+    assert sim.current_step == 10
+
+
+def test_wrong_use_raises():
+    sim = small_sim()
+    n = sim.count
+    with pytest.raises(ValueError, match=r"shape \(3,\), expected \(%d, 3\)" % n):
+        sim.positions = np.zeros(3)
+    with pytest.raises(TypeError, match="real numbers"):
+        sim.velocities = np.zeros((n, 3), dtype=complex)
+    with pytest.raises(TypeError, match="real numbers"):
+        sim.positions = [["a", "b", "c"]] * n
+    bad = sim.velocities
+    bad[5, 1] = np.nan
+    with pytest.raises(ValueError, match=r"element \(5, 1\) is nan, not finite"):
+        sim.velocities = bad
+    with pytest.raises(rotleap.Error, match="no orientation matrix: use axes"):
+        sim.orientations
+    ax = sim.axes
+    ax[3] *= 2.0
+    with pytest.raises(rotleap.Error, match="body 3"):
+        sim.axes = ax
+    with pytest.raises(AttributeError):
+        sim.forces = np.zeros((n, 3))
+    with pytest.raises(ValueError, match="0 or more"):
+        sim.step(-1)
+    with pytest.raises(TypeError, match="whole number"):
+        sim.step(2.5)
+    with pytest.raises(ValueError, match="multiple of output.energy_every"):
+        small_sim(**{"output.energy_every": 10}).run(10, reporters=[rotleap.CallbackReporter(lambda s, r: None, 5)])
+    with pytest.raises(TypeError, match="when = 'step' or 'state'"):
+        sim.run(10, reporters=[object()])
+    with pytest.raises(rotleap.Error, match="unknown key 'temprature'"):
+        rotleap.Simulation(text="[system]\nmodel = stockmayer\ntemprature = 3\n")
+    with pytest.raises(rotleap.Error, match="nope.ini"):
+        rotleap.Simulation("nope.ini")
+    with pytest.raises(TypeError):
+        rotleap.Simulation()
+    # a reporter that raises stops the run with its exception, at its step
+    class Boom(Exception):
+        pass
+
+    def boom(s, r):
+        if r.step == 40:
+            raise Boom("at 40")
+
+    with pytest.raises(Boom, match="at 40"):
+        sim.run(100, reporters=[rotleap.CallbackReporter(boom, every=10)])
+    assert sim.current_step == 41
+    # a reporter may read the simulation, not step or change it
+    def nested(s, r):
+        s.step(1)
+
+    with pytest.raises(rotleap.Error, match="running"):
+        sim.run(10, reporters=[rotleap.CallbackReporter(nested, every=10)])
+    kept = []
+    sim.run(10, reporters=[rotleap.CallbackReporter(lambda s, r: kept.append(r), every=10)])
+    with pytest.raises(rotleap.Error, match="during a step reporter's call"):
+        kept[0].forces()
+    sim.step(3)  # still usable after all of that
+    sim.close()
+    for use in (lambda: sim.step(1), lambda: sim.run(1), lambda: sim.positions, lambda: sim.energies()):
+        with pytest.raises(rotleap.Error, match="closed"):
+            use()
+    sim.close()  # twice is fine
+
+
+def test_gil_released_while_stepping():
+    sim = small_sim()
+    count = [0]
+    stop = threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            count[0] += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    try:
+        c0 = count[0]
+        sim.step(400)  # no Python runs in these steps: the other thread counts only if the GIL is free
+        c1 = count[0]
+    finally:
+        stop.set()
+        t.join()
+    assert c1 - c0 > 1000
+
+
+def test_ctrl_c_stops_a_run_cleanly():
+    sim = small_sim()
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    t0 = time.time()
+    with pytest.raises(KeyboardInterrupt, match="stopped at step"):
+        sim.step(10 ** 8)
+    assert time.time() - t0 < 30
+    k = sim.current_step
+    assert 0 < k < 10 ** 8
+    sim.step(5)  # usable afterwards, and Python's own Ctrl-C handling is back
+    assert sim.current_step == k + 5
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_catalogue_and_from_model():
+    cat = rotleap.catalog()
+    assert "tip4p" in cat and "stockmayer" in cat
+    w = cat["tip4p"]
+    assert w.units == "real" and w.family == "asymmetric" and w.site_names == ("O", "H1", "H2", "M")
+    assert w.charge.sum() == pytest.approx(0.0, abs=1e-12) and w.mass == pytest.approx(18.0154)
+    assert w.sites.shape == (4, 3) and (w.inertia > 0).all()
+    assert cat["stockmayer"].params["mu"][0] == pytest.approx(3 ** 0.5)
+    # the same system from a model, a count and a box as from the deck that names them
+    text = open(example("stockmayer.ini")).read()
+    sets = {"run.equilibrate": 0, "run.steps": 20}
+    a = rotleap.Simulation(text=text, set=sets)
+    keys = {"interactions.cutoff": 2.5, "interactions.lj": "shifted-force", "interactions.dipole": "sf",
+            "run.ensemble": "nvt-bussi", "run.temperature": 1.35, "run.tau": 0.2, "run.timestep": 0.002,
+            "system.orientations": "random"}
+    keys.update(sets)
+    b = rotleap.Simulation.from_model("stockmayer", 256, density=0.8, params={"mu": 1.7320508, "inertia": 0.025},
+                                      set=keys)
+    a.run()
+    b.run()
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.axes, b.axes)
+    with pytest.raises(rotleap.Error, match="no-such-model"):
+        rotleap.Simulation.from_model("no-such-model", 10, box=3, set=keys)
