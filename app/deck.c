@@ -849,7 +849,6 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
 
   /* [interactions] */
   rl_ff_params_default(&d->ff);
-  d->ff.box[0] = d->box[0]; d->ff.box[1] = d->box[1]; d->ff.box[2] = d->box[2];
   require(&r, K_CUTOFF);
   d->ff.cutoff = number(&r, K_CUTOFF, u, 0, 0.0);
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));

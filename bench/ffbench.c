@@ -138,9 +138,10 @@ static void setup_skin(bench_sys *b, const char *model, int n, int threads,
     rl_system_set_angmom(b->sys, i, l);
   }
   gsl_rng_free(r);
+  const double box[3] = {b->L, b->L, b->L};
+  if (rl_system_set_box(b->sys, box)) die("box");
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = b->L;
   p.kernel = kernel;
   p.threads = threads;
   p.skin = skin;

@@ -4,6 +4,8 @@
 #include "rotleap/forcefield.h"
 #include "rotleap/error.h"
 
+#include "pair/forcefield_impl.h"
+
 #include <math.h>
 #include <stddef.h>
 
@@ -11,9 +13,7 @@ static void *pair_alloc(const rl_system *sys, const void *params)
 {
   const rl_pair_params *pp = params;
   if (!pp) { rl_error(RL_EINVAL, "the pair term needs its parameters (rl_pair_params)"); return NULL; }
-  rl_ff_params p = pp->p;
-  rl_system_box(sys, p.box); /* the system's cell */
-  rl_forcefield *ff = rl_forcefield_alloc(sys, &p, pp->species, pp->nspecies);
+  rl_forcefield *ff = rl_forcefield_alloc(sys, &pp->p, pp->species, pp->nspecies); /* the system's cell */
   for (int s = 0; ff && pp->geometric_mixing && s < pp->nspecies; s++) { /* OPLS, EPM2: sigma_ab = sqrt(sigma_a sigma_b) */
     const rl_species_ff *f = &pp->species[s];
     for (int a = 0; a < f->nsites; a++)
@@ -41,12 +41,7 @@ static int pair_compute(void *state, const rl_system *sys, rl_forces *out, doubl
   return RL_OK;
 }
 
-static int pair_box_changed(void *state, const rl_system *sys)
-{
-  double L[3];
-  rl_system_box(sys, L);
-  return rl_forcefield_set_box(state, L);
-}
+static int pair_box_changed(void *state, const rl_system *sys) { return rl_ff_take_box(state, sys); }
 
 static void pair_free(void *state) { rl_forcefield_free(state); }
 

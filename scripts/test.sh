@@ -11,7 +11,7 @@ cmake -S . -B build-test -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON >/dev/nu
 cmake -S . -B build-noomp -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON -DROTLEAP_OPENMP=OFF \
   -DROTLEAP_TESTS=OFF -DROTLEAP_NO_CLONES=ON >/dev/null
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAP_WERROR=ON -DROTLEAP_SANITIZE=ON >/dev/null
-# The three builds run side by side: each is held up by one long compile (forces/pair/ff_fast.c), so
+# The three builds run side by side: each is held up by the long compiles of the pair rows (forces/pair/kernels/), so
 # in turn they would leave the other cores idle for minutes.  Each build's output goes to its
 # own log, printed if it fails.
 builds=(build-test build-noomp build-asan)

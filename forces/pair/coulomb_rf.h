@@ -2,7 +2,7 @@
  *   U = kc q_i q_j (1/r + krf r^2 - crf),
  *   krf = (eps_rf - 1) / ((2 eps_rf + 1) rc^3)   (1/(2 rc^3) for eps_rf = infinity),
  *   crf = 1/rc + krf rc^2.
- * krf is formed once, here (the pair loops, the kernels of ff_fast.c and the dipole terms all read
+ * krf is formed once, here (the pair loops, the kernels' rows (kernels/elec/rf.h) and the dipole terms all read
  * rl_rf_coef), from x = 1/eps_rf, so it tends continuously to the conducting limit and never
  * overflows. */
 #ifndef ROTLEAP_MODELS_COULOMB_RF_H

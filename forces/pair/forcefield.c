@@ -160,6 +160,24 @@ static int check_array(const double *x, int k, int ns, const char *name, int non
   return RL_OK;
 }
 
+/* The box the force field takes: the system's cell; for a system without one, the deprecated
+ * p.box of callers written before the system owned its cell (forcefield.h). */
+static int system_box(const rl_system *sys, const double pbox[3], rl_box *box)
+{
+  double L[3];
+  rl_system_box(sys, L);
+  const int legacy = pbox[0] != 0.0 || pbox[1] != 0.0 || pbox[2] != 0.0;
+  if (!rl_system_periodic(sys)) {
+    if (legacy) return rl_box_set(box, pbox);
+    return rl_error(RL_EINVAL, "forcefield: the system has no periodic box (rl_system_set_box)");
+  }
+  if (legacy && (pbox[0] != L[0] || pbox[1] != L[1] || pbox[2] != L[2]))
+    return rl_error(RL_EINVAL, "forcefield: rl_ff_params.box (%g %g %g) differs from the system's "
+                    "box (%g %g %g); the box is the system's: leave p.box 0", pbox[0], pbox[1],
+                    pbox[2], L[0], L[1], L[2]);
+  return rl_box_set(box, L);
+}
+
 rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
                                    const rl_species_ff *species, int nspecies)
 {
@@ -179,7 +197,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     return NULL;
   }
   rl_box box;
-  if (rl_box_set(&box, p->box)) return NULL;
+  if (system_box(sys, p->box, &box)) return NULL;
   if (check_cutoff(&box, p->cutoff)) return NULL;
   if (p->scheme != RL_CUTOFF_SITE && p->scheme != RL_CUTOFF_MOLECULE) {
     rl_error(RL_EINVAL, "forcefield: unknown cutoff scheme %d", (int)p->scheme);
@@ -298,7 +316,9 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
   rl_forcefield *ff = calloc(1, sizeof *ff);
   if (!ff) { free(first_body); free(count); rl_error(RL_ENOMEM, "forcefield: out of memory"); return NULL; }
   ff->p = *p;
+  memset(ff->p.box, 0, sizeof ff->p.box); /* the box in use is ff->box, the system's */
   ff->box = box;
+  ff->box_version = rl_system_box_version(sys);
   ff->kc = p->coulomb_constant != 0.0 ? p->coulomb_constant
            : rl_system_units(sys) == RL_UNITS_LJ ? 1.0 : RL_COULOMB_KJMOL_NM;
   ff->n = n; ff->nspecies = nsp; ff->nsites = nsites; ff->ntypes = ntypes;
@@ -410,15 +430,18 @@ int rl_forcefield_set_lj_pair(rl_forcefield *ff, int ka, int a, int kb, int b, d
   return rl_ff_fast_setup(ff); /* an override may break a kernel's site pattern */
 }
 
-int rl_forcefield_set_box(rl_forcefield *ff, const double L[3])
+int rl_ff_take_box(rl_forcefield *ff, const rl_system *sys)
 {
+  double L[3];
+  rl_system_box(sys, L);
   rl_box box;
-  int st = rl_box_set(&box, L);
+  int st = rl_system_periodic(sys) ? rl_box_set(&box, L)
+           : rl_error(RL_EINVAL, "forcefield: the system no longer has a periodic box");
   if (st) return st;
   st = check_cutoff(&box, ff->p.cutoff);
   if (st) return st;
   ff->box = box;
-  memcpy(ff->p.box, L, sizeof ff->p.box);
+  ff->box_version = rl_system_box_version(sys);
   if (ff->nl) rl_nlist_invalidate(ff->nl);
   rl_ff_fast_invalidate(ff->fast); /* the kernels' list too (its images are the box's) */
   return RL_OK;
@@ -562,12 +585,12 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
 {
   double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
   if (r2 < ff->min_distance * ff->min_distance) {
-    if (acc->quiet) { acc->bad = 1; return RL_EINVAL; }
+    if (acc->quiet) { acc->s.bad = 1; return RL_EINVAL; }
     return rl_error(RL_EINVAL, "forcefield: overlapping sites: site %d of body %d and site %d of "
                     "body %d are %g apart (minimum %g)", sa - ff->body_site_off[i], i,
                     sb - ff->body_site_off[j], j, sqrt(r2), ff->min_distance);
   }
-  double *const e[NTERMS] = {&acc->lj, &acc->coul, &acc->dip, &acc->dip, &acc->quad};
+  double *const e[NTERMS] = {&acc->s.lj, &acc->s.coul, &acc->s.dip, &acc->s.dip, &acc->s.quad};
   double f[3] = {0.0, 0.0, 0.0};
   site_terms(ff, ff->site_type[sa], ff->site_type[sb], r, r2, ff->axis[i], ff->axis[j], ALL_TERMS,
              e, f, acc->tq[i], acc->tq[j]);
@@ -577,7 +600,7 @@ static int site_pair(rl_forcefield *ff, int i, int j, int sa, int sb, const doub
   }
   const double *Rv = acc->site_virial ? r : R;
   for (int x = 0; x < 3; x++)
-    for (int y = 0; y < 3; y++) acc->vir[3 * x + y] += Rv[x] * f[y];
+    for (int y = 0; y < 3; y++) acc->s.vir[3 * x + y] += Rv[x] * f[y];
   return RL_OK;
 }
 
@@ -705,6 +728,10 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
                     "(%d bodies, %d sites, %d species; now %d, %d, %d)", ff->n, ff->nsites,
                     ff->nspecies, rl_system_count(sys), rl_system_nsites(sys),
                     rl_system_nspecies(sys));
+  if (rl_system_box_version(sys) != ff->box_version) { /* the system's cell changed */
+    const int st = rl_ff_take_box(ff, sys);
+    if (st) return st;
+  }
   int n = ff->n;
   /* the bodies on the pair loop's threads, each a contiguous share: its sites, the checks, and
    * its rows of the site forces and torques zeroed; the first bad body is taken again for its
@@ -771,16 +798,16 @@ int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *ou
     ff->e = (rl_ff_energies){nan, nan, nan, nan, nan, nan, nan, nan};
     return RL_OK;
   }
-  ff->e.lj = acc.lj;
-  ff->e.coulomb = acc.coul + e_intra;
+  ff->e.lj = acc.s.lj;
+  ff->e.coulomb = acc.s.coul + e_intra;
   ff->e.coulomb_intra = e_intra;
-  ff->e.dipolar = acc.dip;
-  ff->e.quadrupolar = acc.quad;
+  ff->e.dipolar = acc.s.dip;
+  ff->e.quadrupolar = acc.s.quad;
   ff->e.dispersion = e_disp;
   ff->e.pressure_dispersion = p_disp;
-  ff->e.total = acc.lj + acc.coul + e_intra + acc.dip + acc.quad + e_disp;
+  ff->e.total = acc.s.lj + acc.s.coul + e_intra + acc.s.dip + acc.s.quad + e_disp;
   out->energy += ff->e.total;
-  for (int c = 0; c < 9; c++) out->virial[c] += acc.vir[c];
+  for (int c = 0; c < 9; c++) out->virial[c] += acc.s.vir[c];
   for (int c = 0; c < 3; c++) out->virial[4 * c] += p_disp * V; /* tr = 3 V P_disp */
   return RL_OK;
 }

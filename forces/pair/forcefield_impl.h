@@ -1,20 +1,22 @@
 /* The force field object shared by the reference pair loop (forcefield.c) and the specialised,
- * threaded kernels (ff_fast.c).  Internal. */
-#ifndef ROTLEAP_MODELS_FORCEFIELD_IMPL_H
-#define ROTLEAP_MODELS_FORCEFIELD_IMPL_H
+ * threaded kernels (select.c, driver.c).  Internal. */
+#ifndef ROTLEAP_PAIR_FORCEFIELD_IMPL_H
+#define ROTLEAP_PAIR_FORCEFIELD_IMPL_H
 
 #include "rotleap/forcefield.h"
 
 #include "../../core/box.h"
-#include "neighbor.h"
+#include "pairlist.h"
 #include "coulomb_rf.h"
 #include "lj.h"
+#include "kernels/kernel.h"
 
-typedef struct rl_ff_fast rl_ff_fast; /* ff_fast.c */
+typedef struct rl_ff_fast rl_ff_fast; /* fast.h */
 
 struct rl_forcefield {
-  rl_ff_params p;
-  rl_box box;
+  rl_ff_params p;          /* as given, but p.box 0: the box is the system's               */
+  rl_box box;              /* the system's cell at box_version                             */
+  unsigned long box_version; /* rl_system_box_version when box was taken                   */
   double kc;               /* Coulomb constant of the unit system                          */
   int n, nspecies, nsites; /* system sizes at alloc                                        */
   int ntypes;              /* one type per (species, site)                                */
@@ -57,22 +59,25 @@ struct rl_forcefield {
 
 /* Accumulators of one pair loop (one per thread in the threaded driver). */
 typedef struct {
-  double lj, coul, dip, quad;
-  double vir[9];
+  rl_ksums s;              /* energies by term, virial, and `bad` (an overlap, with quiet)   */
   double (*fs)[3];         /* [nsites] site forces to add to                               */
   double (*tq)[3];         /* [n] direct torques to add to                                 */
   int site_virial;         /* 0: vir += R (x) f (molecular, the reference); 1: vir += r (x) f
                               with r the site separation (the driver subtracts sum d (x) F) */
   int quiet;               /* 1: an overlap sets `bad` instead of calling rl_error            */
   int forces_only;         /* 1: energies and virial are not needed (kernels may skip them)  */
-  int bad;
 } rl_acc;
+
+/* Take the system's current cell (its version too): check the cutoff against it and invalidate
+ * the pair lists.  rl_forcefield_compute calls it when the version changed; the pair term
+ * (term_pair.c) when the terms are told of a change.  On an error the box stays as it was. */
+int rl_ff_take_box(rl_forcefield *ff, const rl_system *sys);
 
 /* The reference all-site-pairs routine for bodies i, j (forcefield.c). */
 int rl_ff_body_pair(rl_forcefield *ff, int i, int j, rl_acc *acc);
 
-/* ff_fast.c: choose kernels from the species' site patterns (at alloc and after an LJ
- * override).  Sets ff->fast (or leaves it NULL).  Returns RL_OK or RL_ENOMEM. */
+/* driver.c: choose kernels from the species' site patterns (at alloc and after an LJ
+ * override; select.c).  Sets ff->fast (or leaves it NULL).  Returns RL_OK or RL_ENOMEM. */
 int rl_ff_fast_setup(rl_forcefield *ff);
 void rl_ff_fast_free(rl_ff_fast *fast);
 /* The threaded pair loop: fills ff->fs, ff->tq (zeroed by the caller) and acc (molecular

@@ -1,4 +1,4 @@
-/* 1 / sqrt(x) without the divider, for the pair kernels (ff_fast.c). */
+/* 1 / sqrt(x) without the divider, for the pair kernels (kernels/). */
 #ifndef ROTLEAP_MODELS_RSQRT_H
 #define ROTLEAP_MODELS_RSQRT_H
 

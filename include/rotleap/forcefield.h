@@ -1,6 +1,6 @@
-/* rotleap — interactions: a force field over an rl_system in an orthorhombic periodic box.
+/* rotleap — interactions: a force field over an rl_system in its orthorhombic periodic cell.
  *
- * Kernels (models/): Lennard-Jones (Lorentz-Berthelot with per-pair overrides; plain, shifted,
+ * Kernels (forces/pair/): Lennard-Jones (Lorentz-Berthelot with per-pair overrides; plain, shifted,
  * shifted-force or OpenMM-switched truncation; optional long-range dispersion correction),
  * reaction-field Coulomb exactly as OpenMM 7.7 NonbondedForce.CutoffPeriodic (intramolecular pairs
  * excluded: they contribute nothing, as in OpenMM), point dipoles along body Z
@@ -88,7 +88,11 @@ typedef enum {
  * at round-off (about 1e-15 relative).  Built without OpenMP, everything runs on one thread. */
 
 typedef struct {
-  double box[3];                  /* orthorhombic edges Lx, Ly, Lz (> 0)                        */
+  double box[3];                  /* deprecated: leave 0.  The force field takes the periodic cell
+                                     from the system (rl_system_set_box) and follows its changes.
+                                     Read only for a system without a cell (callers written
+                                     before the system owned it); with a cell it must be 0 or
+                                     equal to the system's edges                               */
   double cutoff;                  /* rc (> 0, <= half the shortest edge)                        */
   rl_cutoff_scheme scheme;        /* default RL_CUTOFF_SITE                                     */
   rl_lj_truncation lj_truncation; /* default RL_LJ_PLAIN                                        */
@@ -147,10 +151,12 @@ typedef struct rl_forcefield rl_forcefield;
 
 void rl_ff_params_default(rl_ff_params *p);
 
-/* Validate and build a force field for `sys` (its species table as it is now).
+/* Validate and build a force field for `sys` (its species table and its periodic cell as they
+ * are now).
  * in  sys, p, species[nspecies] (nspecies = rl_system_nspecies(sys)); the arrays are copied.
- * Returns NULL with rl_last_error() naming the problem (cutoff too long for the box, nsites
- * mismatch, missing arrays, negative or non-finite sigma/epsilon, dipoles on point bodies, ...). */
+ * Returns NULL with rl_last_error() naming the problem (a system without a periodic cell,
+ * cutoff too long for the box, nsites mismatch, missing arrays, negative or non-finite
+ * sigma/epsilon, dipoles on point bodies, ...). */
 rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
                                    const rl_species_ff *species, int nspecies);
 void rl_forcefield_free(rl_forcefield *ff); /* accepts NULL */
@@ -160,8 +166,9 @@ void rl_forcefield_free(rl_forcefield *ff); /* accepts NULL */
 int rl_forcefield_set_lj_pair(rl_forcefield *ff, int species_a, int site_a, int species_b,
                               int site_b, double sigma, double epsilon);
 
-/* Change the box (e.g. for a barostat); checks the cutoff and invalidates the neighbour list. */
-int rl_forcefield_set_box(rl_forcefield *ff, const double L[3]);
+/* The box is the system's: rl_system_set_box (a barostat, a checkpoint) changes it, and the next
+ * rl_forcefield_compute takes the new cell (its version, system.h, tells), checks the cutoff
+ * against it and rebuilds the neighbour lists.  rl_forcefield_get_box: the edges in use. */
 void rl_forcefield_get_box(const rl_forcefield *ff, double L[3]);
 
 /* Add forces, torques, energy and molecular virial of the current configuration to `out`
@@ -171,16 +178,18 @@ void rl_forcefield_get_box(const rl_forcefield *ff, double L[3]);
  * With out->forces_only set, energy and virial are not added (the kernels skip their sums; the
  * forces are the same to the bit).
  * Errors: RL_ESTATE if sys no longer matches (counts), RL_ENONFINITE for non-finite positions
- * or orientations (body named), RL_EINVAL for overlapping sites (bodies and sites named). */
+ * or orientations (body named), RL_EINVAL for overlapping sites (bodies and sites named) and
+ * for a system cell, changed since the last compute, that is too small for the cutoff or
+ * none (the force field keeps its box then). */
 int rl_forcefield_compute(rl_forcefield *ff, const rl_system *sys, rl_forces *out);
 
 /* The force field as a provider for rl_integrator_alloc (ctx = ff). */
 rl_force_provider rl_forcefield_provider(rl_forcefield *ff);
 
 /* The force field as a force term (terms.h): the term type "pair", whose state is an
- * rl_forcefield built by rl_forcefield_alloc from this parameter block, with the system's box
- * (p.box is ignored: the term takes the cell from the system, and follows its changes through
- * rl_forcefield_set_box).  Its energy components: lj, coulomb, dipolar, quadrupolar, dispersion. */
+ * rl_forcefield built by rl_forcefield_alloc from this parameter block, on the system's cell
+ * (whose changes it follows).  Its energy components: lj, coulomb, dipolar, quadrupolar,
+ * dispersion. */
 typedef struct {
   rl_ff_params p;
   const rl_species_ff *species; /* [nspecies], as rl_forcefield_alloc takes them              */

@@ -128,9 +128,10 @@ static void setup_make(setup *u, const config *c)
     assert_int_equal(rl_system_add_species(u->sys, &u->sp[k].desc, nsp == 1 ? 2 : 1, NULL), RL_OK);
     u->sff[k] = ff_test_species_ff(&u->sp[k]);
   }
+  const double box[3] = {LBOX, LBOX, LBOX};
+  assert_int_equal(rl_system_set_box(u->sys, box), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = LBOX;
   p.cutoff = RC;
   p.scheme = c->scheme;
   p.lj_truncation = c->lj;
@@ -288,9 +289,10 @@ static int warnings_at(double rc, int compute, rl_ff_warning *w, int max)
   assert_int_equal(rl_system_set_position(sys, 0, r0), RL_OK);
   assert_int_equal(rl_system_set_position(sys, 1, r1), RL_OK);
   rl_species_ff sff = ff_test_species_ff(&s);
+  const double box[3] = {3.0, 3.0, 3.0};
+  assert_int_equal(rl_system_set_box(sys, box), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = 3.0;
   p.cutoff = rc;
   rl_forcefield *ff = rl_forcefield_alloc(sys, &p, &sff, 1);
   assert_non_null(ff);
@@ -374,7 +376,6 @@ static void nve_heating(void **state)
   assert_int_equal(rl_system_maxwell_boltzmann(sys, 1.35, 18), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = Lb;
   p.cutoff = 2.5;
   p.lj_truncation = RL_LJ_SHIFTED_FORCE;
   p.eps_rf = INFINITY;

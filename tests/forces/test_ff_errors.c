@@ -37,8 +37,9 @@ static void setup_init(setup *u)
   }
   u->sff[0] = ff_test_species_ff(&u->w);
   u->sff[1] = ff_test_species_ff(&u->s);
+  const double L[3] = {3.0, 2.4, 3.0};
+  assert_int_equal(rl_system_set_box(u->sys, L), RL_OK);
   rl_ff_params_default(&u->p);
-  u->p.box[0] = 3.0; u->p.box[1] = 2.4; u->p.box[2] = 3.0;
   u->p.cutoff = 1.0;
 }
 
@@ -77,9 +78,23 @@ static void test_params(void **state)
          "larger than half the shortest box edge", "Ly = 2.4", NULL);
   u.p.cutoff = 1.0;
 
-  u.p.box[2] = -1.0;
-  expect("negative box edge", alloc_status(&u), RL_EINVAL, "box edge Lz", "positive", NULL);
+  /* the box is the system's */
+  const double none[3] = {0.0, 0.0, 0.0}, L[3] = {3.0, 2.4, 3.0};
+  assert_int_equal(rl_system_set_box(u.sys, none), RL_OK);
+  expect("a system without a periodic box", alloc_status(&u), RL_EINVAL, "no periodic box",
+         "rl_system_set_box", NULL);
+  /* the deprecated p.box: taken only for a system without a cell, checked as before */
+  u.p.box[0] = 3.0; u.p.box[1] = 2.4; u.p.box[2] = -1.0;
+  expect("negative box edge (deprecated p.box)", alloc_status(&u), RL_EINVAL, "box edge Lz",
+         "positive", NULL);
   u.p.box[2] = 3.0;
+  expect("p.box for a system without a cell accepted", alloc_status(&u), RL_OK, NULL);
+  assert_int_equal(rl_system_set_box(u.sys, L), RL_OK);
+  expect("p.box equal to the system's box accepted", alloc_status(&u), RL_OK, NULL);
+  u.p.box[1] = 3.0;
+  expect("p.box that differs from the system's box", alloc_status(&u), RL_EINVAL,
+         "differs from the system's box", "leave p.box 0", NULL);
+  u.p.box[0] = u.p.box[1] = u.p.box[2] = 0.0;
 
   u.p.cutoff = NAN;
   expect("non-finite cutoff", alloc_status(&u), RL_EINVAL, "cutoff", "finite", NULL);
@@ -160,9 +175,10 @@ static void test_species_tables(void **state)
   ion.dipole[0] = 0.02;
   assert_int_equal(rl_system_add_species(sys, &ion.desc, 2, NULL), RL_OK);
   rl_species_ff sff = ff_test_species_ff(&ion);
+  const double L[3] = {3.0, 3.0, 3.0};
+  assert_int_equal(rl_system_set_box(sys, L), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = 3.0;
   p.cutoff = 1.0;
   rl_error_clear();
   ff = rl_forcefield_alloc(sys, &p, &sff, 1);
@@ -188,9 +204,21 @@ static void test_pair_overrides_and_box(void **state)
   expect("pair override for a missing species",
          rl_forcefield_set_lj_pair(ff, 2, 0, 1, 0, 0.3, 0.1), RL_EINVAL, "species 2",
          "no such species", NULL);
-  double L[3] = {3.0, 3.0, 1.5};
-  expect("box shrunk below twice the cutoff", rl_forcefield_set_box(ff, L), RL_EINVAL,
+  /* the system's box shrinks below twice the cutoff: the next compute says so, and again */
+  double f[8][3], k[8][3];
+  rl_forces out = {f, k, 0.0, {0}, 0};
+  memset(f, 0, sizeof f);
+  memset(k, 0, sizeof k);
+  const double L[3] = {3.0, 3.0, 1.5};
+  assert_int_equal(rl_system_set_box(u.sys, L), RL_OK);
+  expect("box shrunk below twice the cutoff", rl_forcefield_compute(ff, u.sys, &out), RL_EINVAL,
          "cutoff 1", "Lz = 1.5", NULL);
+  expect("... at every compute until it grows", rl_forcefield_compute(ff, u.sys, &out), RL_EINVAL,
+         "cutoff 1", "Lz = 1.5", NULL);
+  const double none[3] = {0.0, 0.0, 0.0};
+  assert_int_equal(rl_system_set_box(u.sys, none), RL_OK);
+  expect("box removed", rl_forcefield_compute(ff, u.sys, &out), RL_EINVAL,
+         "no longer has a periodic box", NULL);
   rl_forcefield_free(ff);
   rl_system_free(u.sys);
 }

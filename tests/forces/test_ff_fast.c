@@ -52,6 +52,8 @@ static void scene_build(scene *s, gsl_rng *rng, rl_units units, const int *count
     ff_random_orientation(s->sys, i, rng);
   }
   free(r);
+  const double box[3] = {s->L, s->L, s->L};
+  assert_int_equal(rl_system_set_box(s->sys, box), RL_OK); /* the force fields take it */
 }
 
 /* Largest relative difference of everything a compute returns (0 when bit-identical). */
@@ -179,7 +181,6 @@ static void neat_scene(scene *s, gsl_rng *rng, int water, rl_ff_params *p)
   int cnt[1] = {water ? 400 : 500};
   scene_build(s, rng, RL_UNITS_REAL, cnt, water ? 33.4 : 25.0, water ? 0.25 : 0.27, 0.0);
   rl_ff_params_default(p);
-  p->box[0] = p->box[1] = p->box[2] = s->L;
   p->cutoff = water ? 0.7 : 0.75;
 }
 
@@ -222,7 +223,6 @@ static void test_periodic_edge(void **state)
   scene_build(&s, rng, RL_UNITS_REAL, cnt, 0.0, 0.25, 1.8);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = 1.8;
   p.cutoff = 0.9;
   for (int k = 0; k < NPATH; k++) { /* the other images in every path's fill */
     char what[120];
@@ -236,8 +236,8 @@ static void test_periodic_edge(void **state)
   s = (scene){.nsp = 1};
   ff_water(&s.sp[0]);
   scene_build(&s, rng, RL_UNITS_REAL, cnt, 0.0, 0.25, 1.8);
-  p.box[1] = 2.3;
-  p.box[2] = 1.9;
+  const double L189[3] = {1.8, 2.3, 1.9};
+  assert_int_equal(rl_system_set_box(s.sys, L189), RL_OK);
   p.scheme = RL_CUTOFF_SITE;
   rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
   compare(fa, fg, s.sys, "tip4p, box 1.8 x 2.3 x 1.9, rc 0.9", 1e-12);
@@ -260,8 +260,8 @@ static void test_periodic_edge(void **state)
     assert_int_equal(rl_system_set_position(s.sys, b, r0), RL_OK);
     assert_int_equal(rl_system_set_position(s.sys, b + 1, r1), RL_OK);
   }
-  p.box[0] = p.box[1] = 0.44;
-  p.box[2] = 3.6;
+  const double Lcol[3] = {0.44, 0.44, 3.6};
+  assert_int_equal(rl_system_set_box(s.sys, Lcol), RL_OK);
   p.cutoff = 0.22;
   p.scheme = RL_CUTOFF_SITE; /* the molecule cutoff has no other images */
   p.lj_truncation = RL_LJ_SHIFTED;
@@ -300,7 +300,6 @@ static void test_site_order_and_small_box(void **state)
   scene_build(&s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = s.L;
   p.cutoff = 0.7;
   sweep(&s, &p, "tip4p listed M, H, H, O (400)", "tip4p");
   rl_system_free(s.sys);
@@ -309,7 +308,6 @@ static void test_site_order_and_small_box(void **state)
   ff_co2(&s.sp[0]);
   int cc[1] = {60};
   scene_build(&s, rng, RL_UNITS_REAL, cc, 0.0, 0.33, 1.6);
-  p.box[0] = p.box[1] = p.box[2] = 1.6;
   p.cutoff = 0.8;
   sweep(&s, &p, "linear co2, L = 2 rc", "charge-lj");
   rl_system_free(s.sys);
@@ -380,7 +378,6 @@ static void test_charge_lj(void **state)
   scene_build(&s, rng, RL_UNITS_REAL, cnt, 12.0, 0.33, 0.0);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = s.L;
   p.cutoff = 0.8;
   sweep(&s, &p, "linear co2 (300)", "charge-lj");
   rl_system_free(s.sys);
@@ -402,7 +399,6 @@ static void test_mixture(void **state)
   scene_build(&s, rng, RL_UNITS_REAL, cnt, 30.0, 0.26, 0.0);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = s.L;
   p.cutoff = 0.7;
   p.dispersion_correction = 1;
   sweep(&s, &p, "mixture water/dipole/ion/co2", "tip4p+stockmayer+charge-lj+general");
@@ -563,7 +559,6 @@ static void test_choice(void **state)
   scene_build(&s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = s.L;
   p.cutoff = 0.65;
   rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 2), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
   FF_CHECK_TRUE("water: tip4p kernel", strcmp(rl_forcefield_kernel(fa), "tip4p") == 0);
@@ -605,7 +600,6 @@ static void test_overlap(void **state)
     scene_build(&s, rng, RL_UNITS_REAL, cnt, 25.0, 0.27, 0.0);
     rl_ff_params p;
     rl_ff_params_default(&p);
-    p.box[0] = p.box[1] = p.box[2] = s.L;
     p.cutoff = 0.6;
     /* place 0: body 7 exactly on body 3; place 1 (water): body 7 with body 3's orientation,
      * moved by H1 - H2, so that its H2 sits on body 3's H1 and only charge sites overlap
@@ -683,7 +677,6 @@ static void test_small_box_mixture(void **state)
   for (int k = 0; k < 7; k++) n += cnt[k];
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = L;
   p.cutoff = 0.6;
   for (int scheme = 0; scheme < 2; scheme++) {
     p.scheme = (rl_cutoff_scheme)scheme;
@@ -738,7 +731,6 @@ static void water_box(scene *s, gsl_rng *rng, rl_ff_params *p, int count, double
   int cnt[1] = {count};
   scene_build(s, rng, RL_UNITS_REAL, cnt, 33.4, 0.25, 0.0);
   rl_ff_params_default(p);
-  p->box[0] = p->box[1] = p->box[2] = s->L;
   p->cutoff = rc;
 }
 
@@ -799,14 +791,24 @@ static void test_image_list(void **state)
     }
     rl_system_free(w.sys);
   }
-  /* a smaller box for the same bodies (rl_forcefield_set_box), no body moved: new neighbours
+  /* a smaller box for the same bodies (rl_system_set_box), no body moved: new neighbours
    * come within range through the new images, so the kernels' list must be rebuilt */
   rl_forcefield *fa = make(&s, &p, RL_KERNEL_AUTO, 1), *fg = make(&s, &p, RL_KERNEL_GENERAL, 0);
   compare(fa, fg, s.sys, "256 waters before the box shrinks", 1e-12);
   const double L2[3] = {0.93 * s.L, 0.93 * s.L, 0.93 * s.L};
-  assert_int_equal(rl_forcefield_set_box(fa, L2), RL_OK);
-  assert_int_equal(rl_forcefield_set_box(fg, L2), RL_OK);
-  compare(fa, fg, s.sys, "256 waters after rl_forcefield_set_box to 0.93 L", 1e-12);
+  assert_int_equal(rl_system_set_box(s.sys, L2), RL_OK); /* both force fields follow it */
+  compare(fa, fg, s.sys, "256 waters after rl_system_set_box to 0.93 L", 1e-12);
+  /* following the system's box (p.box left 0) is being made for it: bit for bit a force field
+   * built in the new box, on each path */
+  double Lf[3];
+  rl_forcefield_get_box(fa, Lf);
+  FF_CHECK_TRUE("the force field reports the system's new box",
+                Lf[0] == L2[0] && Lf[1] == L2[1] && Lf[2] == L2[2]);
+  rl_forcefield *na = make(&s, &p, RL_KERNEL_AUTO, 1), *ng = make(&s, &p, RL_KERNEL_GENERAL, 0);
+  compare(fa, na, s.sys, "kernels: after rl_system_set_box vs a force field made in the new box", 0.0);
+  compare(fg, ng, s.sys, "reference: after rl_system_set_box vs a force field made in the new box", 0.0);
+  rl_forcefield_free(na);
+  rl_forcefield_free(ng);
   rl_forcefield_free(fa);
   rl_forcefield_free(fg);
   rl_system_free(s.sys);

@@ -20,6 +20,8 @@ typedef struct {
   rl_system *sys;
 } scene;
 
+static const double fd_box[3] = {4.0, 4.0, 4.0}; /* every scene's */
+
 static void scene_add(scene *s, const ff_test_species *t, int count)
 {
   s->sp[s->nsp] = *t;
@@ -34,6 +36,7 @@ static void scene_build(scene *s, int which, gsl_rng *rng)
 {
   memset(s, 0, sizeof *s);
   s->sys = rl_system_alloc(RL_UNITS_REAL);
+  assert_int_equal(rl_system_set_box(s->sys, fd_box), RL_OK);
   ff_test_species t;
   if (which == SCENE_CHARGES) {
     ff_ion(&t, 0.8); scene_add(s, &t, 2);
@@ -68,7 +71,6 @@ static void scene_build(scene *s, int which, gsl_rng *rng)
 static void base_params(rl_ff_params *p)
 {
   rl_ff_params_default(p);
-  p->box[0] = p->box[1] = p->box[2] = 4.0;
   p->cutoff = 0.9;
   p->r_switch = 0.7;
 }
@@ -220,6 +222,7 @@ static void pair_check(const ff_test_species *a, const ff_test_species *b, rl_di
   scene s;
   memset(&s, 0, sizeof s);
   s.sys = rl_system_alloc(RL_UNITS_REAL);
+  assert_int_equal(rl_system_set_box(s.sys, fd_box), RL_OK);
   scene_add(&s, a, 1);
   scene_add(&s, b, 1);
   for (int k = 0; k < 2; k++) s.sff[k] = ff_test_species_ff(&s.sp[k]);

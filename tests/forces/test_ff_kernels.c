@@ -150,10 +150,10 @@ static void test_dispersion(void **state)
     rl_system_set_position(sys, i, r);
   }
   rl_species_ff sff = ff_test_species_ff(&a);
+  const double box[3] = {6.0, 6.0, 4.8};
+  assert_int_equal(rl_system_set_box(sys, box), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = 6.0;
-  p.box[2] = 4.8;
   p.cutoff = 2.3;
   p.dispersion_correction = 1;
   p.lj_truncation = RL_LJ_SHIFTED;
@@ -201,7 +201,7 @@ static double scaled_energy(rl_forcefield *ff, rl_system *sys, const double L0[3
 {
   int n = rl_system_count(sys);
   double L[3] = {L0[0] * s, L0[1] * s, L0[2] * s};
-  assert_int_equal(rl_forcefield_set_box(ff, L), RL_OK);
+  assert_int_equal(rl_system_set_box(sys, L), RL_OK); /* the force field follows */
   for (int i = 0; i < n; i++) {
     double r[3];
     rl_system_get_position(sys, i, r);
@@ -215,7 +215,7 @@ static double scaled_energy(rl_forcefield *ff, rl_system *sys, const double L0[3
     for (int c = 0; c < 3; c++) r[c] /= s;
     rl_system_set_position(sys, i, r);
   }
-  assert_int_equal(rl_forcefield_set_box(ff, L0), RL_OK);
+  assert_int_equal(rl_system_set_box(sys, L0), RL_OK);
   return e;
 }
 
@@ -246,10 +246,10 @@ static void test_virial(void **state)
   rl_species_ff sff[3];
   rl_system *sys = mixed_system(sp, sff, 9);
   for (int sc = 0; sc < 2; sc++) {
+    double L0[3] = {1.9, 2.0, 2.1};
+    assert_int_equal(rl_system_set_box(sys, L0), RL_OK);
     rl_ff_params p;
     rl_ff_params_default(&p);
-    double L0[3] = {1.9, 2.0, 2.1};
-    memcpy(p.box, L0, sizeof L0);
     p.cutoff = 0.8;
     p.scheme = (rl_cutoff_scheme)sc;
     p.lj_truncation = RL_LJ_SWITCHED;
@@ -293,9 +293,10 @@ static void test_rf_conducting_limit(void **state)
   rl_system *sys = mixed_system(sp, sff, 21);
   const double eps[5] = {1e3, 1e6, 1e30, 1e300, 1e308};
   for (int sc = 0; sc < 2; sc++) {
+    const double box[3] = {1.9, 2.0, 2.1};
+    assert_int_equal(rl_system_set_box(sys, box), RL_OK);
     rl_ff_params p;
     rl_ff_params_default(&p);
-    p.box[0] = 1.9; p.box[1] = 2.0; p.box[2] = 2.1;
     p.cutoff = 0.8;
     p.scheme = (rl_cutoff_scheme)sc;
     p.intramolecular_rf = 1;

@@ -98,9 +98,7 @@ static void pair_through_the_sum(void **state)
              rl_term_type_find("ewald-sphere") == NULL && strstr(rl_last_error(), "known: pair") != NULL);
   rl_terms *t = rl_terms_alloc(s.sys);
   assert_int_equal(rl_terms_add(t, &rl_term_pair, &s.pp, NULL), RL_OK);
-  rl_ff_params p = s.pp.p;
-  rl_system_box(s.sys, p.box);
-  rl_forcefield *ff = rl_forcefield_alloc(s.sys, &p, &s.sff, 1);
+  rl_forcefield *ff = rl_forcefield_alloc(s.sys, &s.pp.p, &s.sff, 1);
   rl_forces A, B;
   forces_alloc(&A, s.sys);
   forces_alloc(&B, s.sys);
@@ -166,9 +164,7 @@ static void a_term_of_ones_own(void **state)
   assert_int_equal(rl_terms_compute(both, s.sys, &B), RL_OK);
   CHECK_TRUE("a change of the cell reaches the terms, once", tt->box_calls == 1);
   /* and the pair term computes in the new box: as a force field made for it */
-  rl_ff_params p = s.pp.p;
-  rl_system_box(s.sys, p.box);
-  rl_forcefield *ff = rl_forcefield_alloc(s.sys, &p, &s.sff, 1);
+  rl_forcefield *ff = rl_forcefield_alloc(s.sys, &s.pp.p, &s.sff, 1);
   rl_forces C, D;
   forces_alloc(&C, s.sys);
   forces_alloc(&D, s.sys);

@@ -67,7 +67,6 @@ static rl_system *make(const extreme *x, double h, rl_forcefield **ff)
   }
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = L_BOX;
   p.cutoff = 0.6;
   p.lj_truncation = RL_LJ_SHIFTED_FORCE;
   p.eps_rf = 78.3;

@@ -30,7 +30,6 @@ static rl_system *build(const scene *sc, rl_molecule *m, rl_forcefield **ff)
   assert_int_equal(rl_system_maxwell_boltzmann(sys, sc->T, 18), RL_OK);
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = sc->L;
   p.cutoff = sc->cutoff;
   p.lj_truncation = RL_LJ_SHIFTED_FORCE;
   p.eps_rf = INFINITY;

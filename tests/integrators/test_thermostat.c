@@ -166,7 +166,6 @@ static rl_system *stockmayer_liquid(int n, rl_lattice lattice, double T, double 
   assert_int_equal(rl_system_maxwell_boltzmann(s, T, 4), RL_OK);
   rl_ff_params fp;
   rl_ff_params_default(&fp);
-  fp.box[0] = fp.box[1] = fp.box[2] = Lb;
   fp.cutoff = rc;
   fp.lj_truncation = RL_LJ_SHIFTED_FORCE;
   fp.dipole_method = RL_DIPOLE_SF;

@@ -1,5 +1,6 @@
-/* Cell lists and the Verlet list of molecule pairs. */
-#include "neighbor.h"
+/* The pair list (pairlist.h): the rule for a rebuild, and the reference layout (pairs i < j in
+ * body order from cells of edge >= rlist). */
+#include "pairlist.h"
 #include "../../core/threads.h"
 #include "rotleap/error.h"
 
