@@ -14,3 +14,6 @@ target_link_libraries(rotleap PUBLIC PkgConfig::FFTW3)
 # No -ffp-contract=fast: erfc.h's exact square of x relies on separate roundings.
 set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/ewald_real.c PROPERTIES
   COMPILE_OPTIONS "-fopenmp-simd;-fno-math-errno;-fno-trapping-math")
+if(ROTLEAP_SANITIZE OR ROTLEAP_NO_CLONES) # one portable instance, as forces/pair/pair.cmake does for ff_fast.c
+  set_property(SOURCE ${CMAKE_CURRENT_LIST_DIR}/ewald_real.c APPEND PROPERTY COMPILE_DEFINITIONS ROTLEAP_NO_CLONES)
+endif()

@@ -176,7 +176,7 @@ void ew_reciprocal_extras(ew_base *b, double e[5], double W[9])
   e[2] = b->e_intra;
   /* the neutralising background: U = -kc pi Q^2 / (2 V alpha^2); -dU/d(strain_cc) = U */
   const double Q = b->info.net_charge;
-  e[3] = -kc * M_PI * Q * Q / (2.0 * V * a * a);
+  e[3] = 0.0 - kc * M_PI * Q * Q / (2.0 * V * a * a); /* +0 when neutral */
   for (int c = 0; c < 3; c++) W[4 * c] += e[3];
   /* the surface term: U = c |M|^2, c = 2 pi kc / ((2 eps' + 1) V); f_a = -2 c q_a M;
    * site virial sum r (x) f + U 1 (the strain derivative of |M|^2 / V) */
