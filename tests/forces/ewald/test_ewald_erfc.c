@@ -3,7 +3,8 @@
  *                (the range alpha r takes for every tolerance down to 1e-18)
  *   exp(-x^2)    relative error <= 1e-15 against expl of the exact square (long double)
  *   x >= 6.5     both 0 (erfc(6.5) = 3.8e-20)
- * and, for information, its speed against erfc() + exp() of the C library in one loop. */
+ * and, for information, its speed against erfc() + exp() of the C library in one loop (cloned for
+ * AVX-512, AVX2 and the baseline, as the real-space term is). */
 #include "ewald_testutil.h"
 #include "ewald/erfc.h"
 
@@ -43,6 +44,9 @@ static void accuracy(void **state)
   EW_CHECK_TRUE("x >= 6.5: erfc and exp(-x^2) are 0", v1 == 0.0 && e1 == 0.0 && v2 == 0.0 && e2 == 0.0);
 }
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROTLEAP_NO_CLONES)
+__attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
 static void erfc_loop(int n, const double *x, double *y, double *z)
 {
 #pragma omp simd
