@@ -13,7 +13,7 @@
  *   [--kmax KX KY KZ] [--kmax-sq S] [--eps-surface E] [--threads T]
  * Output: the resolved parameters and estimated errors, the energy by component ("ewald_real" +
  * the reciprocal term's five) and its total, the molecular forces and torques; with --sites the
- * force on every site; with --repeat N also the time per evaluation of each term (best of N) and,
+ * force on every site (with the intramolecular correction's site forces, which the terms leave out); with --repeat N also the time per evaluation of each term (best of N) and,
  * with --pair, that of the pair term (reaction field, the specialised kernels) on the same
  * configuration for comparison. */
 #include <rotleap/rotleap.h>
@@ -174,16 +174,23 @@ int main(int argc, char **argv)
   }
   printf("]");
   if (sites) {
+    /* real space + reciprocal part + the intramolecular correction's site forces (which the terms
+     * leave out: they cancel on each rigid body, not on its sites): the forces of the Coulomb
+     * interactions between sites of different bodies, whatever alpha */
     double (*fs)[3] = calloc((size_t)ns, sizeof(double[3])), (*fr)[3] = calloc((size_t)ns, sizeof(double[3]));
+    double (*fi)[3] = calloc((size_t)ns, sizeof(double[3]));
     if (rl_ewald_site_forces(rl_terms_state(t, kreal), sys, fs, NULL, NULL) ||
-        rl_ewald_site_forces(rl_terms_state(t, krecip), sys, fr, NULL, NULL))
+        rl_ewald_site_forces(rl_terms_state(t, krecip), sys, fr, NULL, NULL) ||
+        isnan(rl_ewald_intra_site_forces(rl_terms_state(t, krecip), sys, fi)))
       die("site forces");
     printf(",\n\"sites\": [\n");
     for (int a = 0; a < ns; a++)
-      printf("[%.17g, %.17g, %.17g]%s\n", fs[a][0] + fr[a][0], fs[a][1] + fr[a][1], fs[a][2] + fr[a][2], a < ns - 1 ? "," : "");
+      printf("[%.17g, %.17g, %.17g]%s\n", fs[a][0] + fr[a][0] + fi[a][0], fs[a][1] + fr[a][1] + fi[a][1],
+             fs[a][2] + fr[a][2] + fi[a][2], a < ns - 1 ? "," : "");
     printf("]");
     free(fs);
     free(fr);
+    free(fi);
   }
   if (repeat > 0) {
     /* time per evaluation of each term alone (best of `repeat`) */
