@@ -41,7 +41,7 @@ typedef struct {
   double *grid;         /* [Kx][Ky][Kz] real mesh (fftw_malloc)                                 */
   fftw_complex *cgrid;  /* [Kx][Ky][Kz/2+1] its transform                                       */
   fftw_plan fwd, bwd;
-  int (*idx)[3];        /* [nq] first mesh index of each charge's stencil                       */
+  int *gi;              /* [nq][3][P] the mesh indices of each charge's stencil, wrapped         */
   double *theta;        /* [nq][3][P] spline weights                                            */
   double *dtheta;       /* [nq][3][P] their derivatives d/du                                    */
   double *plane;        /* [Kx][7] energy and virial (xx yy zz xy xz yz) per x plane           */
@@ -61,7 +61,7 @@ static void pme_free(void *state)
   if (s->bwd) fftw_destroy_plan(s->bwd);
   fftw_free(s->grid);
   fftw_free(s->cgrid);
-  free(s->idx);
+  free(s->gi);
   free(s->theta);
   free(s->dtheta);
   free(s->plane);
@@ -145,7 +145,8 @@ static void pme_splines(pme_state *s, int k)
     t = (t - floor(t)) * s->K[c];
     const int ti = (int)t;
     const double dr = t - ti;
-    s->idx[k][c] = ti % s->K[c];
+    int *g = s->gi + ((size_t)k * 3 + c) * P;
+    for (int j = 0, m = ti % s->K[c]; j < P; j++, m = m + 1 < s->K[c] ? m + 1 : 0) g[j] = m;
     double *data = s->theta + ((size_t)k * 3 + c) * P, *ddata = s->dtheta + ((size_t)k * 3 + c) * P;
     data[P - 1] = 0;
     data[1] = dr;
@@ -181,16 +182,16 @@ static int pme_part(ew_base *b, double *energy, double W[9])
     rl_thread_range(Kx, &x0, &x1);
     memset(s->grid + (size_t)x0 * yz, 0, sizeof(double) * yz * (size_t)(x1 - x0));
     for (int k = 0; k < nq; k++) {
-      const int *i0 = s->idx[k];
+      const int *gx = s->gi + (size_t)k * 3 * P, *gyi = gx + P, *gzi = gyi + P;
       const double *tx = s->theta + (size_t)k * 3 * P, *ty = tx + P, *tz = ty + P, q = b->q[k];
       for (int ix = 0; ix < P; ix++) {
-        const int xi = (i0[0] + ix) % Kx;
+        const int xi = gx[ix];
         if (xi < x0 || xi >= x1) continue;
-        double *gx = s->grid + (size_t)xi * yz;
+        double *gxp = s->grid + (size_t)xi * yz;
         for (int iy = 0; iy < P; iy++) {
-          double *gy = gx + (size_t)((i0[1] + iy) % Ky) * Kz;
+          double *gy = gxp + (size_t)gyi[iy] * Kz;
           const double qxy = q * tx[ix] * ty[iy];
-          for (int iz = 0; iz < P; iz++) gy[(i0[2] + iz) % Kz] += qxy * tz[iz];
+          for (int iz = 0; iz < P; iz++) gy[gzi[iz]] += qxy * tz[iz];
         }
       }
     }
@@ -242,17 +243,17 @@ static int pme_part(ew_base *b, double *energy, double W[9])
     int k0, k1;
     rl_thread_range(nq, &k0, &k1);
     for (int k = k0; k < k1; k++) {
-      const int *i0 = s->idx[k];
+      const int *gx = s->gi + (size_t)k * 3 * P, *gyi = gx + P, *gzi = gyi + P;
       const double *tx = s->theta + (size_t)k * 3 * P, *ty = tx + P, *tz = ty + P;
       const double *dx = s->dtheta + (size_t)k * 3 * P, *dy = dx + P, *dz = dy + P;
       double fx = 0, fy = 0, fz = 0;
       for (int ix = 0; ix < P; ix++) {
-        const double *gx = s->grid + (size_t)((i0[0] + ix) % Kx) * yz;
+        const double *gxp = s->grid + (size_t)gx[ix] * yz;
         for (int iy = 0; iy < P; iy++) {
-          const double *gy = gx + (size_t)((i0[1] + iy) % Ky) * Kz;
+          const double *gy = gxp + (size_t)gyi[iy] * Kz;
           double pz = 0, dpz = 0;
           for (int iz = 0; iz < P; iz++) {
-            const double g = gy[(i0[2] + iz) % Kz];
+            const double g = gy[gzi[iz]];
             pz += tz[iz] * g;
             dpz += dz[iz] * g;
           }
@@ -288,11 +289,11 @@ static void *pme_alloc(const rl_system *sys, const void *params)
   s->grid = fftw_malloc(sizeof(double) * Kx * Ky * Kz);
   s->cgrid = fftw_malloc(sizeof(fftw_complex) * Kx * Ky * Kh);
   const size_t nq = (size_t)s->b.nq;
-  s->idx = malloc(sizeof(int[3]) * nq);
+  s->gi = malloc(sizeof(int) * nq * 3 * (size_t)s->P);
   s->theta = malloc(sizeof(double) * nq * 3 * (size_t)s->P);
   s->dtheta = malloc(sizeof(double) * nq * 3 * (size_t)s->P);
   s->plane = malloc(sizeof(double) * 7 * Kx);
-  ok &= s->G && s->grid && s->cgrid && s->idx && s->theta && s->dtheta && s->plane;
+  ok &= s->G && s->grid && s->cgrid && s->gi && s->theta && s->dtheta && s->plane;
   if (ok) {
     s->fwd = fftw_plan_dft_r2c_3d(s->K[0], s->K[1], s->K[2], s->grid, s->cgrid, FFTW_ESTIMATE);
     s->bwd = fftw_plan_dft_c2r_3d(s->K[0], s->K[1], s->K[2], s->cgrid, s->grid, FFTW_ESTIMATE);
