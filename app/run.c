@@ -352,13 +352,16 @@ typedef struct {
   int moved_prev;       /* this run moved an earlier PREFIX.chk to PREFIX.chk.prev          */
   int streams;          /* the streams are open                                            */
   rl_integrator *in;
+  rl_run *drv;          /* the library's run driver (run.h): the loop, its watch, the reporters */
+  int progress;         /* a progress line on stderr                                        */
+  double t0, last_progress; /* wall clock at the start, and at the last progress line       */
   analysis *an;
   FILE *thermo, *xyz, *journal; /* the analysis journal: PREFIX.samples (outputs.h)           */
   long journal_len;      /* its bytes at the checkpoint continued, to replay             */
   int journal_copied;    /* ... copied from the run of another prefix                    */
   rl_dcd *dcd;
   running E, U, T, Tt, Tr, P; /* E: the conserved quantity (the total energy in NVE)      */
-  scene_watch watch;
+  rl_watch watch;
   long first, done;
   int stopped;          /* the signal that ended the run                                    */
   long last_chk;        /* the step of the last checkpoint this run wrote or continues (-1)  */
@@ -666,7 +669,8 @@ static void step_error(const run_ctx *c, int st)
     energy_components(s->terms, comp);
     if (scene_check_finite(d, s->terms, comp, NULL, 0.0)) snprintf(term, sizeof term, ": %s", rl_last_error());
   }
-  const int early = c->done < 20 && c->first == 0;
+  /* the start's note, unless the watch already blamed overlapping molecules */
+  const int early = c->done < 20 && c->first == 0 && !strstr(msg, "overlapping molecules");
   rl_error(st, "%s%s%s%s", msg, term, early && c->start_note[0] ? "; " : "", early ? c->start_note : "");
   fprintf(stderr, "rotleap run: %s\n", rl_last_error());
 }
@@ -712,7 +716,7 @@ static int drift_warning(const run_ctx *c, char *buf, size_t cap)
 {
   const rl_deck *d = c->d;
   double sem;
-  const double mean = scene_watch_drift(&c->watch, &sem);
+  const double mean = rl_watch_drift(&c->watch, &sem);
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   const int window = fabs(c->watch.max_rate) > SCENE_DRIFT_WARN;
   const int trend = isfinite(sem) && fabs(mean) > 0.01 && fabs(mean) > 3.0 * sem;
@@ -757,7 +761,7 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   const char *tunit = d->units == RL_UNITS_REAL ? rl_dim_unit(Q_TIME, d->units) : "time unit";
   species_text(c, species, sizeof species);
   double sem;
-  const double drift = scene_watch_drift(&c->watch, &sem);
+  const double drift = rl_watch_drift(&c->watch, &sem);
   char drift_fit[200] = "n/a (fewer than two windows)";
   if (isfinite(sem)) snprintf(drift_fit, sizeof drift_fit, "%.3g +- %.2g kT per molecule per %s (mean over %ld windows)",
                               drift, sem, tunit, c->watch.nwin);
@@ -804,6 +808,72 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   if (!st && !error) fputs(text, stdout);
   free(text);
   return st;
+}
+
+/* ---------------------------------------------------------- the run's reporters (run.h) */
+
+/* The summary's running averages and the analysis, on the steps with energies (not the row of the
+ * last state, which is no step of the run). */
+static int report_averages(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  if (r->last) return RL_OK;
+  const double pr = scene_pressure_out(c->d, r->pressure);
+  const int st = analysis_step(c->an, r->info, pr, r->forces, r->sys);
+  if (st) return rl_error_wrap(st, "step %ld", r->step);
+  running_add(&c->E, r->info->conserved);
+  running_add(&c->U, r->info->potential);
+  running_add(&c->T, r->info->temperature);
+  running_add(&c->Tt, r->info->t_trans);
+  running_add(&c->Tr, r->info->t_rot);
+  running_add(&c->P, pr);
+  return RL_OK;
+}
+
+static int report_sample(void *ctx, const rl_run_report *r)
+{
+  const int st = analysis_sample(((run_ctx *)ctx)->an, r->sys);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
+}
+
+static int traj_frame(run_ctx *c, double time, long step);
+static int report_frame(void *ctx, const rl_run_report *r)
+{
+  const int st = traj_frame(ctx, r->time, r->step);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
+}
+
+static int report_thermo(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  const int st = thermo_row(c->thermo, outputs_part(c->out, OUT_THERMO), r->step, r->info, r->terms, r->energies,
+                            scene_pressure_out(c->d, r->pressure), &c->E);
+  return st && !r->last ? rl_error_wrap(st, "step %ld", r->step) : st;
+}
+
+static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double time, long relax_step, double relax_time,
+                            const out_mark *marks);
+/* A checkpoint every output.checkpoint_every steps (the last state's is written at the end). */
+static int report_checkpoint(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  if (r->step >= c->d->steps) return RL_OK;
+  c->watch = *rl_run_watch(c->drv);
+  const int st = write_checkpoint(c, c->in, r->step, r->time, -1, 0.0, NULL);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
+}
+
+static int report_progress(void *ctx, const rl_run_report *r)
+{
+  run_ctx *c = ctx;
+  const rl_deck *d = c->d;
+  if (now() - c->last_progress <= 0.5) return RL_OK;
+  double el = now() - c->t0, frac = (double)r->step / d->steps;
+  double nsday = d->units == RL_UNITS_REAL ? (r->step - c->first) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
+  fprintf(stderr, "\r%5.1f%%  step %ld/%ld  ETA %.0f s%s%.2f%s   ", 100.0 * frac, r->step, d->steps, el / frac - el,
+          d->units == RL_UNITS_REAL ? "  " : "", nsday, d->units == RL_UNITS_REAL ? " ns/day" : "");
+  c->last_progress = now();
+  return RL_OK;
 }
 
 /* The continuation a checkpoint start asks for.  The run record must describe the simulation
@@ -942,7 +1012,7 @@ int rl_app_run(const rl_deck *d)
   c.d = d;
   c.relax_done = -1;
   c.last_chk = -1;
-  scene_watch_init(&c.watch);
+  rl_watch_init(&c.watch);
   c.chk_path = outputs_name(d->prefix, ".chk");
   c.chk_prev = outputs_name(d->prefix, ".chk.prev");
   c.summary_path = outputs_name(d->prefix, ".summary.txt");
@@ -1016,93 +1086,36 @@ int rl_app_run(const rl_deck *d)
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }
-  const int n = d->count, nrot = c.s.sys ? rl_system_nrot(c.s.sys) : 0;
-  rl_forces fsnap = {calloc((size_t)(n > 0 ? n : 1), sizeof(double[3])), calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])),
-                     0.0, {0}, 0};
-  if (!st && (!fsnap.f || !fsnap.k)) st = rl_error(RL_ENOMEM, "out of memory");
-  double last_progress = 0.0;
+  if (!st && !c.stopped && !(c.drv = scene_run_driver(d, &c.s, c.in))) {
+    fprintf(stderr, "rotleap run: %s\n", rl_last_error());
+    st = RL_EINVAL;
+  }
+  if (c.drv) *rl_run_watch(c.drv) = c.watch; /* a continuation's, from its checkpoint */
+  c.progress = progress;
+  c.t0 = t0;
+  /* the reporters, in the order a step calls them: averages and analysis of the step's values,
+   * samples, frames, the thermo row, the checkpoint, the progress line */
+  const rl_reporter reps[] = {
+      {"averages", RL_REPORT_STEP, d->energy_every, report_averages, &c},
+      {"samples", RL_REPORT_STATE, d->sample_every > 0 ? d->sample_every : 0, report_sample, &c},
+      {"trajectory", RL_REPORT_STATE, d->trajectory_every > 0 ? d->trajectory_every : 0, report_frame, &c},
+      {"thermo", RL_REPORT_STEP, d->thermo_every, report_thermo, &c},
+      {"checkpoint", RL_REPORT_STATE, d->checkpoint_every > 0 ? d->checkpoint_every : 0, report_checkpoint, &c},
+      {"progress", RL_REPORT_STATE, progress ? 1 : 0, report_progress, &c}};
+  for (size_t q = 0; !st && c.drv && q < sizeof reps / sizeof reps[0]; q++)
+    if (reps[q].every > 0 && (st = rl_run_add_reporter(c.drv, &reps[q]))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   char failure[2048] = "";
-  for (long k = c.first; !st && !c.stopped && k < d->steps; k++) {
-    if (got_signal) {
+  if (!st && !c.stopped) {
+    st = rl_run_steps(c.drv, c.first, d->steps, &got_signal, &c.done);
+    if (st) step_error(&c, st);
+    else if (got_signal && c.first + c.done < d->steps) {
       c.stopped = got_signal;
       fprintf(stderr, "%srotleap run: %s at step %ld of %ld: writing the checkpoint, thermo rows and summary "
-                      "(system.start = %s continues)\n", progress ? "\n" : "", signal_text(c.stopped), k, d->steps,
-              c.chk_path);
-      break;
-    }
-    /* the energies, virial and averages on the steps of output.energy_every (the integrator
-     * computes forces only on the others; init and resume always compute all) */
-    const int ev = k % d->energy_every == 0;
-    double comp[64]; /* the energy components at the current time t */
-    energy_components(c.s.terms, comp);
-    const rl_forces *F = rl_integrator_forces(c.in);
-    double virial[9];
-    if (ev) {
-      memcpy(virial, F->virial, sizeof virial);
-      memcpy(fsnap.f, F->f, sizeof(double[3]) * (size_t)n);
-      if (nrot) memcpy(fsnap.k, F->k, sizeof(double[3]) * (size_t)nrot);
-    }
-    rl_step_info info;
-    if ((st = rl_integrator_step(c.in, &info))) { /* the library's message names the step and the cause */
-      step_error(&c, st);
-      break;
-    }
-    if (ev && !info.has_energy) { /* cannot happen: the integrator has the same energy_every */
-      st = rl_error(RL_ESTATE, "internal error: no energies at step %ld", k);
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-      break;
-    }
-    if ((st = scene_watch_step(d, &c.s, &c.watch, &info, k, d->energy_every, d->timestep, "run.timestep"))) {
-      fprintf(stderr, "rotleap run: %s\n", rl_last_error());
-      break;
-    }
-    double pr = 0.0;
-    if (ev) {
-      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
-      memcpy(Ft.virial, virial, sizeof virial);
-      pr = scene_pressure_out(d, rl_forces_pressure(c.s.sys, &Ft, info.ke_trans));
-      if ((st = scene_check_finite(d, c.s.terms, comp, virial, pr))) {
-        fprintf(stderr, "rotleap run: step %ld (t = %g): %s\n", k, info.t, rl_last_error());
-        break;
-      }
-      if ((st = analysis_step(c.an, &info, pr, &fsnap, c.s.sys))) {
-        fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
-        break;
-      }
-      running_add(&c.E, info.conserved);
-      running_add(&c.U, info.potential);
-      running_add(&c.T, info.temperature);
-      running_add(&c.Tt, info.t_trans);
-      running_add(&c.Tr, info.t_rot);
-      running_add(&c.P, pr);
-    }
-    if (d->sample_every > 0 && (k + 1) % d->sample_every == 0 && (st = analysis_sample(c.an, c.s.sys))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      break;
-    }
-    c.done++;
-    if (d->trajectory_every > 0 && (k + 1) % d->trajectory_every == 0 &&
-        (st = traj_frame(&c, rl_integrator_time(c.in), k + 1))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      break;
-    }
-    if (k % d->thermo_every == 0 && (st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), k, &info, c.s.terms, comp, pr, &c.E))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k, rl_last_error());
-      break;
-    }
-    if (d->checkpoint_every > 0 && (k + 1) % d->checkpoint_every == 0 && k + 1 < d->steps &&
-        (st = write_checkpoint(&c, c.in, k + 1, rl_integrator_time(c.in), -1, 0.0, NULL))) {
-      fprintf(stderr, "rotleap run: step %ld: %s\n", k + 1, rl_last_error());
-      break;
-    }
-    if (progress && now() - last_progress > 0.5) {
-      double el = now() - t0, frac = (double)(k + 1) / d->steps;
-      double nsday = d->units == RL_UNITS_REAL ? (k + 1 - c.first) * d->timestep * 1e-3 / el * 86400.0 : 0.0;
-      fprintf(stderr, "\r%5.1f%%  step %ld/%ld  ETA %.0f s%s%.2f%s   ", 100.0 * frac, k + 1, d->steps,
-              el / frac - el, d->units == RL_UNITS_REAL ? "  " : "", nsday, d->units == RL_UNITS_REAL ? " ns/day" : "");
-      last_progress = now();
+                      "(system.start = %s continues)\n", progress ? "\n" : "", signal_text(c.stopped),
+              c.first + c.done, d->steps, c.chk_path);
     }
   }
+  if (c.drv) c.watch = *rl_run_watch(c.drv);
   if (st) snprintf(failure, sizeof failure, "%s", rl_last_error());
   /* The end.  A run that completed (or was stopped by a signal) syncs its streams, renames them
    * to their names and writes its last checkpoint; one that failed leaves them under their
@@ -1115,19 +1128,9 @@ int rl_app_run(const rl_deck *d)
   if (c.dcd && rl_dcd_close(c.dcd) && !st) st = RL_EINVAL;
   c.dcd = NULL;
   if (!st && c.streams) st = outputs_mark(c.out, marks);
-  if (!st && c.in && c.streams) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
-    rl_step_info info;
-    double comp[64];
-    st = rl_integrator_observe(c.in, &info);
-    if (!st) {
-      energy_components(c.s.terms, comp);
-      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
-      memcpy(Ft.virial, rl_integrator_forces(c.in)->virial, sizeof Ft.virial);
-      const double pr = scene_pressure_out(d, rl_forces_pressure(c.s.sys, &Ft, info.ke_trans));
-      if ((st = scene_check_finite(d, c.s.terms, comp, Ft.virial, pr)))
-        rl_error_wrap(st, "step %ld (t = %g)", c.first + c.done, info.t);
-      else st = thermo_row(c.thermo, outputs_part(c.out, OUT_THERMO), c.first + c.done, &info, c.s.terms, comp, pr, &c.E);
-    }
+  if (!st && c.drv && c.streams) { /* the row of the last state, as LAMMPS prints its last step (also after 0 steps) */
+    st = rl_run_finish(c.drv, c.first + c.done);
+    if (st) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
   if (!st && c.streams) {
     out_mark synced[OUT_NSTREAMS]; /* the last row on disk before the renames */
@@ -1177,9 +1180,8 @@ int rl_app_run(const rl_deck *d)
   if (!st && !io_bad && drift_warning(&c, dw, sizeof dw)) fprintf(stderr, "rotleap run: warning: %s\n", dw);
   if (!st && c.streams && c.moved_prev) unlink(c.chk_prev); /* the earlier run is replaced by a whole one */
   free(part_summary);
-  free(fsnap.f);
-  free(fsnap.k);
   analysis_free(c.an);
+  rl_run_free(c.drv);
   scene_relax_end(c.relax, 0);
   rl_integrator_free(c.in);
   scene_free(&c.s);

@@ -69,7 +69,7 @@ static void end_section(wbuf *b, size_t at)
   for (int k = 0; k < 8; k++) b->p[at + k] = (unsigned char)(len >> (8 * k));
 }
 
-static void put_watch(wbuf *b, const scene_watch *w)
+static void put_watch(wbuf *b, const rl_watch *w)
 {
   const double f[] = {w->prevE, w->T1, w->T2, w->alt_sum, w->alt_at_max, w->t0, w->c0, w->max_rate, w->U0,
                       w->rate_sum, w->rate_sum2, w->T_sum};
@@ -177,7 +177,7 @@ static int check_running(const running *r, const char *path, const char *name)
   return RL_OK;
 }
 
-static int get_watch(rbuf *b, scene_watch *w)
+static int get_watch(rbuf *b, rl_watch *w)
 {
   double *f[] = {&w->prevE, &w->T1, &w->T2, &w->alt_sum, &w->alt_at_max, &w->t0, &w->c0, &w->max_rate, &w->U0,
                  &w->rate_sum, &w->rate_sum2, &w->T_sum};

@@ -9,7 +9,7 @@
  *   PHYS  the settings that define the simulation, as "key = value" lines: a continuation
  *         whose deck gives other values is another simulation
  *   MARK  per output stream: where it was, its length and hash (outputs.h)
- *   WTCH  the blow-up and drift watch (scene_watch)
+ *   WTCH  the blow-up and drift watch (rl_watch, run.h)
  *   RLAX  present when the checkpoint was written during the relaxation: its step and time
  * Versions 1 to 4 (a fixed struct, older rotleap) are read for the state's bookkeeping only. */
 #ifndef ROTLEAP_APP_RUNREC_H
@@ -41,7 +41,7 @@ typedef struct {
   size_t physics_len;
   out_mark marks[OUT_NSTREAMS];
   int has_watch;
-  scene_watch watch;
+  rl_watch watch;
   long relax_step;        /* -1: production; else the relaxation's step of the checkpoint      */
   double relax_time;
 } run_record;

@@ -145,6 +145,66 @@ static long run_steps(const rl_deck *d, const scan_opts *o, double h)
   return x < 2.0 ? 2 : x > (double)SCAN_MAX_STEPS ? SCAN_MAX_STEPS : lround(x);
 }
 
+/* What one scan run accumulates from the run driver's reports. */
+typedef struct {
+  scan_run *r;
+  const rl_deck *d;
+  long thermo;              /* a point of the calE curve every this many steps               */
+  rl_series *E, *U;
+  analysis *an;
+  rl_system *sys;
+  const int *site;
+  long sample;
+  int cap;                  /* of r->curve                                                   */
+  long done;
+  double st_sum, stt, sE, stE, sTt, sTr, its;
+  double report_wall;       /* time spent in these reporters (not the step's cost)          */
+} scan_acc;
+
+/* Every step: the series of calE and calU, the sums of the drift fit and the temperatures, the
+ * iterations, the calE curve every `thermo` steps and at the last, the analysis. */
+static int scan_step(void *ctx, const rl_run_report *rep)
+{
+  scan_acc *a = ctx;
+  if (rep->last) return RL_OK;
+  const double t0 = now();
+  const rl_step_info *info = rep->info;
+  scan_run *r = a->r;
+  const long k = rep->step;
+  int st = RL_OK;
+  rl_series_add(a->E, info->conserved);
+  rl_series_add(a->U, info->potential);
+  a->st_sum += info->t; a->stt += info->t * info->t; a->sE += info->conserved; a->stE += info->t * info->conserved;
+  a->sTt += info->t_trans; a->sTr += info->t_rot;
+  a->its += info->quat_iterations;
+  r->max_h_omega = fmax(r->max_h_omega, info->max_h_omega);
+  a->done++;
+  if (k % a->thermo == 0 || k + 1 == r->steps) {
+    if (r->ncurve == a->cap) {
+      void *grown = a->cap < INT_MAX / 2 ? realloc(r->curve, sizeof *r->curve * (size_t)a->cap * 2) : NULL;
+      if (!grown) return rl_error(RL_ENOMEM, "step %ld: out of memory for the calE curve (%d points)", k, a->cap);
+      r->curve = grown;
+      a->cap *= 2;
+    }
+    double *c = r->curve[r->ncurve++];
+    c[0] = (double)k; c[1] = info->t; c[2] = a->done > 1 ? rl_series_rel_fluct(a->E) : 0.0;
+  }
+  if (a->an) st = analysis_step(a->an, info, scene_pressure_out(a->d, rep->pressure), rep->forces, rep->sys);
+  a->report_wall += now() - t0;
+  return st;
+}
+
+/* Every sampling interval: the RDF of the first output.rdf pair, and the analysis's sample. */
+static int scan_sample(void *ctx, const rl_run_report *rep)
+{
+  scan_acc *a = ctx;
+  const double t0 = now();
+  int st = rl_rdf_add_sites(a->r->rdf, rep->sys, 0, a->site[0], 0, a->site[1]);
+  if (!st && a->an) st = analysis_sample(a->an, rep->sys);
+  a->report_wall += now() - t0;
+  return st;
+}
+
 /* One run from a clone of `start`.  Fills r (ok = 0 with the error on failure). */
 static void one_run(const rl_deck *d, const scene *base, const rl_system *start, const scan_opts *o,
                     const int site[2], scan_run *r)
@@ -173,74 +233,37 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   dr.energy_every = 1;
   dr.sample_every = sample;
   analysis *an = o->analysis && sys ? analysis_alloc(&dr, &base->mol, sys) : NULL;
-  int nrot = sys ? rl_system_nrot(sys) : 0;
-  rl_forces snap = {o->analysis ? calloc((size_t)n, sizeof(double[3])) : NULL,
-                    o->analysis ? calloc((size_t)(nrot > 0 ? nrot : 1), sizeof(double[3])) : NULL, 0.0, {0}, 0};
   int st = !sys || !ff || (o->analysis && !an) ? RL_EINVAL : RL_OK; /* these say why */
-  if (!st && (!E || !U || !r->curve || (sample && !r->rdf) || (o->analysis && (!snap.f || !snap.k))))
+  if (!st && (!E || !U || !r->curve || (sample && !r->rdf)))
     st = rl_error(RL_ENOMEM, "out of memory for the run's accumulators (%d molecules)", n);
+  rl_run *drv = NULL;
   if (!st) {
     rl_integrator_params p;
-    rl_integrator_params_default(&p);
+    scene_integrator_params(d, SCENE_RUN, &p); /* the deck's, at this run's step and integrator */
     p.h = r->h;
     p.method = rl_deck_integrators[r->integ].method;
-    p.thermostat = d->thermostat;
-    p.T0 = d->thermostat_temperature;
-    p.tau = d->tau;
-    p.seed = d->thermostat_seed;
-    p.groups = d->thermostat_groups;
-    p.force_general = d->force_general;
-    p.threads = d->ff.threads;
+    p.energy_every = 1;
     in = rl_integrator_alloc(sys, &p, rl_terms_provider(ff));
     st = in ? rl_integrator_init(in) : RL_EINVAL;
+    rl_run_params rp = {.energy_every = 1, .h = r->h};
+    scene_watch_params(d, 0, &rp.watch);
+    rp.watch.names.timestep = "the time step";
+    if (!st && !(drv = rl_run_alloc(sys, in, ff, &rp))) st = RL_ENOMEM;
   }
-  double wall = 0.0, st_sum = 0, stt = 0, sE = 0, stE = 0, sTt = 0, sTr = 0, its = 0;
-  scene_watch watch;
-  scene_watch_init(&watch);
-  long done = 0;
+  scan_acc acc = {r, d, thermo, E, U, an, sys, site, sample, cap, 0, 0, 0, 0, 0, 0, 0, 0, 0.0};
   r->max_h_omega = 0.0;
-  for (long k = 0; !st && k < r->steps; k++) {
-    rl_step_info info;
-    if (an) { /* forces, torques and virial at t, for the analysis of this step */
-      const rl_forces *F = rl_integrator_forces(in);
-      memcpy(snap.f, F->f, sizeof(double[3]) * (size_t)n);
-      if (nrot) memcpy(snap.k, F->k, sizeof(double[3]) * (size_t)nrot);
-      memcpy(snap.virial, F->virial, sizeof snap.virial);
-    }
-    double t0 = now();
-    st = rl_integrator_step(in, &info);
-    wall += now() - t0;
-    if (st || (st = scene_watch_step(d, base, &watch, &info, k, 1, r->h, "the time step"))) break;
-    rl_series_add(E, info.conserved);
-    rl_series_add(U, info.potential);
-    st_sum += info.t; stt += info.t * info.t; sE += info.conserved; stE += info.t * info.conserved;
-    sTt += info.t_trans; sTr += info.t_rot;
-    its += info.quat_iterations;
-    r->max_h_omega = fmax(r->max_h_omega, info.max_h_omega);
-    done++;
-    if (k % thermo == 0 || k + 1 == r->steps) {
-      if (r->ncurve == cap) {
-        void *grown = cap < INT_MAX / 2 ? realloc(r->curve, sizeof *r->curve * (size_t)cap * 2) : NULL;
-        if (!grown) {
-          st = rl_error(RL_ENOMEM, "step %ld: out of memory for the calE curve (%d points)", k, cap);
-          break;
-        }
-        r->curve = grown;
-        cap *= 2;
-      }
-      double *c = r->curve[r->ncurve++];
-      c[0] = (double)k; c[1] = info.t; c[2] = done > 1 ? rl_series_rel_fluct(E) : 0.0;
-    }
-    if (an) {
-      rl_forces Ft = {NULL, NULL, 0.0, {0}, 0};
-      memcpy(Ft.virial, snap.virial, sizeof Ft.virial);
-      analysis_step(an, &info, scene_pressure_out(d, rl_forces_pressure(sys, &Ft, info.ke_trans)), &snap, sys);
-    }
-    if (sample && (k + 1) % sample == 0) {
-      st = rl_rdf_add_sites(r->rdf, sys, 0, site[0], 0, site[1]);
-      if (!st && an) st = analysis_sample(an, sys);
-    }
+  const rl_reporter reps[2] = {{"scan", RL_REPORT_STEP, 1, scan_step, &acc},
+                               {"scan samples", RL_REPORT_STATE, sample > 0 ? sample : 1, scan_sample, &acc}};
+  for (int q = 0; !st && q < (sample > 0 ? 2 : 1); q++) st = rl_run_add_reporter(drv, &reps[q]);
+  double wall = 0.0;
+  long done = 0;
+  if (!st) { /* the cost per step: the driver's time less its reporters' */
+    const double t0 = now();
+    st = rl_run_steps(drv, 0, r->steps, NULL, &done);
+    wall = now() - t0 - acc.report_wall;
   }
+  rl_run_free(drv);
+  double st_sum = acc.st_sum, stt = acc.stt, sE = acc.sE, stE = acc.stE, sTt = acc.sTt, sTr = acc.sTr, its = acc.its;
   r->ok = !st;
   r->done = done;
   if (st) snprintf(r->error, sizeof r->error, "%s", rl_last_error());
@@ -255,8 +278,6 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     free(pre);
   }
   analysis_free(an);
-  free(snap.f);
-  free(snap.k);
   if (done > 1) {
     r->calE = rl_series_rel_fluct(E);
     r->calU = rl_series_rel_fluct(U);

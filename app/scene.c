@@ -117,8 +117,8 @@ void scene_free(scene *s)
 
 struct scene_relaxation {
   rl_integrator *in;
+  rl_run *drv;
   long k;        /* steps done */
-  scene_watch w;
 };
 
 /* The relaxation's message gives t without a unit: say which, and the step that was used. */
@@ -136,39 +136,33 @@ scene_relaxation *scene_relax_begin(const rl_deck *d, scene *s, long k0, double 
   scene_relaxation *r = calloc(1, sizeof *r);
   if (!r) { rl_error(RL_ENOMEM, "out of memory"); return NULL; }
   rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = d->equilibrate_timestep;
-  p.thermostat = RL_THERMO_BUSSI;
-  p.tau = 20.0 * d->equilibrate_timestep;
-  p.seed = d->seed + 2;
-  p.T0 = d->temperature;
-  p.threads = d->ff.threads;
+  scene_integrator_params(d, SCENE_RELAX, &p);
   r->in = rl_integrator_alloc(s->sys, &p, rl_terms_provider(s->terms));
   int st = !r->in ? RL_EINVAL : k0 > 0 ? rl_integrator_resume(r->in, k0, t0) : rl_integrator_init(r->in);
+  /* a relaxation that blows up stops here, named, rather than handing the run a broken start;
+   * its energy may fall steeply (that is its purpose), so only non-finite energies and
+   * molecules thrown across the box count (the watch's relax mode) */
+  rl_run_params rp = {.energy_every = 1, .h = d->equilibrate_timestep};
+  scene_watch_params(d, 1, &rp.watch);
+  if (!st && !(r->drv = rl_run_alloc(s->sys, r->in, s->terms, &rp))) st = RL_ENOMEM;
   if (st) {
     relax_error(d, st);
+    rl_run_free(r->drv);
     rl_integrator_free(r->in);
     free(r);
     return NULL;
   }
+  rl_run_watch(r->drv)->relax = 1;
   r->k = k0;
-  /* a relaxation that blows up stops here, named, rather than handing the run a broken start;
-   * its energy may fall steeply (that is its purpose), so only non-finite energies and
-   * molecules thrown across the box count */
-  scene_watch_init(&r->w);
-  r->w.relax = 1;
   return r;
 }
 
 int scene_relax_run(const rl_deck *d, scene *s, scene_relaxation *r, const volatile sig_atomic_t *stop)
 {
-  int st = RL_OK;
-  for (; !st && r->k < d->equilibrate_steps && !(stop && *stop); r->k++) {
-    rl_step_info info;
-    st = rl_integrator_step(r->in, &info);
-    if (!st) st = scene_watch_step(d, s, &r->w, &info, r->k, 1, d->equilibrate_timestep, "run.equilibrate_timestep");
-    if (st) break;
-  }
+  (void)s;
+  long done = 0;
+  const int st = rl_run_steps(r->drv, r->k, d->equilibrate_steps, stop, &done);
+  r->k += done;
   return st ? relax_error(d, st) : RL_OK;
 }
 
@@ -179,6 +173,7 @@ int scene_relax_end(scene_relaxation *r, int finish)
 {
   if (!r) return RL_OK;
   const int st = finish ? rl_integrator_finish(r->in) : RL_OK;
+  rl_run_free(r->drv);
   rl_integrator_free(r->in);
   free(r);
   return st;
@@ -194,149 +189,68 @@ int scene_relax(const rl_deck *d, scene *s)
   return st ? st : fin;
 }
 
-void scene_watch_init(scene_watch *w)
-{
-  memset(w, 0, sizeof *w);
-  w->prevE = w->T1 = w->T2 = NAN;
-}
-
-double scene_watch_kT(const rl_deck *d, const scene_watch *w)
-{
-  const double T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
-  const double mean = w->T_n > 0 ? w->T_sum / w->T_n : 0.0;
-  const double floor = w->nev > 0 && d->count > 0 && isfinite(w->U0) ? 1e-3 * fabs(w->U0) / d->count : 0.0;
-  return fmax(rl_units_kB(d->units) * fmax(T, mean), floor);
-}
-
-double scene_watch_drift(const scene_watch *w, double *sem)
-{
-  *sem = NAN;
-  if (w->nwin < 2) return 0.0;
-  const double mean = w->rate_sum / w->nwin, var = (w->rate_sum2 - w->nwin * mean * mean) / (w->nwin - 1);
-  *sem = sqrt(fmax(var, 0.0) / w->nwin);
-  return mean;
-}
-
 int scene_drift_mode(const rl_deck *d, double alt)
 {
   return d->thermostat == RL_THERMO_ISOKINETIC && alt > SCENE_ALT_MODE;
 }
 
-/* A blow-up ends the run at the step where it shows: a non-finite energy, a jump of the total
- * energy by more than 10 kT per molecule in one step (a stable step changes it by far less than
- * kT per molecule; a thermostat exchanges a fraction of kT), or a molecule moving more than the
- * shortest box edge in one step.  A slower failure -- integration error pumping energy into the
- * system (water beyond ~10 fs: the fastest librations pass the leapfrog's stability limit
- * h omega = 2) while a thermostat hides it -- shows as a drift of the conserved quantity (the
- * total energy plus what the thermostat removed); it is measured over windows of SCENE_WINDOW
- * time units and at least 50 steps, and ends the run above SCENE_DRIFT_ERROR kT per molecule per
- * time unit (real: ps).  A stable run drifts by orders of magnitude less (TIP4P at 2 fs: ~1e-3;
- * at 10 fs 0.7, at 12 fs 16, measured with Bussi, tau 0.1 ps, 216 molecules). */
-static int watch_checks(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k, long every,
-                        double h, const char *dt_name);
-
-int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k,
-                     long every, double h, const char *dt_name)
+void scene_watch_params(const rl_deck *d, int relax, rl_watch_params *w)
 {
-  const int st = watch_checks(d, s, w, info, k, every, h, dt_name);
-  /* the temperatures seen so far, for the scale of the next steps' checks (not this one's: a
-   * blow-up's temperature must not excuse its own energy jump) */
-  if (!st && isfinite(info->temperature)) {
-    w->T_sum += info->temperature;
-    w->T_n++;
-  }
-  return st;
+  memset(w, 0, sizeof *w);
+  w->T = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
+  w->window = SCENE_WINDOW;
+  w->drift_error = SCENE_DRIFT_ERROR;
+  w->alt_mode = SCENE_ALT_MODE;
+  w->isokinetic = d->thermostat == RL_THERMO_ISOKINETIC;
+  w->names.timestep = relax ? "run.equilibrate_timestep" : "run.timestep";
+  w->names.relax = "run.equilibrate, with a small run.equilibrate_timestep";
+  w->names.isokinetic = "Relax the start at run.temperature first (run.equilibrate, with system.temperature = "
+                        "run.temperature or not given), or use run.ensemble = nvt-bussi";
 }
 
-static int watch_checks(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long k, long every,
-                        double h, const char *dt_name)
+void scene_integrator_params(const rl_deck *d, scene_purpose what, rl_integrator_params *p)
 {
-  const int ev = every <= 1 || k % every == 0;
-  const char *tu = rl_dim_unit(Q_TIME, d->units);
-  if (ev && w->nev++ == 0) w->U0 = info->potential;
-  const double kT = scene_watch_kT(d, w);
-  /* a blow-up within the first steps of a start whose energy was far above a liquid's points at
-   * overlapping molecules more than at the time step */
-  char hint[256] = "";
-  const double u0 = kT > 0 ? w->U0 / (d->count * kT) : 0.0;
-  if (w->nev <= 20 && !(u0 <= 5.0))
-    snprintf(hint, sizeof hint, "; the start's U/N was %.3g kT (a liquid's is negative): overlapping molecules "
-             "are the likelier cause: lower the density, or relax the start (run.equilibrate, with a small "
-             "run.equilibrate_timestep)", u0);
-  if (ev) { /* on the steps with energies: compared with the previous such step */
-    double prevE = w->prevE;
-    w->prevE = info->total;
-    if (!isfinite(info->total))
-      return rl_error(RL_ENONFINITE, "step %ld (t = %g %s): the total energy is not finite: the run blew up; "
-                      "reduce %s (now %g)%s", k, info->t, tu, dt_name, h, hint);
-    double jump = fabs(info->total - prevE);
-    if (isfinite(prevE) && kT > 0 && jump > 10.0 * d->count * kT && !w->relax)
-      return rl_error(RL_EINVAL, "step %ld (t = %g %s): the total energy jumped by %.3g %s (more "
-                      "than 10 kT per molecule): the run is unstable; reduce %s (now %g)%s", k,
-                      info->t, tu, jump, every > 1 ? "since its last evaluation" : "in one step",
-                      dt_name, h, hint);
+  rl_integrator_params_default(p);
+  p->threads = d->ff.threads; /* run.threads: the rotation solves too */
+  switch (what) {
+  case SCENE_RELAX:
+    p->h = d->equilibrate_timestep;
+    p->thermostat = RL_THERMO_BUSSI;
+    p->tau = 20.0 * d->equilibrate_timestep;
+    p->seed = d->seed + 2;
+    p->T0 = d->temperature;
+    break;
+  case SCENE_ONSTEP:
+    p->h = d->timestep;
+    p->threads = 0;
+    break;
+  case SCENE_RUN:
+    p->h = d->timestep;
+    p->method = d->method;
+    p->thermostat = d->thermostat;
+    p->T0 = d->thermostat_temperature;
+    p->tau = d->tau;
+    p->seed = d->thermostat_seed;
+    p->groups = d->thermostat_groups;
+    p->force_general = d->force_general;
+    p->energy_every = d->energy_every;
+    break;
   }
-  double L[3];
-  rl_system_box(s->sys, L);
-  const double Lmin = fmin(L[0], fmin(L[1], L[2]));
-  for (int i = 0; i < d->count; i++) {
-    double v[3];
-    rl_system_get_velocity(s->sys, i, v);
-    double step = h * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(step <= Lmin))
-      return rl_error(RL_EINVAL, "step %ld (t = %g %s): molecule %d moved %.3g in one step, more than the "
-                      "box edge %.3g: the run blew up; reduce %s (now %g)%s", k, info->t, tu, i,
-                      step, Lmin, dt_name, h, hint);
-  }
-  if (w->relax) return RL_OK;
-  /* the step-to-step alternation of the temperature, on every step: the isokinetic scheme's
-   * period-2 mode (scene_drift_mode) */
-  if (isfinite(w->T2)) {
-    w->alt_sum += 0.25 * fabs(info->temperature - 2.0 * w->T1 + w->T2);
-    w->alt_n++;
-  }
-  w->T2 = w->T1;
-  w->T1 = info->temperature;
-  if (!ev) return RL_OK;
-  if (!w->open) {
-    w->open = 1;
-    w->step0 = k;
-    w->t0 = info->t;
-    w->c0 = info->conserved;
-    w->alt_sum = 0.0;
-    w->alt_n = 0;
-  } else if (k - w->step0 >= 50 && info->t - w->t0 >= SCENE_WINDOW && kT > 0) {
-    double rate = (info->conserved - w->c0) / (d->count * kT * (info->t - w->t0));
-    w->rate_sum += rate;
-    w->rate_sum2 += rate * rate;
-    w->nwin++;
-    const double T0 = d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature;
-    const double alt = w->alt_n > 0 && T0 > 0 ? w->alt_sum / w->alt_n / T0 : 0.0;
-    if (fabs(rate) > fabs(w->max_rate)) {
-      w->max_rate = rate;
-      w->alt_at_max = alt;
-    }
-    w->open = 0;
-    /* the isokinetic scheme's sum is not an exact invariant (integrator.h), but a sound run keeps
-     * it flat (rl at 10 fs); Fincham's isokinetic run at 4 fs drifted 7 kT per molecule per ps
-     * while T_trans fell to 231 K and T_rot rose to 468 K (bench/paper): it stops too.  A start far
-     * from run.temperature drifts at any step: then the message says so (scene_drift_mode) */
-    if (fabs(rate) > SCENE_DRIFT_ERROR && scene_drift_mode(d, alt))
-      return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
-                      "%s over the last %g %s (more than %g): this is the isokinetic thermostat, not the time step: "
-                      "eqs. 17-18 (run.ensemble = nvt-isokinetic) hold only the on-step temperature at "
-                      "run.temperature, and the kinetic energy alternates from step to step by +-%.2g %% of it, a "
-                      "mode the scheme never damps, excited by a start out of equilibrium at run.temperature; reducing %s "
-                      "does not remove it.  Relax the start at run.temperature first (run.equilibrate, with "
-                      "system.temperature = run.temperature or not given), or use run.ensemble = nvt-bussi", k, info->t, tu, rate, tu, info->t - w->t0, tu, SCENE_DRIFT_ERROR,
-                      100.0 * alt, dt_name);
-    if (fabs(rate) > SCENE_DRIFT_ERROR)
-      return rl_error(RL_EINVAL, "step %ld (t = %g %s): the conserved energy drifted by %.3g kT per molecule per "
-                      "%s over the last %g %s (more than %g): integration error is %s the system; reduce %s "
-                      "(now %g)", k, info->t, tu, rate, tu, info->t - w->t0, tu, SCENE_DRIFT_ERROR,
-                      rate > 0 ? "heating" : "cooling", dt_name, h);
-  }
-  return RL_OK;
+}
+
+/* rotleap's check of a step's values: the energy components, the total, the pressure in the
+ * deck's unit and the virial finite, a non-finite one named with what produces it. */
+static int run_check(void *ctx, const rl_run_report *r)
+{
+  const rl_deck *d = ctx;
+  return scene_check_finite(d, r->terms, r->energies, r->forces->virial, scene_pressure_out(d, r->pressure));
+}
+
+rl_run *scene_run_driver(const rl_deck *d, scene *s, rl_integrator *in)
+{
+  rl_run_params rp = {.energy_every = d->energy_every, .h = d->timestep, .check = run_check, .check_ctx = (void *)d};
+  scene_watch_params(d, 0, &rp.watch);
+  return rl_run_alloc(s->sys, in, s->terms, &rp);
 }
 
 /* Worst deviation from rigidity: max |A A^T - I| (matrix bodies), ||rho| - 1| (axis bodies). */
@@ -402,8 +316,7 @@ int scene_onstep(const rl_deck *d, scene *s)
 {
   if (!s->restart) return RL_OK;
   rl_integrator_params p;
-  rl_integrator_params_default(&p);
-  p.h = d->timestep;
+  scene_integrator_params(d, SCENE_ONSTEP, &p);
   rl_integrator *in = rl_integrator_alloc(s->sys, &p, rl_terms_provider(s->terms));
   int st = in ? rl_integrator_resume(in, s->step0, s->t0) : RL_EINVAL;
   if (!st) st = rl_integrator_finish(in);

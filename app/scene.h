@@ -55,58 +55,34 @@ long scene_relax_step(const scene_relaxation *r);     /* steps done             
 rl_integrator *scene_relax_integrator(scene_relaxation *r);
 /* With `finish`, put on-step v and l back into the system for the production; then free. */
 int scene_relax_end(scene_relaxation *r, int finish);
-/* Watching a run for blow-ups (scene.c says what and why). */
-#define SCENE_WINDOW 1.0       /* drift window: 1 ps (real), 1 time unit (lj)              */
-#define SCENE_DRIFT_ERROR 5.0  /* kT per molecule per time unit: the run is stopped        */
-#define SCENE_DRIFT_WARN 0.5   /* kT per molecule per time unit: the summary warns         */
-#define SCENE_ALT_MODE 0.02 /* see scene_drift_mode                                        */
-typedef struct {
-  double prevE;           /* total energy of the previous step (NAN: none)                */
-  double T1, T2;          /* the on-step temperatures of the last two steps (NAN: none)     */
-  double alt_sum;         /* sum of |T - 2 T1 + T2| / 4 over the open window, alt_n terms   */
-  long alt_n;
-  double alt_at_max;      /* that mean over run.temperature in the window of max_rate       */
-  int open;               /* a drift window is open, from step0, t0, conserved c0         */
-  long step0;
-  double t0, c0;
-  double max_rate;        /* the largest drift seen, kT per molecule per time unit (signed) */
-  double rate_sum, rate_sum2; /* the sum of the windows' drift rates and of their squares   */
-  long nwin;              /* closed windows                                                */
-  double T_sum;           /* the sum of the on-step temperatures seen, T_n of them: the     */
-  long T_n;               /*   scale kT is kB max(the deck's T, their mean) (scene_watch_kT) */
-  long nev;               /* steps with energies seen                                     */
-  double U0;              /* the potential energy at the first of them                    */
-  int relax;              /* the relaxation of a start: its energy may fall by any amount,
-                             so only a non-finite energy or a jump across the box stops it */
-} scene_watch;
-void scene_watch_init(scene_watch *w);
-/* The energy scale of the watch, "kT": kB times the deck's temperature (the thermostat's, else the
- * start's), or times the mean on-step temperature seen so far, or a thousandth of |U|/N at the
- * first step with energies, whichever is highest: a start near 0 K (1e-30 K) is not unstable
- * because the kinetic energy is tiny, and heats as its potential energy turns kinetic. */
-double scene_watch_kT(const rl_deck *d, const scene_watch *w);
-/* The mean drift of the conserved energy over the closed windows and its standard error (kT
- * per molecule per time unit); 0 with fewer than 2 windows (then *sem = NAN). */
-double scene_watch_drift(const scene_watch *w, double *sem);
-/* RL_OK, or an error naming the step, the cause and dt_name ("run.timestep") to reduce.  The
- * energy checks run on the steps that are multiples of every (output.energy_every; their info
- * has its energies) and compare with the previous such step; the displacement check on every
- * step. */
-int scene_watch_step(const rl_deck *d, const scene *s, scene_watch *w, const rl_step_info *info, long step,
-                     long every, double h, const char *dt_name);
-/* RL_OK if every energy term, the nine virial elements (virial may be NULL) and the pressure
- * are finite; else RL_ENONFINITE with a message naming the first that is not ("the dispersion
- * energy is -nan") and the interactions that produce it. */
+/* The run driver's watch (run.h) as rotleap runs it: windows of 1 ps (real) or 1 time unit (lj),
+ * a drift above 5 kT per molecule per time unit stops the run and one above 0.5 is warned about
+ * in the summary, the isokinetic scheme's mode is the cause above an alternation of 2 % of
+ * run.temperature (the CLI audit of the integrators: 256 Stockmayer molecules started at 1.6 for
+ * 1.35 drifted 12.8 kT per molecule per time unit at h = 0.002 and 56.8 at h / 4; a relaxed start
+ * alternates by about 0.5 %), and the messages name the deck's keys. */
+#define SCENE_WINDOW 1.0
+#define SCENE_DRIFT_ERROR 5.0
+#define SCENE_DRIFT_WARN 0.5
+#define SCENE_ALT_MODE 0.02
+void scene_watch_params(const rl_deck *d, int relax, rl_watch_params *w);
+/* The integrator parameters of the deck, the one place they are built: for the production run
+ * (SCENE_RUN), the relaxation (SCENE_RELAX: Bussi with tau = 20 relaxation steps at
+ * run.equilibrate_timestep and system.temperature), or the on-step completion of a checkpoint's
+ * half-step velocities (SCENE_ONSTEP: run.timestep, no thermostat). */
+typedef enum { SCENE_RUN, SCENE_RELAX, SCENE_ONSTEP } scene_purpose;
+void scene_integrator_params(const rl_deck *d, scene_purpose what, rl_integrator_params *p);
+/* The driver of a production run of the deck over the scene's system, terms and `in`, with
+ * rotleap's watch and checks (scene_check_finite); NULL with a message. */
+rl_run *scene_run_driver(const rl_deck *d, scene *s, rl_integrator *in);
+/* RL_OK if every energy component comp (of the terms t), the nine virial elements (virial may
+ * be NULL) and the pressure are finite; else RL_ENONFINITE with a message naming the first that
+ * is not ("the dispersion correction is -nan") and the interactions that produce it. */
 int scene_check_finite(const rl_deck *d, const rl_terms *t, const double *comp, const double *virial, double pressure);
-/* 1 if a drift of the conserved energy comes from the isokinetic thermostat (eqs. 17-18) rather
- * than from the time step: under run.ensemble = nvt-isokinetic the scheme pins only the on-step
- * temperature and leaves a period-2 mode of the kinetic energy undamped; a start far from
- * run.temperature excites it, the temperature then alternates from step to step and the
- * 'conserved' sum drifts whatever the step (the CLI audit of the integrators: 256 Stockmayer
- * molecules started at 1.6 for 1.35 drifted 12.8 kT per molecule per time unit at h = 0.002 and
- * 56.8 at h / 4).  alt is the alternation measured (scene_watch's alt_at_max): the mean of
- * |T - 2 T1 + T2| / 4 (the amplitude of a period-2 oscillation) over run.temperature; a relaxed
- * start alternates by about 0.5 %, and above SCENE_ALT_MODE the mode is taken as the cause. */
+/* 1 if a drift of the conserved energy comes from the isokinetic thermostat's undamped mode
+ * (eqs. 17-18 hold only the on-step temperature; a start out of equilibrium excites a period-2
+ * alternation of the kinetic energy) rather than the time step: under run.ensemble =
+ * nvt-isokinetic, when the windows alternated by more than SCENE_ALT_MODE of run.temperature. */
 int scene_drift_mode(const rl_deck *d, double alt);
 /* Pressure from kJ/mol/nm^3 to the deck's output unit (bar for real units). */
 double scene_pressure_out(const rl_deck *d, double p);

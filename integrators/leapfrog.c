@@ -1,25 +1,26 @@
 /* The shared leapfrog core: translation (eqs. 8-9), the revised angular-momentum rotation with
- * one path per body kind, and the paper's isokinetic thermostat (eqs. 17-18, section III.B).
+ * one path per body kind (integrators/paths/), and the step operators (thermostats, barostats;
+ * include/rotleap/stepops.h, integrators/stepops/) called at the points of the step.
  *
  * A step from t to t+h, given forces and torques at t:
  *   1. on-step v(t) = v(t-h/2) + h/2 f/m, l(t) = l(t-h/2) + h/2 k        (eqs. 9, 12)
- *      -> kinetic energies and temperature at t, thermostat factor beta
+ *      -> kinetic energies and temperature at t                 [RL_STEP_BEFORE_KICK: kick beta]
  *   2. v(t+h/2) = (2 beta - 1) v(t) + h/2 f/m, same for l                  (eqs. 10, 17-18;
- *      beta = 1 is the plain kick)
+ *      beta = 1 is the plain kick)                                         [RL_STEP_AFTER_KICK]
  *   3. r(t+h) = r(t) + h v(t+h/2)                                          (eq. 8)
  *   4. rotation by kind, from l(t+h/2)                                     (eqs. 19-36, III.D),
- *      or by a baseline method for every matrix body (integrators/paths/family_baselines.c)
- *   5. forces at t+h from the provider.
- * RL_THERMO_LANGEVIN replaces 3-4 by BAOAB's middle: drift and rotate by h/2, an
- * Ornstein-Uhlenbeck step on v and on the body-frame l, drift and rotate by h/2 again. */
+ *      or by a baseline method for every matrix body (integrators/paths/baselines.c)
+ *      3-4 in two halves of h/2 when an operator acts in the middle       [RL_STEP_MID_DRIFT]
+ *                                                                          [RL_STEP_AFTER_DRIFT]
+ *   5. forces at t+h from the provider.                                    [RL_STEP_END]
+ * The core knows no particular operator: it calls their hooks in the order they were added. */
 #include "rotleap/integrator.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
+#include "rotleap/stepops.h"
 #include "../core/threads.h"
-#include "paths/family.h"
+#include "paths/path.h"
 
-#include <gsl/gsl_randist.h>
-#include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,8 +43,11 @@ struct rl_integrator {
   int initialized;
   long steps, fallbacks, quat_iterations;
   double t;
-  gsl_rng *rng;       /* Bussi and Langevin thermostats only */
-  double thermo_work; /* kinetic energy removed by the thermostat so far */
+  rl_stepop ops[RL_STEPOP_MAX]; /* the step operators, in the order they act at each point */
+  int nops;
+  int has[RL_STEP_NPOINTS]; /* some operator has a hook at this point */
+  double work;        /* the conserved quantity's account while there is no operator (set by
+                         rl_integrator_set_thermostat_work, e.g. from a checkpoint) */
   int threads;        /* of the rotation solves and the per-body loops: p.threads resolved */
   double *part;       /* [2 (ceil(n / RL_SUM_BLOCK) + 1)] the kinetic sums' block partials */
 };
@@ -102,22 +106,40 @@ const char *rl_thermostat_name(rl_thermostat t)
   return NULL;
 }
 
-/* The thermostats that draw random numbers. */
-static int stochastic(const rl_integrator_params *p)
+const char *rl_step_point_name(rl_step_point pt)
 {
-  return p->thermostat == RL_THERMO_BUSSI || p->thermostat == RL_THERMO_LANGEVIN;
+  switch (pt) {
+  case RL_STEP_BEFORE_KICK: return "before-kick";
+  case RL_STEP_AFTER_KICK: return "after-kick";
+  case RL_STEP_MID_DRIFT: return "mid-drift";
+  case RL_STEP_AFTER_DRIFT: return "after-drift";
+  case RL_STEP_END: return "end";
+  default: return NULL;
+  }
 }
 
-/* Translational degrees of freedom under p's thermostat.  Langevin's noise moves the centre of
- * mass, so all 3N count; the other thermostats conserve (NVE) or scale (Bussi, isokinetic) the
- * total momentum, which carries no thermal energy, and the system's removed_dof (3 by default:
- * the total momentum, held at zero by init and resume) comes off. */
-static int dof_trans(const rl_system *s, const rl_integrator_params *p)
+/* 1 if one of the operators has `flag`. */
+static int any_flag(const rl_stepop *ops, int nops, unsigned flag)
 {
-  return p->thermostat == RL_THERMO_LANGEVIN ? 3 * s->n : rl_system_dof_translational(s);
+  for (int k = 0; k < nops; k++)
+    if (ops[k].type->flags & flag) return 1;
+  return 0;
 }
 
-static int validate(const rl_system *s, const rl_integrator_params *p)
+/* Translational degrees of freedom under the operators.  One that moves the centre of mass at
+ * random (Langevin's noise, RL_STEPOP_THERMAL_COM) makes all 3N count; otherwise the operators
+ * conserve (none) or scale (Bussi, isokinetic) the total momentum, which carries no thermal
+ * energy, and the system's removed_dof (3 by default: the total momentum, held at zero by init and
+ * resume) comes off. */
+static int dof_trans(const rl_system *s, const rl_stepop *ops, int nops)
+{
+  return any_flag(ops, nops, RL_STEPOP_THERMAL_COM) ? 3 * s->n : rl_system_dof_translational(s);
+}
+
+/* The integrator's settings, the operators ops[0..nops) (their type and parameters) and the
+ * system, in this order: parameters of the core, the operators' own checks, what the operators
+ * ask of the core, the system. */
+static int validate(const rl_system *s, const rl_integrator_params *p, const rl_stepop *ops, int nops)
 {
   if (!(p->h > 0.0) || !isfinite(p->h))
     return rl_error(RL_EINVAL, "time step h = %g must be positive and finite", p->h);
@@ -129,20 +151,19 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
                     p->quat_tol, p->quat_maxit);
   if (!rl_thermostat_name(p->thermostat))
     return rl_error(RL_EINVAL, "unknown thermostat %d", (int)p->thermostat);
-  if (p->thermostat != RL_THERMO_NONE && (!(p->T0 > 0.0) || !isfinite(p->T0)))
-    return rl_error(RL_EINVAL, "%s thermostat needs a positive target temperature, got %g",
-                    rl_thermostat_name(p->thermostat), p->T0);
-  if (p->thermostat == RL_THERMO_BUSSI && !rl_thermo_groups_name(p->groups))
-    return rl_error(RL_EINVAL, "unknown Bussi thermostat groups %d", (int)p->groups);
-  if (stochastic(p) && (!(p->tau > 0.0) || !isfinite(p->tau)))
-    return rl_error(RL_EINVAL, "%s thermostat needs a positive %s tau, got %g",
-                    rl_thermostat_name(p->thermostat),
-                    p->thermostat == RL_THERMO_BUSSI ? "relaxation time" : "friction time", p->tau);
-  /* the baselines are kept as published, one rotation over h; Langevin needs two of h/2 */
-  if (p->thermostat == RL_THERMO_LANGEVIN && rl_rot_is_baseline(p->method))
-    return rl_error(RL_EINVAL, "the Langevin thermostat splits the rotation into two half steps, "
-                    "which the baseline %s does not provide; use rl, rl-exact or rl-quaternion",
-                    rl_rot_method_name(p->method));
+  int st, scales = 0;
+  for (int k = 0; k < nops; k++)
+    if (ops[k].type->check && (st = ops[k].type->check(ops[k].par, s, p))) return st;
+  for (int k = 0; k < nops; k++) {
+    /* the baselines are kept as published, one rotation over h; the middle needs two of h/2 */
+    if (ops[k].type->hook[RL_STEP_MID_DRIFT] && rl_rot_is_baseline(p->method))
+      return rl_error(RL_EINVAL, "the %s splits the rotation into two half steps, which the baseline "
+                      "%s does not provide; use rl, rl-exact or rl-quaternion", ops[k].type->label,
+                      rl_rot_method_name(p->method));
+    if ((ops[k].type->flags & RL_STEPOP_SCALES_KICK) && scales++)
+      return rl_error(RL_EINVAL, "the %s scales the kick (eqs. 17-18), and so does an operator "
+                      "before it: only one may", ops[k].type->label);
+  }
   if (p->threads < 0)
     return rl_error(RL_EINVAL, "integrator threads = %d must be >= 0 (0: OMP_NUM_THREADS if set, "
                     "else 1)", p->threads);
@@ -150,8 +171,8 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
     return rl_error(RL_EINVAL, "integrator energy_every = %ld must be >= 0 (0 or 1: every step)",
                     p->energy_every);
   if (s->n == 0) return rl_error(RL_EINVAL, "the system has no bodies");
-  const int g = dof_trans(s, p) + rl_system_dof_rotational(s);
-  if (p->thermostat != RL_THERMO_NONE && g <= 0)
+  const int g = dof_trans(s, ops, nops) + rl_system_dof_rotational(s);
+  if (any_flag(ops, nops, RL_STEPOP_HOLDS_TEMPERATURE) && g <= 0)
     return rl_error(RL_EINVAL, "the system has %d degrees of freedom: no temperature to hold", g);
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
@@ -163,7 +184,6 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
                       "point dipoles or linear molecules", rl_rot_method_name(p->method),
                       sp->name, rl_kind_name(sp->kind));
     for (int b = 0; b < sp->count; b++) {
-      int st;
       if (sp->mat_off >= 0 && (st = rl_check_rotation(s->A[sp->mat_off + b], "integrator", sp->first + b)))
         return st;
       if (sp->axis_off >= 0) {
@@ -178,12 +198,65 @@ static int validate(const rl_system *s, const rl_integrator_params *p)
   return RL_OK;
 }
 
+/* Which points have hooks. */
+static void note_hooks(rl_integrator *in)
+{
+  for (int pt = 0; pt < RL_STEP_NPOINTS; pt++) {
+    in->has[pt] = 0;
+    for (int k = 0; k < in->nops; k++)
+      if (in->ops[k].type->hook[pt]) in->has[pt] = 1;
+  }
+}
+
+/* Append an operator of type T with parameters par (validated): copy the parameters, alloc. */
+static int op_create(rl_integrator *in, const rl_stepop_type *T, const void *par)
+{
+  rl_stepop *op = &in->ops[in->nops];
+  *op = (rl_stepop){T, NULL, NULL, 0.0};
+  if (T->params_size) {
+    if (!(op->par = malloc(T->params_size))) return rl_error(RL_ENOMEM, "%s: out of memory", T->label);
+    memcpy(op->par, par, T->params_size);
+  }
+  int st = T->alloc ? T->alloc(op) : RL_OK;
+  if (st) {
+    free(op->par);
+    return st;
+  }
+  in->nops++;
+  note_hooks(in);
+  return RL_OK;
+}
+
+int rl_integrator_add_op(rl_integrator *in, const rl_stepop_type *T, const void *params)
+{
+  if (!in || !T) return rl_error(RL_EINVAL, "rl_integrator_add_op: NULL argument");
+  if (in->initialized)
+    return rl_error(RL_ESTATE, "rl_integrator_add_op: the %s must be added before rl_integrator_init "
+                    "or resume (or after rl_integrator_finish)", T->label);
+  if (in->nops == RL_STEPOP_MAX)
+    return rl_error(RL_EINVAL, "rl_integrator_add_op: the integrator carries %d step operators, the "
+                    "most it can", RL_STEPOP_MAX);
+  if (T->params_size && !params) return rl_error(RL_EINVAL, "rl_integrator_add_op: the %s needs parameters", T->label);
+  rl_stepop ops[RL_STEPOP_MAX];
+  memcpy(ops, in->ops, sizeof(*ops) * (size_t)in->nops);
+  ops[in->nops] = (rl_stepop){T, (void *)params, NULL, 0.0};
+  int st = validate(in->sys, &in->p, ops, in->nops + 1);
+  return st ? st : op_create(in, T, params);
+}
+
+int rl_integrator_nops(const rl_integrator *in) { return in->nops; }
+rl_stepop *rl_integrator_op(rl_integrator *in, int k) { return k >= 0 && k < in->nops ? &in->ops[k] : NULL; }
+
 rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p,
                                    rl_force_provider provider)
 {
   if (!sys || !p) { rl_error(RL_EINVAL, "rl_integrator_alloc: NULL argument"); return NULL; }
   if (!provider.compute) { rl_error(RL_EINVAL, "rl_integrator_alloc: no force provider"); return NULL; }
-  if (validate(sys, p)) return NULL;
+  /* the thermostat of p, the first operator */
+  const rl_stepop_type *T = rl_stepop_for_thermostat(p->thermostat);
+  const rl_thermostat_params tp = {p->T0, p->tau, p->seed, p->groups};
+  const rl_stepop first = {T, (void *)&tp, NULL, 0.0};
+  if (validate(sys, p, &first, T ? 1 : 0)) return NULL;
   rl_integrator *in = calloc(1, sizeof *in);
   if (!in) { rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory"); return NULL; }
   in->sys = sys;
@@ -198,14 +271,13 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   if (need_q) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
   if (need_lprev) in->lprev = calloc((size_t)sys->nrot, sizeof *in->lprev);
   in->part = malloc(sizeof *in->part * (size_t)(2 * (nblocks(sys->n) + 1)));
-  if (stochastic(p)) {
-    in->rng = gsl_rng_alloc(gsl_rng_mt19937);
-    if (in->rng) gsl_rng_set(in->rng, p->seed);
-  }
-  if (!in->F.f || !in->F.k || !in->part || (need_q && !in->q) || (need_lprev && !in->lprev) ||
-      (stochastic(p) && !in->rng)) {
+  if (!in->F.f || !in->F.k || !in->part || (need_q && !in->q) || (need_lprev && !in->lprev)) {
     rl_integrator_free(in);
     rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
+    return NULL;
+  }
+  if (T && op_create(in, T, &tp)) {
+    rl_integrator_free(in);
     return NULL;
   }
   return in;
@@ -219,7 +291,10 @@ void rl_integrator_free(rl_integrator *in)
   free(in->q);
   free(in->lprev);
   free(in->part);
-  gsl_rng_free(in->rng);
+  for (int k = 0; k < in->nops; k++) {
+    if (in->ops[k].type->free) in->ops[k].type->free(&in->ops[k]);
+    free(in->ops[k].par);
+  }
   free(in);
 }
 
@@ -288,15 +363,76 @@ static void kick(rl_integrator *in, double dt, double sign)
   }
 }
 
-/* The centre of mass as each thermostat needs it.  Under Langevin it is thermal, and nothing is
- * done.  Under the others, when the system's count takes the total momentum P out (removed_dof
+/* The operators' accounts, for the conserved quantity: their sum, or the integrator's own while
+ * there is no operator (summed from the first, so that one operator's account is returned as it
+ * is). */
+static double total_work(const rl_integrator *in)
+{
+  if (!in->nops) return in->work;
+  double w = in->ops[0].work;
+  for (int k = 1; k < in->nops; k++) w += in->ops[k].work;
+  return w;
+}
+
+static void zero_work(rl_integrator *in)
+{
+  in->work = 0.0;
+  for (int k = 0; k < in->nops; k++) in->ops[k].work = 0.0;
+}
+
+/* What the hooks of a step (or of observe) see: the step starting at the current time, whose
+ * report info has the on-step values; beta = beta_rot = 1 and the conserved quantity with the
+ * accounts as they are before the step. */
+static void ctx_start(rl_integrator *in, rl_stepop_ctx *c, rl_step_info *info)
+{
+  *c = (rl_stepop_ctx){.in = in, .sys = in->sys, .p = &in->p, .step = in->steps, .t = in->t,
+                       .forces = &in->F, .dof_trans = dof_trans(in->sys, in->ops, in->nops),
+                       .dof_rot = rl_system_dof_rotational(in->sys), .K = {NAN, NAN},
+                       .kick_beta = 1.0, .info = info};
+  info->beta = info->beta_rot = 1.0;
+  info->conserved = info->total + total_work(in);
+}
+
+/* The hooks of every operator at point pt, in the order the operators were added. */
+static int run_hooks(rl_integrator *in, rl_step_point pt, rl_stepop_ctx *c)
+{
+  if (!in->has[pt]) return RL_OK;
+  for (int k = 0; k < in->nops; k++) {
+    const rl_stepop_hook f = in->ops[k].type->hook[pt];
+    int st = f ? f(&in->ops[k], c) : RL_OK;
+    if (st) return st;
+  }
+  return RL_OK;
+}
+
+int rl_stepop_forces(rl_stepop_ctx *c, int energy) { return compute_forces(c->in, energy); }
+
+void rl_stepop_kinetic(const rl_stepop_ctx *c, double K[2])
+{
+  const rl_system *s = c->sys;
+  K[0] = K[1] = 0.0;
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, c->p->force_general);
+    double kt = 0.0;
+    for (int b = 0; b < sp->count; b++) {
+      const double *v = s->v[sp->first + b];
+      kt += v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+      if (sp->rot_off >= 0) K[1] += fam->ke_rot(sp, s, b, s->l[sp->rot_off + b]);
+    }
+    K[0] += 0.5 * sp->mass * kt;
+  }
+}
+
+/* The centre of mass as the operators need it.  Under one that moves it at random (Langevin,
+ * RL_STEPOP_THERMAL_COM) it is thermal, and nothing is done.  Otherwise, when the system's count takes the total momentum P out (removed_dof
  * >= 3), P must be zero, and a P above round-off (|P| > 1e-10 sum m|v|) is removed: a state that
  * comes from a Langevin run has |P| ~ sqrt(3 M kT).  One at round-off is left as it is, so that
  * restarts continue bit for bit.  Returns 1 if P was removed. */
 static int zero_momentum(rl_integrator *in)
 {
   rl_system *s = in->sys;
-  if (in->p.thermostat == RL_THERMO_LANGEVIN || s->removed_dof < 3) return 0;
+  if (any_flag(in->ops, in->nops, RL_STEPOP_THERMAL_COM) || s->removed_dof < 3) return 0;
   double P[3] = {0.0, 0.0, 0.0}, M = 0.0, mv = 0.0;
   for (int k = 0; k < s->nspecies; k++) {
     const rl_species *sp = &s->sp[k];
@@ -316,7 +452,7 @@ static int zero_momentum(rl_integrator *in)
 int rl_integrator_init(rl_integrator *in)
 {
   rl_system *s = in->sys;
-  int st = validate(s, &in->p);
+  int st = validate(s, &in->p, in->ops, in->nops);
   if (st) return st;
   /* dipoles and linear molecules carry no spin about their axis */
   for (int k = 0; k < s->nspecies; k++) {
@@ -333,7 +469,7 @@ int rl_integrator_init(rl_integrator *in)
     }
   zero_momentum(in);
   in->steps = 0;
-  in->thermo_work = 0.0;
+  zero_work(in);
   in->fallbacks = 0;
   in->quat_iterations = 0;
   if ((st = compute_forces(in, 1))) return st;
@@ -373,99 +509,6 @@ static void polish_orientations(rl_integrator *in)
     double *r = s->rho[i], f = 0.5 * (3.0 - (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
     r[0] *= f; r[1] *= f; r[2] *= f;
   }
-}
-
-/* Bussi et al. 2007, eq. (A7): the ratio K'/K of the new to the current kinetic energy for a
- * relaxation over dt/tau = x towards Kbar = g kT/2 with g degrees of freedom.  The sum of g - 1
- * squared normals is drawn as one chi-squared variate. */
-static double bussi_ratio(gsl_rng *r, double K, double Kbar, int g, double x)
-{
-  double c = exp(-x), r1 = gsl_ran_gaussian(r, 1.0);
-  double sum = g > 1 ? gsl_ran_chisq(r, g - 1.0) : 0.0;
-  double f = Kbar / (g * K);
-  double a2 = c + (1.0 - c) * (r1 * r1 + sum) * f + 2.0 * r1 * sqrt(c * (1.0 - c) * f);
-  return a2 > 0.0 ? a2 : 0.0;
-}
-
-/* Bussi rescaling of the new mid-step velocities and angular momenta: v(t+h/2) and l(t+h/2)
- * are multiplied by alpha, alpha^2 drawn for their kinetic energy K (rotational part from
- * l(t+h/2) with A(t)), as leapfrog codes apply it.  Scaling the propagated half-step values -- not
- * the interpolated on-step ones through eqs. 17-18, which would scale what is carried forward by
- * 2 alpha - 1 and double the energy fluctuation -- keeps the stationary law canonical.  With
- * RL_THERMO_GROUPS_TRANS_ROT the translational and rotational parts get one alpha each, drawn
- * for their own K and dof (a group with no dof or no kinetic energy is left alone); with
- * RL_THERMO_GROUPS_ALL one alpha for the sum.  The energy taken out, sum (1 - alpha^2) K, is
- * added to the thermostat's account.  K: the step's Kmid.  Returns the two alphas in a[0] (v)
- * and a[1] (l). */
-static void bussi_rescale(rl_integrator *in, const double K[2], double a[2])
-{
-  rl_system *s = in->sys;
-  const int g[2] = {dof_trans(s, &in->p), rl_system_dof_rotational(s)};
-  const double kT = s->kB * in->p.T0, x = in->p.h / in->p.tau;
-  double a2[2] = {1.0, 1.0};
-  if (in->p.groups == RL_THERMO_GROUPS_ALL) {
-    double Ks = K[0] + K[1];
-    int gs = g[0] + g[1];
-    if (Ks > 0.0 && gs > 0) a2[0] = a2[1] = bussi_ratio(in->rng, Ks, 0.5 * gs * kT, gs, x);
-  } else {
-    for (int j = 0; j < 2; j++)
-      if (K[j] > 0.0 && g[j] > 0) a2[j] = bussi_ratio(in->rng, K[j], 0.5 * g[j] * kT, g[j], x);
-  }
-  a[0] = sqrt(a2[0]);
-  a[1] = sqrt(a2[1]);
-  for (int i = 0; i < s->n; i++)
-    for (int c = 0; c < 3; c++) s->v[i][c] *= a[0];
-  for (int i = 0; i < s->nrot; i++)
-    for (int c = 0; c < 3; c++) s->l[i][c] *= a[1];
-  in->thermo_work += (1.0 - a2[0]) * K[0] + (1.0 - a2[1]) * K[1];
-}
-
-/* The O of BAOAB over the whole step h, at the middle of the drift: every component of v and of
- * the body-frame angular momentum relaxes as an Ornstein-Uhlenbeck process with friction
- * gamma = 1/tau, x <- c x + sqrt((1 - c^2) m kT) xi with c = exp(-h gamma) (m the mass or
- * the principal moment), which leaves the Maxwell-Boltzmann law exactly invariant.  A matrix
- * body's l is taken to its body frame by the half-rotated A; an axis body (linear, dipole) has
- * two equal moments and no spin about rho, so its noise is drawn in 3-D and projected
- * perpendicular to rho.  K[0], K[1]: translational and rotational kinetic energy before and
- * after (out: after); the energy taken out goes to the thermostat's account. */
-static void langevin_o(rl_integrator *in, double K[2][2])
-{
-  rl_system *s = in->sys;
-  gsl_rng *r = in->rng;
-  const double c = exp(-in->p.h / in->p.tau), sn = sqrt(-expm1(-2.0 * in->p.h / in->p.tau));
-  const double kT = s->kB * in->p.T0;
-  K[0][0] = K[0][1] = K[1][0] = K[1][1] = 0.0;
-  for (int k = 0; k < s->nspecies; k++) {
-    const rl_species *sp = &s->sp[k];
-    const rl_family *fam = rl_family_for(sp->kind, in->p.force_general);
-    const double sv = sn * sqrt(kT / sp->mass);
-    double sl[3];
-    for (int a = 0; a < 3; a++) sl[a] = sn * sqrt(kT * sp->J[a]);
-    for (int b = 0; b < sp->count; b++) {
-      double *v = s->v[sp->first + b];
-      K[0][0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      for (int a = 0; a < 3; a++) v[a] = c * v[a] + sv * gsl_ran_gaussian_ziggurat(r, 1.0);
-      K[0][1] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      if (sp->rot_off < 0) continue;
-      double *l = s->l[sp->rot_off + b];
-      K[1][0] += fam->ke_rot(sp, s, b, l);
-      if (sp->mat_off >= 0) {
-        const double *A = s->A[sp->mat_off + b];
-        double L[3];
-        for (int a = 0; a < 3; a++)
-          L[a] = c * (A[3 * a] * l[0] + A[3 * a + 1] * l[1] + A[3 * a + 2] * l[2]) +
-                 sl[a] * gsl_ran_gaussian_ziggurat(r, 1.0);
-        for (int a = 0; a < 3; a++) l[a] = A[a] * L[0] + A[3 + a] * L[1] + A[6 + a] * L[2];
-      } else {
-        double xi[3];
-        for (int a = 0; a < 3; a++) xi[a] = gsl_ran_gaussian_ziggurat(r, 1.0);
-        rl_project_out(xi, s->rho[sp->axis_off + b]);
-        for (int a = 0; a < 3; a++) l[a] = c * l[a] + sl[0] * xi[a];
-      }
-      K[1][1] += fam->ke_rot(sp, s, b, l);
-    }
-  }
-  in->thermo_work += (K[0][0] - K[0][1]) + (K[1][0] - K[1][1]);
 }
 
 /* Step 4: every species rotated by w->h from its l. */
@@ -594,7 +637,7 @@ static void onstep_info(rl_integrator *in, rl_step_info *info)
     }
     ket += 0.5 * sp->mass * kt;
   }
-  int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s), g = gt + gr;
+  int gt = dof_trans(s, in->ops, in->nops), gr = rl_system_dof_rotational(s), g = gt + gr;
   info->ke_trans = ket;
   info->ke_rot = ker;
   info->total = ket + ker + info->potential;
@@ -616,10 +659,10 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
   const double h = in->p.h, h2 = 0.5 * h;
   rl_step_info info;
   onstep_info(in, &info);
-  double beta = 1.0;
-  if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) beta = sqrt(in->p.T0 / info.temperature);
-  info.beta = info.beta_rot = beta;
-  info.conserved = info.total + in->thermo_work;
+  rl_stepop_ctx ctx;
+  ctx_start(in, &ctx, &info);
+  for (int k = 0; k < in->nops; k++)
+    if (in->ops[k].type->observe) in->ops[k].type->observe(&in->ops[k], &ctx);
   /* the mid-step temperatures of the plain kick (eqs. 8, 10), before any thermostat acts: the
    * t_trans_mid, t_rot_mid a step reports */
   double Kmid[2] = {0.0, 0.0};
@@ -639,7 +682,7 @@ int rl_integrator_observe(rl_integrator *in, rl_step_info *out)
       Kmid[1] += fam->ke_rot(sp, s, b, lt);
     }
   }
-  const int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s);
+  const int gt = ctx.dof_trans, gr = ctx.dof_rot;
   info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
   info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
   *out = info;
@@ -658,23 +701,16 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
     return rl_error(RL_ENONFINITE, "non-finite on-step kinetic energy at step %ld (t = %g): translational "
                     "%g, rotational %g (velocities or angular momenta beyond the range of doubles)",
                     in->steps, in->t, ket, ker);
-  int gt = dof_trans(s, &in->p), gr = rl_system_dof_rotational(s);
-  double beta = 1.0, ke = ket + ker;
-  if (in->p.thermostat == RL_THERMO_ISOKINETIC && info.temperature > 0.0) {
-    beta = sqrt(in->p.T0 / info.temperature);
-    /* eqs. 17-18 carry (2 beta - 1) v forward: for beta < 1/2 that reverses the velocities, and
-     * the scheme (meant to hold T near T0) no longer describes dynamics */
-    if (beta < 0.5)
-      return rl_error(RL_EINVAL, "isokinetic thermostat at step %ld (t = %g): on-step temperature %g "
-                      "is more than 4 T0 = %g; eqs. 17-18 would reverse the velocities. Relax the "
-                      "start first (Bussi with a short tau) or use a smaller time step", in->steps,
-                      in->t, info.temperature, 4.0 * in->p.T0);
-  }
-  info.beta = info.beta_rot = beta;
-  info.conserved = info.total + in->thermo_work;
-  if (in->p.thermostat == RL_THERMO_ISOKINETIC) in->thermo_work += (1.0 - beta * beta) * ke;
-  const int bussi = in->p.thermostat == RL_THERMO_BUSSI;
-  const int langevin = in->p.thermostat == RL_THERMO_LANGEVIN;
+  rl_stepop_ctx ctx;
+  ctx_start(in, &ctx, &info);
+  const int gt = ctx.dof_trans, gr = ctx.dof_rot;
+  ctx.K[0] = ket;
+  ctx.K[1] = ker;
+  int st = run_hooks(in, RL_STEP_BEFORE_KICK, &ctx);
+  if (st) return st;
+  const double beta = ctx.kick_beta;
+  /* the drift rides in the kick's loop unless an operator acts between them */
+  const int fused = !in->has[RL_STEP_AFTER_KICK] && !in->has[RL_STEP_MID_DRIFT];
 
   /* Fincham needs l(t-h/2) next to l'(t+h/2) for its on-step l'(t) */
   if (in->lprev) memcpy(in->lprev, s->l, sizeof(*s->l) * (size_t)s->nrot);
@@ -683,7 +719,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
    * l(t+h/2), before any thermostat acts (rotational part with A(t), which the rotation below
    * replaces).  Under the isokinetic scheme the values carried forward are eqs. 17-18's; the
    * reported t_trans_mid, t_rot_mid are still those of the plain kick, as for Bussi (before its
-   * rescaling) and Langevin (before its Ornstein-Uhlenbeck step). */
+   * rescaling); Langevin reports its own, of the middle of the drift. */
   const double c2 = 2.0 * beta - 1.0;
   double Kmid[2] = {0.0, 0.0};
   for (int k = 0; k < s->nspecies; k++) {
@@ -707,7 +743,7 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
         for (int c = 0; c < 3; c++) {
           x[c] = plain_kick(v[c], w, f[c]);
           v[c] = beta == 1.0 ? x[c] : kicked(beta, c2, v[c], w, f[c]); /* eq. 8, or 17 */
-          if (!bussi && !langevin) s->r[i][c] += h * v[c];
+          if (fused) s->r[i][c] += h * v[c];
         }
         kt += 0.5 * sp->mass * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
         if (sp->rot_off < 0) continue;
@@ -729,31 +765,25 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   }
   info.t_trans_mid = gt > 0 ? 2.0 * Kmid[0] / (gt * s->kB) : 0.0;
   info.t_rot_mid = gr > 0 ? 2.0 * Kmid[1] / (gr * s->kB) : 0.0;
-  if (bussi) {
-    double a[2];
-    bussi_rescale(in, Kmid, a);
-    info.beta = a[0];
-    info.beta_rot = a[1];
-  }
-  /* 3-4. drift and rotation: over h, or two halves around the Langevin step */
-  const double hd = langevin ? h2 : h;
+  ctx.K[0] = Kmid[0];
+  ctx.K[1] = Kmid[1];
+  if ((st = run_hooks(in, RL_STEP_AFTER_KICK, &ctx))) return st;
+  ctx.K[0] = ctx.K[1] = NAN;
+  /* 3-4. drift and rotation: over h, or two halves around the operators of the middle */
+  const int split = in->has[RL_STEP_MID_DRIFT];
+  const double hd = split ? h2 : h;
   rl_rotation_work rw = {hd, in->p.method, in->p.guard_tol, in->p.quat_tol, in->p.quat_maxit,
                          in->q, (const double (*)[3])in->F.k, (const double (*)[3])in->lprev,
                          in->steps, 0, 0, 0, 0.0, 0.0, in->threads};
-  if (bussi || langevin) drift(in, hd);
-  int st = rotate_all(in, &rw);
-  if (!st && langevin) {
-    double K[2][2];
-    langevin_o(in, K);
-    info.beta = K[0][0] > 0.0 ? sqrt(K[0][1] / K[0][0]) : 1.0;
-    info.beta_rot = K[1][0] > 0.0 ? sqrt(K[1][1] / K[1][0]) : 1.0;
-    /* what the Langevin step acts on: v, l at the middle of the drift (l with the half-rotated A),
-     * whose law BAOAB makes exactly Maxwell's for a harmonic mode */
-    info.t_trans_mid = gt > 0 ? 2.0 * K[0][0] / (gt * s->kB) : 0.0;
-    info.t_rot_mid = gr > 0 ? 2.0 * K[1][0] / (gr * s->kB) : 0.0;
-    drift(in, hd);
-    st = rotate_all(in, &rw);
-    rw.max_h_omega *= 2.0; /* reported as h |Omega| over the whole step */
+  if (!fused) drift(in, hd);
+  st = rotate_all(in, &rw);
+  if (!st && split) {
+    st = run_hooks(in, RL_STEP_MID_DRIFT, &ctx);
+    if (!st) {
+      drift(in, hd);
+      st = rotate_all(in, &rw);
+      rw.max_h_omega *= 2.0; /* reported as h |Omega| over the whole step */
+    }
   }
   if (!st) st = check_state(in, Kmid);
   if (st) return st;
@@ -767,9 +797,11 @@ int rl_integrator_step(rl_integrator *in, rl_step_info *out)
   if (in->steps % RL_POLISH_INTERVAL == 0) polish_orientations(in);
   in->fallbacks += info.fallbacks;
   in->quat_iterations += info.quat_iterations;
+  if ((st = run_hooks(in, RL_STEP_AFTER_DRIFT, &ctx))) return st;
 
   /* 5. forces at t + h, the energy and virial on the steps of energy_every */
   st = compute_forces(in, in->p.energy_every <= 1 || in->steps % in->p.energy_every == 0);
+  if (!st) st = run_hooks(in, RL_STEP_END, &ctx);
   if (out) *out = info;
   return st;
 }
@@ -783,7 +815,7 @@ int rl_integrator_reverse(rl_integrator *in)
 
 int rl_integrator_resume(rl_integrator *in, long step, double t)
 {
-  int st = validate(in->sys, &in->p);
+  int st = validate(in->sys, &in->p, in->ops, in->nops);
   if (st) return st;
   if (in->q) { /* quaternions are rebuilt from A: a quaternion restart is exact to round-off */
     rl_system *s = in->sys;
@@ -795,7 +827,7 @@ int rl_integrator_resume(rl_integrator *in, long step, double t)
   in->t = t;
   in->fallbacks = 0;
   in->quat_iterations = 0;
-  in->thermo_work = 0.0;
+  zero_work(in);
   if ((st = compute_forces(in, 1))) return st;
   in->initialized = 1;
   return RL_OK;
@@ -809,14 +841,42 @@ int rl_integrator_finish(rl_integrator *in)
   return RL_OK;
 }
 
-double rl_integrator_thermostat_work(const rl_integrator *in) { return in->thermo_work; }
-void rl_integrator_set_thermostat_work(rl_integrator *in, double w) { in->thermo_work = w; }
-size_t rl_integrator_rng_size(const rl_integrator *in) { return in->rng ? gsl_rng_size(in->rng) : 0; }
-void *rl_integrator_rng_state(rl_integrator *in) { return in->rng ? gsl_rng_state(in->rng) : NULL; }
+double rl_integrator_thermostat_work(const rl_integrator *in) { return total_work(in); }
+
+void rl_integrator_set_thermostat_work(rl_integrator *in, double w)
+{
+  zero_work(in);
+  if (in->nops) in->ops[0].work = w;
+  else in->work = w;
+}
+
+/* The first operator with a random state (the thermostat's, when there is one), or NULL. */
+static void *first_rng(rl_integrator *in, size_t *size)
+{
+  for (int k = 0; k < in->nops; k++) {
+    void *r = in->ops[k].type->rng_state ? in->ops[k].type->rng_state(&in->ops[k], size) : NULL;
+    if (r) return r;
+  }
+  *size = 0;
+  return NULL;
+}
+
+size_t rl_integrator_rng_size(const rl_integrator *in)
+{
+  size_t n;
+  first_rng((rl_integrator *)in, &n);
+  return n;
+}
+
+void *rl_integrator_rng_state(rl_integrator *in)
+{
+  size_t n;
+  return first_rng(in, &n);
+}
 
 int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational)
 {
-  const int gt = dof_trans(in->sys, &in->p), gr = rl_system_dof_rotational(in->sys);
+  const int gt = dof_trans(in->sys, in->ops, in->nops), gr = rl_system_dof_rotational(in->sys);
   if (translational) *translational = gt;
   if (rotational) *rotational = gr;
   return gt + gr;

@@ -1,5 +1,6 @@
 /* rotleap — the leapfrog core: translation (eqs. 8-9) and the revised angular-momentum
- * rotation (eqs. 19-36, section III.D), with the paper's isokinetic thermostat (eqs. 17-18).
+ * rotation (eqs. 19-36, section III.D), with step operators (thermostats: the paper's isokinetic
+ * scheme of eqs. 17-18, Bussi, Langevin) called at named points of the step (rotleap/stepops.h).
  *
  * Staggering: positions and orientations live at whole steps t; v and l at half steps.  The
  * state given to the system is on-step; rl_integrator_init computes the forces at t and moves v
@@ -106,7 +107,10 @@ typedef struct {
   double quat_tol;        /* quaternion iteration relative tolerance (default 1e-12)           */
   int quat_maxit;         /* default 100                                                       */
   int force_general;      /* 1: every matrix body goes through the general asymmetric path    */
-  rl_thermostat thermostat;
+  rl_thermostat thermostat; /* rl_integrator_alloc adds the matching step operator
+                             (rotleap/stepops.h: rl_stepop_isokinetic, _bussi, _langevin) with
+                             T0, tau, seed and groups as its parameters, as the first operator;
+                             more are added by rl_integrator_add_op                         */
   double T0;              /* target temperature for the thermostat                             */
   double tau;             /* Bussi: relaxation time of the kinetic energy; Langevin: friction
                              time 1/gamma (as GROMACS's tau-t for sd and LAMMPS's damp).  > 0.
@@ -215,16 +219,18 @@ int rl_integrator_reverse(rl_integrator *in);
  * rl_integrator_init before stepping again. */
 int rl_integrator_finish(rl_integrator *in);
 
-/* Thermostat bookkeeping, for checkpoints: the energy removed so far and the Bussi RNG state
- * (rl_integrator_rng_size bytes; 0 if the thermostat draws no random numbers). */
+/* Thermostat bookkeeping, for checkpoints: the energy removed so far (the sum of the step
+ * operators' accounts, rotleap/stepops.h; set puts it all in the first operator's, the
+ * thermostat's when there is one) and the RNG state of the first operator that draws random
+ * numbers (the Bussi or Langevin thermostat's; rl_integrator_rng_size bytes, 0 if none). */
 double rl_integrator_thermostat_work(const rl_integrator *in);
 void rl_integrator_set_thermostat_work(rl_integrator *in, double w);
 size_t rl_integrator_rng_size(const rl_integrator *in);
 void *rl_integrator_rng_state(rl_integrator *in);
 
 /* Degrees of freedom of the temperatures the integrator reports (total; translational and
- * rotational parts, either pointer may be NULL): rl_system_dof's count, except under Langevin,
- * which counts all 3N translational ones. */
+ * rotational parts, either pointer may be NULL): rl_system_dof's count, except under Langevin
+ * (a step operator with RL_STEPOP_THERMAL_COM), which counts all 3N translational ones. */
 int rl_integrator_dof(const rl_integrator *in, int *translational, int *rotational);
 
 /* The rotation path that moves the bodies of `species` under this integrator's method: the

@@ -10,10 +10,12 @@
 #include "rotleap/system.h"
 #include "rotleap/forces.h"
 #include "rotleap/integrator.h"
+#include "rotleap/stepops.h"
 #include "rotleap/molecule.h"
 #include "rotleap/catalog.h"
 #include "rotleap/terms.h"
 #include "rotleap/forcefield.h"
 #include "rotleap/observables.h"
 #include "rotleap/io.h"
+#include "rotleap/run.h"
 #endif

@@ -1,5 +1,5 @@
 /* Bad input through the public API gets a return code and a message naming the problem. */
-#include "../testutil.h"
+#include "expect_error.h"
 
 static int zero_forces(void *ctx, const rl_system *sys, rl_forces *out)
 {
@@ -19,15 +19,6 @@ static int nan_forces(void *ctx, const rl_system *sys, rl_forces *out)
   out->f[0][1] = NAN;
   return RL_OK;
 }
-
-#define EXPECT_ERROR(call, code, fragment)                                                       \
-  do {                                                                                           \
-    int st_ = (call);                                                                            \
-    const char *m_ = rl_last_error();                                                            \
-    int ok_ = st_ == (code) && strstr(m_, fragment) != NULL;                                     \
-    printf("check %-40s -> %s: \"%s\" %s\n", #code, rl_strerror(st_), m_, ok_ ? "ok" : "FAIL"); \
-    assert_true(ok_);                                                                            \
-  } while (0)
 
 static rl_system *one_body(const double J[3], rl_kind kind)
 {

@@ -1,6 +1,8 @@
-/* Pieces shared by the model families: on-step rotational kinetic energy by storage, and the
- * family look-up. */
-#include "family.h"
+/* Pieces shared by the model families: on-step rotational kinetic energy by storage, the rotation
+ * of the axis species (dipole, linear), and the family look-up. */
+#include "../../core/threads.h"
+#include "path.h"
+#include "rotleap/rotation.h"
 
 double rl_ke_rot_matrix(const rl_species *sp, const rl_system *s, int b, const double lt[3])
 {
@@ -15,6 +17,27 @@ double rl_ke_rot_axis(const rl_species *sp, const rl_system *s, int b, const dou
   double lp[3] = {lt[0], lt[1], lt[2]};
   rl_project_out(lp, s->rho[sp->axis_off + b]);
   return 0.5 * (lp[0] * lp[0] + lp[1] * lp[1] + lp[2] * lp[2]) / sp->J[0];
+}
+
+int rl_rotate_axis_species(const rl_species *sp, rl_system *s, rl_rotation_work *w, int perpendicular)
+{
+  const double h = w->h, inv = 1.0 / sp->J[0];
+  double (*l)[3] = s->l + sp->rot_off, (*rho)[3] = s->rho + sp->axis_off, hw = w->max_h_omega;
+  /* each body on its own, so any thread count gives the same result (max is exact); a few
+   * thousand bodies pay for the threads' start */
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(w->threads) schedule(static) \
+    if (w->threads > 1 && sp->count >= RL_THREAD_MIN_BODIES) reduction(max : hw)
+#endif
+  for (int b = 0; b < sp->count; b++) {
+    double om[3] = {l[b][0] * inv, l[b][1] * inv, l[b][2] * inv};
+    if (perpendicular) rl_project_out(om, rho[b]);
+    rl_rotate_axis(rho[b], om, h);
+    double x = h * rl_norm3(om);
+    if (x > hw) hw = x;
+  }
+  w->max_h_omega = hw;
+  return RL_OK;
 }
 
 const rl_family *rl_family_for(rl_kind kind, int force_general)

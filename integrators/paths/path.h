@@ -1,8 +1,8 @@
 /* Model families: how a kind of rigid body is stored and which rotation path moves it.
- * One const descriptor per family (integrators/paths/family_*.c); the leapfrog core calls `rotate` once
+ * One const descriptor per family (integrators/paths/<family>.c); the leapfrog core calls `rotate` once
  * per species, after the angular momenta have been kicked to l(t+h/2).  Internal header. */
-#ifndef ROTLEAP_FAMILY_H
-#define ROTLEAP_FAMILY_H
+#ifndef ROTLEAP_PATH_H
+#define ROTLEAP_PATH_H
 
 #include "rotleap/error.h"
 #include "rotleap/integrator.h"
@@ -36,7 +36,7 @@ static inline int rl_rot_is_baseline(rl_rot_method m)
 }
 
 /* Rotate body b (0-based in sp, a matrix body) by the baseline w->method
- * (integrators/paths/family_baselines.c); *hw receives its h |Omega|. */
+ * (integrators/paths/baselines.c); *hw receives its h |Omega|. */
 int rl_rotate_baseline(const rl_species *sp, rl_system *s, int b, rl_rotation_work *w, double *hw);
 
 typedef struct rl_family {
@@ -56,7 +56,7 @@ extern const rl_family rl_family_point, rl_family_dipole, rl_family_linear,
 /* The family integrating `kind` (the asymmetric family if force_general and kind stores A). */
 const rl_family *rl_family_for(rl_kind kind, int force_general);
 
-/* Shared pieces (integrators/paths/family_common.c). */
+/* Shared pieces (integrators/paths/common.c). */
 /* theta = J^-1 A l, body frame */
 static inline void rl_body_theta(const double A[9], const double J[3], const double l[3], double th[3])
 {
@@ -68,6 +68,10 @@ static inline void rl_project_out(double l[3], const double rho[3])
   double d = l[0] * rho[0] + l[1] * rho[1] + l[2] * rho[2];
   l[0] -= d * rho[0]; l[1] -= d * rho[1]; l[2] -= d * rho[2];
 }
+/* Rotate every body of an axis species (point dipole, linear molecule): rho(t+h) is rho(t) turned
+ * about omega = l(t+h/2)/J (its part perpendicular to rho if `perpendicular`, as the linear
+ * molecule's Omega_Z = 0) by 2 atan(h omega/2). */
+int rl_rotate_axis_species(const rl_species *sp, rl_system *s, rl_rotation_work *w, int perpendicular);
 double rl_ke_rot_matrix(const rl_species *sp, const rl_system *s, int b, const double lt[3]);
 double rl_ke_rot_axis(const rl_species *sp, const rl_system *s, int b, const double lt[3]);
 

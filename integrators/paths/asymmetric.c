@@ -2,8 +2,8 @@
  * the guarded quasi-analytic cubic (default), the exact 3-D Newton solve, or the quaternion
  * variant (eq. 23 iterated with eqs. 19-20 in quaternion space); A(t+h) = D(Omega) A(t).
  * Under a baseline method (hybrid, Fincham, NO_SQUISH) every matrix body comes here and is
- * moved by integrators/paths/family_baselines.c. */
-#include "family.h"
+ * moved by integrators/paths/baselines.c. */
+#include "path.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
 

@@ -18,7 +18,7 @@
  * orientations, the stored l(t+h/2) is their momentum after the first half kick, and the
  * on-step l(t) = l(t-h/2) + h/2 k(t) of eq. 12 is their on-step momentum: the same trajectory,
  * only staggered. */
-#include "family.h"
+#include "path.h"
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
 

@@ -1,5 +1,5 @@
 /* Point particle (ions, LJ atoms): translation only, no rotational state at all. */
-#include "family.h"
+#include "path.h"
 
 static int rotate_none(const rl_species *sp, rl_system *s, rl_rotation_work *w)
 {

@@ -1,7 +1,7 @@
 /* Symmetric top (two equal moments): in the cyclic relabelling whose Z is the unique axis,
  * rho_Z = 0 so Omega_Z = theta_Z, and Omega_X, Omega_Y follow from eq. 29 with rho_Y = -rho_X
  * in closed form (section III.D).  No cubic. */
-#include "family.h"
+#include "path.h"
 #include "rotleap/rotation.h"
 
 static int rotate_symmetric(const rl_species *sp, rl_system *s, rl_rotation_work *w)

@@ -5,7 +5,7 @@
  * phi = h omega - (h omega)^3/12 + ..., so a free spherical top turns at phi/h instead of omega
  * (0.08 %, 2.0 % and 7.3 % slow at h omega = 0.1, 0.5 and 1; tests/integrators/test_rotation.c,
  * spherical_top_angle), with l and the rotational energy exact. */
-#include "family.h"
+#include "path.h"
 #include "rotleap/rotation.h"
 
 #include <string.h>

@@ -1,0 +1,95 @@
+/* Langevin dynamics in the middle of the drift: the O of BAOAB (Leimkuhler & Matthews, Appl.
+ * Math. Res. Express 2013, 34; OpenMM's LangevinMiddleIntegrator), over the whole step h, between
+ * the two half drifts and half rotations the core makes because this operator has a
+ * RL_STEP_MID_DRIFT hook.  Every component of v and of the body-frame angular momentum relaxes as
+ * an Ornstein-Uhlenbeck process with friction gamma = 1/tau, x <- c x + sqrt((1 - c^2) m kT) xi
+ * with c = exp(-h gamma) (m the mass or the principal moment), which leaves the Maxwell-Boltzmann
+ * law exactly invariant.  A matrix body's l is taken to its body frame by the half-rotated A; an
+ * axis body (linear, dipole) has two equal moments and no spin about rho, so its noise is drawn
+ * in 3-D and projected perpendicular to rho.  The noise moves the centre of mass
+ * (RL_STEPOP_THERMAL_COM).  docs/integrators.md, "Langevin in the middle of the drift". */
+#include "thermostat.h"
+#include "rotleap/error.h"
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <math.h>
+
+static int check(const void *par, const rl_system *sys, const rl_integrator_params *p)
+{
+  (void)sys; (void)p;
+  int st = rl_thermostat_check_T0(&rl_stepop_langevin, par);
+  return st ? st : rl_thermostat_check_tau(&rl_stepop_langevin, par, "friction time");
+}
+
+/* K[0], K[1]: translational and rotational kinetic energy before and after the update; the
+ * energy taken out goes to the account.  Reports sqrt(K'/K) in beta, beta_rot, and as
+ * t_trans_mid, t_rot_mid the temperatures of v, l at the middle of the drift, before the update,
+ * whose law BAOAB makes exactly Maxwell's for a harmonic mode. */
+static int mid_drift(rl_stepop *op, rl_stepop_ctx *c)
+{
+  rl_system *s = c->sys;
+  const rl_thermostat_params *tp = op->par;
+  gsl_rng *r = op->state;
+  const double h = c->p->h;
+  const double cf = exp(-h / tp->tau), sn = sqrt(-expm1(-2.0 * h / tp->tau));
+  const double kT = s->kB * tp->T0;
+  double K[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+  for (int k = 0; k < s->nspecies; k++) {
+    const rl_species *sp = &s->sp[k];
+    const rl_family *fam = rl_family_for(sp->kind, c->p->force_general);
+    const double sv = sn * sqrt(kT / sp->mass);
+    double sl[3];
+    for (int a = 0; a < 3; a++) sl[a] = sn * sqrt(kT * sp->J[a]);
+    for (int b = 0; b < sp->count; b++) {
+      double *v = s->v[sp->first + b];
+      K[0][0] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int a = 0; a < 3; a++) v[a] = cf * v[a] + sv * gsl_ran_gaussian_ziggurat(r, 1.0);
+      K[0][1] += 0.5 * sp->mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (sp->rot_off < 0) continue;
+      double *l = s->l[sp->rot_off + b];
+      K[1][0] += fam->ke_rot(sp, s, b, l);
+      if (sp->mat_off >= 0) {
+        const double *A = s->A[sp->mat_off + b];
+        double L[3];
+        for (int a = 0; a < 3; a++)
+          L[a] = cf * (A[3 * a] * l[0] + A[3 * a + 1] * l[1] + A[3 * a + 2] * l[2]) +
+                 sl[a] * gsl_ran_gaussian_ziggurat(r, 1.0);
+        for (int a = 0; a < 3; a++) l[a] = A[a] * L[0] + A[3 + a] * L[1] + A[6 + a] * L[2];
+      } else {
+        double xi[3];
+        for (int a = 0; a < 3; a++) xi[a] = gsl_ran_gaussian_ziggurat(r, 1.0);
+        rl_project_out(xi, s->rho[sp->axis_off + b]);
+        for (int a = 0; a < 3; a++) l[a] = cf * l[a] + sl[0] * xi[a];
+      }
+      K[1][1] += fam->ke_rot(sp, s, b, l);
+    }
+  }
+  op->work += (K[0][0] - K[0][1]) + (K[1][0] - K[1][1]);
+  rl_step_info *info = c->info;
+  info->beta = K[0][0] > 0.0 ? sqrt(K[0][1] / K[0][0]) : 1.0;
+  info->beta_rot = K[1][0] > 0.0 ? sqrt(K[1][1] / K[1][0]) : 1.0;
+  info->t_trans_mid = c->dof_trans > 0 ? 2.0 * K[0][0] / (c->dof_trans * s->kB) : 0.0;
+  info->t_rot_mid = c->dof_rot > 0 ? 2.0 * K[1][0] / (c->dof_rot * s->kB) : 0.0;
+  return RL_OK;
+}
+
+static const rl_stepop_param params[] = {
+    {"T0", "temperature", "target temperature"},
+    {"tau", "time", "friction time 1/gamma (GROMACS's tau-t for sd, LAMMPS's damp)"},
+    {"seed", "", "GSL mt19937 seed"},
+    {NULL, NULL, NULL}};
+
+const rl_stepop_type rl_stepop_langevin = {
+    .name = "langevin",
+    .label = "Langevin thermostat",
+    .reference = "B. Leimkuhler and C. Matthews, Appl. Math. Res. Express 2013, 34 (BAOAB)",
+    .params = params,
+    .params_size = sizeof(rl_thermostat_params),
+    .flags = RL_STEPOP_HOLDS_TEMPERATURE | RL_STEPOP_THERMAL_COM,
+    .check = check,
+    .alloc = rl_thermostat_rng_alloc,
+    .free = rl_thermostat_rng_free,
+    .hook = {[RL_STEP_MID_DRIFT] = mid_drift},
+    .rng_state = rl_thermostat_rng_state,
+};
