@@ -2,7 +2,7 @@
 #include "rotleap/terms.h"
 #include "rotleap/error.h"
 #include "rotleap/forcefield.h"
-#include "ewald/ewald.h"
+#include "rotleap/ewald.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -9,7 +9,7 @@
 #ifndef ROTLEAP_FORCES_EWALD_IMPL_H
 #define ROTLEAP_FORCES_EWALD_IMPL_H
 
-#include "ewald.h"
+#include "rotleap/ewald.h"
 
 #include <math.h>
 

@@ -245,7 +245,7 @@ static int ewald_compute(void *state, const rl_system *sys, rl_forces *out, doub
 const rl_term_type rl_term_ewald = {
     "ewald",
     "reciprocal-space Ewald sum of point charges over k vectors (kmax per axis and a spherical limit), with the self "
-    "term, the intramolecular exclusion correction, a neutralising background and the surface term (forces/ewald/ewald.h)",
+    "term, the intramolecular exclusion correction, a neutralising background and the surface term (rotleap/ewald.h)",
     "P. P. Ewald, Ann. Phys. 369, 253 (1921); M. P. Allen & D. J. Tildesley, Computer Simulation of Liquids, 2nd ed., "
     "section 6.2 (2017); S. W. de Leeuw, J. W. Perram & E. R. Smith, Proc. R. Soc. Lond. A 373, 27 (1980)",
     5,

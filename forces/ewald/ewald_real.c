@@ -240,7 +240,7 @@ static int real_compute(void *state, const rl_system *sys, rl_forces *out, doubl
 const rl_term_type rl_term_ewald_real = {
     "ewald-real",
     "real-space part of the Ewald sum of point charges: kc q q erfc(alpha r)/r between charged sites of different "
-    "bodies within the cutoff, minimum image (forces/ewald/ewald.h); the reference for the pair kernels' Ewald rows",
+    "bodies within the cutoff, minimum image (rotleap/ewald.h); the reference for the pair kernels' Ewald rows",
     "P. P. Ewald, Ann. Phys. 369, 253 (1921); J. Kolafa & J. W. Perram, Mol. Simul. 9, 351 (1992) (error estimate)",
     1,
     {"ewald_real"},

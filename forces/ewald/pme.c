@@ -318,7 +318,7 @@ const rl_term_type rl_term_pme = {
     "pme",
     "reciprocal-space Ewald sum of point charges by smooth particle-mesh Ewald (B-splines of selectable order, FFTW3), "
     "with the self term, the intramolecular exclusion correction, a neutralising background and the surface term "
-    "(forces/ewald/ewald.h)",
+    "(rotleap/ewald.h)",
     "U. Essmann, L. Perera, M. L. Berkowitz, T. Darden, H. Lee, L. G. Pedersen, J. Chem. Phys. 103, 8577 (1995)",
     5,
     {"ewald_recip", "ewald_self", "ewald_intra", "ewald_background", "ewald_surface"},

@@ -17,7 +17,7 @@
  * with --pair, that of the pair term (reaction field, the specialised kernels) on the same
  * configuration for comparison. */
 #include <rotleap/rotleap.h>
-#include "ewald/ewald.h"
+#include "rotleap/ewald.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>

@@ -4,7 +4,7 @@
 #define ROTLEAP_EWALD_TESTUTIL_H
 
 #include "../ff_testutil.h"
-#include "ewald/ewald.h"
+#include "rotleap/ewald.h"
 
 #define EW_CHECK_LE FF_CHECK_LE
 #define EW_CHECK_TRUE FF_CHECK_TRUE

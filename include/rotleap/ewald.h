@@ -64,8 +64,8 @@
  *
  * Units: those of the system; real: nm, kJ/mol, e, kc = RL_COULOMB_KJMOL_NM (OpenMM 7.7's
  * ONE_4PI_EPS0); lj: kc = 1.  alpha in 1/length. */
-#ifndef ROTLEAP_FORCES_EWALD_H
-#define ROTLEAP_FORCES_EWALD_H
+#ifndef ROTLEAP_EWALD_H
+#define ROTLEAP_EWALD_H
 
 #include "rotleap/forcefield.h"
 #include "rotleap/terms.h"
