@@ -1,5 +1,6 @@
 /* Unit suffixes for deck values.  Conversion factors: 1 A = 0.1 nm; 1 fs = 1e-3 ps;
- * 1 g/cm^3 = 602.214076 amu/nm^3 (N_A 1e-21); 1 kcal = 4.184 kJ; energies given in K mean k_B T. */
+ * 1 g/cm^3 = 602.214076 amu/nm^3 (N_A 1e-21); 1 kcal = 4.184 kJ; energies given in K mean k_B T;
+ * 1 /A = 10 /nm (an inverse length: the Ewald splitting parameter). */
 #include "quantity.h"
 
 #include <ctype.h>
@@ -23,6 +24,9 @@ static const unit_def units[] = {
     {Q_TIME, "fs", 1e-3},         {Q_TIME, "ns", 1e3},           {Q_TEMPERATURE, "K", 1.0},
     {Q_DENSITY, "g/cm3", 602.214076}, {Q_DENSITY, "g/cm^3", 602.214076}, {Q_DENSITY, "kg/m3", 0.602214076},
     {Q_ENERGY, "kJ/mol", 1.0},    {Q_ENERGY, "kcal/mol", 4.184}, {Q_ENERGY, "K", RL_KB_KJMOL},
+    {Q_INVLENGTH, "/nm", 1.0},    {Q_INVLENGTH, "nm^-1", 1.0},   {Q_INVLENGTH, "1/nm", 1.0},
+    {Q_INVLENGTH, "/A", 10.0},    {Q_INVLENGTH, "A^-1", 10.0},   {Q_INVLENGTH, "1/A", 10.0},
+    {Q_INVLENGTH, "/Å", 10.0},
 };
 
 const char *rl_dim_unit(rl_dim dim, rl_units u)
@@ -34,6 +38,7 @@ const char *rl_dim_unit(rl_dim dim, rl_units u)
   case Q_TEMPERATURE: return "K";
   case Q_DENSITY: return "g/cm3";
   case Q_ENERGY: return "kJ/mol";
+  case Q_INVLENGTH: return "/nm";
   default: return "";
   }
 }
@@ -46,6 +51,7 @@ const char *rl_dim_suffixes(rl_dim dim)
   case Q_TEMPERATURE: return "K";
   case Q_DENSITY: return "g/cm3, kg/m3";
   case Q_ENERGY: return "kJ/mol, kcal/mol, K";
+  case Q_INVLENGTH: return "/nm, nm^-1, /A, A^-1";
   default: return "";
   }
 }
@@ -85,9 +91,9 @@ int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, d
     for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
       if (units[k].dim == dim && !strcmp(units[k].suffix, suffix)) { factor = units[k].factor; found = 1; break; }
     if (!found) {
-      snprintf(err, errlen, "unit '%s' is not a %s unit (use %s)", suffix,
-               dim == Q_LENGTH ? "length" : dim == Q_TIME ? "time" : dim == Q_TEMPERATURE ? "temperature"
-               : dim == Q_DENSITY ? "density" : "energy", rl_dim_suffixes(dim));
+      snprintf(err, errlen, "unit '%s' is not %s unit (use %s)", suffix,
+               dim == Q_LENGTH ? "a length" : dim == Q_TIME ? "a time" : dim == Q_TEMPERATURE ? "a temperature"
+               : dim == Q_DENSITY ? "a density" : dim == Q_INVLENGTH ? "an inverse length" : "an energy", rl_dim_suffixes(dim));
       return -1;
     }
   }
