@@ -17,6 +17,13 @@
  * B-spline recursions, and moduli below 1e-7 (an odd order's zero at the Nyquist index) replaced
  * by the mean of their neighbours.
  *
+ * The interpolation breaks Newton's third law: the mesh forces do not sum to zero (about 1e-5 of
+ * sum |F| at tolerance 5e-4), and a run's total momentum would drift away from the zero the
+ * leapfrog holds it at (a continuation, whose start removes a momentum above round-off, would
+ * then no longer follow the run bit for bit).  With remove_net_force each charged site gives up
+ * an equal share of the net force, as Amber's netfrc does; the energy is that of the mesh as
+ * before, the forces no longer its exact gradient by that share.
+ *
  * Threads (any count gives the same bits): splines and forces site by site; the mesh plane by
  * plane in x, each thread filling its own planes from every charge whose stencil reaches them, in
  * site order; the influence function and the energy and virial plane by plane, summed in plane
@@ -267,6 +274,14 @@ static int pme_part(ew_base *b, double *energy, double W[9])
       b->fq[k][1] -= q * fy * sy;
       b->fq[k][2] -= q * fz * sz;
     }
+  }
+  if (b->p.remove_net_force && nq > 0) { /* fq holds the mesh part alone here; summed in site order */
+    double F[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < nq; k++)
+      for (int c = 0; c < 3; c++) F[c] += b->fq[k][c];
+    for (int c = 0; c < 3; c++) F[c] /= nq;
+    for (int k = 0; k < nq; k++)
+      for (int c = 0; c < 3; c++) b->fq[k][c] -= F[c];
   }
   return RL_OK;
 }

@@ -105,6 +105,13 @@ typedef struct {
                               dielectric (1: vacuum)                                           */
   double coulomb_constant; /* kc; 0 (default): RL_COULOMB_KJMOL_NM (real) or 1 (lj)           */
   int threads;             /* OpenMP threads; 0 (default): OMP_NUM_THREADS if set, else 1     */
+  int remove_net_force;    /* "pme": 1 takes the net force of the mesh part off its charged
+                              sites, an equal share each (Amber's netfrc), so that the forces
+                              sum to zero as the leapfrog's total momentum (held at zero)
+                              needs; the energy is unchanged.  0 (default): the forces as
+                              OpenMM computes them, whose sum is not zero (the mesh's
+                              interpolation breaks Newton's third law; about 1e-5 of the sum of
+                              |F| at tolerance 5e-4)                                          */
 } rl_ewald_params;
 
 void rl_ewald_params_default(rl_ewald_params *p);

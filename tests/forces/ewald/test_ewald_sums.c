@@ -8,7 +8,9 @@
  *   intramolecular    the excluded pairs' correction is a constant under rigid rotations, and its
  *                     site forces give no force and no torque on any molecule
  *   surface           the dielectric boundary adds 2 pi kc |M|^2 / ((2 eps' + 1) V)
- *   box_change        a change of the cell reaches the terms (their energies follow a fresh term's) */
+ *   box_change        a change of the cell reaches the terms (their energies follow a fresh term's)
+ *   net_force         PME's forces do not sum to zero (the mesh breaks Newton's third law); with
+ *                     remove_net_force they do, to round-off, at the same energy, on any thread count */
 #include "ewald_testutil.h"
 
 /* ------------------------------------------------------------------------------- Madelung */
@@ -318,12 +320,54 @@ static void box_change(void **state)
   ew_scene_free(&s);
 }
 
+/* -------------------------------------------------------------------------- net force */
+static double net_force_rel(const ew_result *r)
+{
+  double F[3] = {0, 0, 0}, sum = 0.0;
+  for (int i = 0; i < r->n; i++) {
+    for (int c = 0; c < 3; c++) F[c] += r->f[i][c];
+    sum += norm3d(r->f[i]);
+  }
+  return norm3d(F) / sum;
+}
+
+static void net_force(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {2.2, 2.3, 2.4};
+  ew_scene_mixed(&s, L, 200, 10, 10, 20, 0, 11);
+  s.p.cutoff = 0.9; /* OpenMM's default tolerance: a 14 x 15 x 15 mesh */
+  ew_result raw, fixed[3];
+  rl_terms *t = ew_terms(&s, &rl_term_pme, NULL);
+  assert_int_equal(ew_eval(t, s.sys, &raw), RL_OK);
+  rl_terms_free(t);
+  s.p.remove_net_force = 1;
+  for (int T = 1; T <= 3; T++) {
+    s.p.threads = T;
+    t = ew_terms(&s, &rl_term_pme, NULL);
+    assert_int_equal(ew_eval(t, s.sys, &fixed[T - 1]), RL_OK);
+    rl_terms_free(t);
+  }
+  EW_CHECK_TRUE("pme: the forces as OpenMM computes them have a net force (> 1e-6 of sum |F|)", net_force_rel(&raw) > 1e-6);
+  EW_CHECK_LE("pme, remove_net_force: |sum F| / sum |F| at round-off", net_force_rel(&fixed[0]), 1e-14);
+  EW_CHECK_TRUE("pme, remove_net_force: the same energies, to the bit",
+                raw.energy == fixed[0].energy && !memcmp(raw.e, fixed[0].e, sizeof(double) * (size_t)raw.ne));
+  EW_CHECK_LE("pme, remove_net_force: forces change by no more than the net force's share (rel. RMS)",
+              ew_rel_rms((const double(*)[3])fixed[0].f, (const double(*)[3])raw.f, raw.n), 1e-3);
+  EW_CHECK_TRUE("pme, remove_net_force: 1, 2 and 3 threads give the same bits",
+                same_bits(&fixed[0], &fixed[1]) && same_bits(&fixed[0], &fixed[2]));
+  ew_result_free(&raw);
+  for (int T = 0; T < 3; T++) ew_result_free(&fixed[T]);
+  ew_scene_free(&s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(madelung),       cmocka_unit_test(ewald_vs_pme), cmocka_unit_test(alpha_independent),
       cmocka_unit_test(threads),        cmocka_unit_test(intramolecular), cmocka_unit_test(surface),
-      cmocka_unit_test(box_change),
+      cmocka_unit_test(box_change),     cmocka_unit_test(net_force),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
