@@ -612,7 +612,7 @@ static void report_setup(run_ctx *c)
   const int nw = rl_forcefield_warnings(ff, w, 8);
   for (int k = 0; k < nw && k < 8; k++) fprintf(stderr, "rotleap run: warning: %s\n", w[k].text);
   char line[1024];
-  if (scene_electrostatics(c->d, c->s.terms, line, sizeof line)) fprintf(stderr, "rotleap run: electrostatics: %s\n", line);
+  if (scene_electrostatics(c->d, c->s.terms, line, sizeof line)) fprintf(stderr, "rotleap run: note: electrostatics: %s\n", line);
   const int ne = scene_ewald_warnings(c->s.terms, w, 8);
   for (int k = 0; k < ne && k < 8; k++) fprintf(stderr, "rotleap run: warning: %s\n", w[k].text);
   rl_ff_discontinuity dd[8];

@@ -103,6 +103,7 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
   ep.nspecies = 1;
   ep.cutoff = d->ff.cutoff;
   ep.threads = d->ff.threads;
+  ep.remove_net_force = 1; /* the mesh's net force off: the total momentum stays zero, a continuation bit for bit */
   rl_terms *t = rl_terms_alloc(sys);
   if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL) || (ewald && rl_terms_add(t, &rl_term_ewald_real, &ep, NULL)) ||
       (ewald && rl_terms_add(t, d->coulomb == RL_DECK_COULOMB_PME ? &rl_term_pme : &rl_term_ewald, &ep, NULL))) {
