@@ -24,6 +24,22 @@ static void place(rl_system *sys, int i, const double c[3], const double ax[3], 
   assert_int_equal(rl_system_set_orientation(sys, i, A), RL_OK);
 }
 
+/* The energy with coulomb_constant set explicitly to kc.  A test compares it, bit for bit, with
+ * the energy under the default (coulomb_constant = 0): the default must be OpenMM 7.7's
+ * ONE_4PI_EPS0, through the code path the force field takes, not as a constant compared with
+ * itself. */
+static double energy_with_kc(rl_system *sys, const rl_ff_params *p0, const rl_species_ff *sff,
+                             int nspecies, double kc)
+{
+  rl_ff_params p = *p0;
+  p.coulomb_constant = kc;
+  rl_forcefield *ff = rl_forcefield_alloc(sys, &p, sff, nspecies);
+  assert_non_null(ff);
+  double e = ff_energy(ff, sys);
+  rl_forcefield_free(ff);
+  return e;
+}
+
 static void test_tip3p_waters(void **state)
 {
   (void)state;
@@ -48,11 +64,11 @@ static void test_tip3p_waters(void **state)
       p.box[0] = p.box[1] = p.box[2] = 3.0;
       p.cutoff = 1.0;
       p.eps_rf = eps[k];
-      assert_true(RL_COULOMB_KJMOL_NM == KC_OPENMM77); /* default p.coulomb_constant */
       p.neighbor_list = nl;
       rl_forcefield *ff = rl_forcefield_alloc(sys, &p, &sff, 1);
       assert_non_null(ff);
       double e = ff_energy(ff, sys);
+      assert_true(e == energy_with_kc(sys, &p, &sff, 1, KC_OPENMM77));
       char name[160];
       snprintf(name, sizeof name, "openmm 3 TIP3P, eps_rf %g, %s: |E - E_openmm| / |E_openmm|",
                eps[k], nl ? "Verlet list" : "brute force");
@@ -85,19 +101,19 @@ static void test_stretched(void **state)
   assert_int_equal(rl_system_add_species(sys, &a.desc, 1, NULL), RL_OK);
   assert_int_equal(rl_system_add_species(sys, &b.desc, 1, NULL), RL_OK);
   double r0[3] = {1.0, 1.0, 1.35}, r1[3] = {1.3, 1.2, 1.3};
-  rl_system_set_position(sys, 0, r0);
-  rl_system_set_position(sys, 1, r1);
+  assert_int_equal(rl_system_set_position(sys, 0, r0), RL_OK);
+  assert_int_equal(rl_system_set_position(sys, 1, r1), RL_OK);
   rl_species_ff sff[2] = {ff_test_species_ff(&a), ff_test_species_ff(&b)};
   rl_ff_params p;
   rl_ff_params_default(&p);
   p.box[0] = p.box[1] = p.box[2] = 3.0;
   p.cutoff = 0.5;
-  assert_true(RL_COULOMB_KJMOL_NM == KC_OPENMM77); /* default p.coulomb_constant */
   for (int intra = 0; intra < 2; intra++) {
     p.intramolecular_rf = intra;
     rl_forcefield *ff = rl_forcefield_alloc(sys, &p, sff, 2);
     assert_non_null(ff);
     double e = ff_energy(ff, sys), ref = intra ? 98.860805334241 : 9.793162347143;
+    assert_true(e == energy_with_kc(sys, &p, sff, 2, KC_OPENMM77));
     FF_CHECK_LE(intra ? "openmm stretched pair (r_intra 0.7 > rc 0.5): intramolecular_rf=1 vs H1"
                       : "openmm stretched pair (r_intra 0.7 > rc 0.5): |E - E_openmm| / |E|",
                 fabs(e - ref) / fabs(ref), 1e-11);
