@@ -752,7 +752,7 @@ static double dielectric(const rl_moments *m, const void *ctx)
   const eps_ctx *c = ctx;
   double eps, dM2 = 0.0;
   for (int k = 0; k < 3; k++) dM2 += m[k].n > 0 ? m[k].m2 / (double)m[k].n : NAN;
-  return rl_dielectric_constant(dM2, c->V, c->T, c->d->ff.eps_rf, c->d->units, c->d->ff.coulomb_constant, &eps)
+  return rl_dielectric_constant(dM2, c->V, c->T, rl_deck_boundary_eps(c->d), c->d->units, c->d->ff.coulomb_constant, &eps)
              ? NAN : eps;
 }
 
@@ -838,7 +838,7 @@ static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, cons
     const rl_moments m = rl_trace_moments(a->M[k], j0);
     dM2 += m.m2 / (double)m.n;
   }
-  if (rl_dielectric_constant(dM2, c.V, T, d->ff.eps_rf, d->units, d->ff.coulomb_constant, &eps)) {
+  if (rl_dielectric_constant(dM2, c.V, T, rl_deck_boundary_eps(d), d->units, d->ff.coulomb_constant, &eps)) {
     fprintf(f, "dielectric_constant = n/a (%s)\n", rl_last_error());
     return;
   }
@@ -847,8 +847,14 @@ static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, cons
   const long n = rl_trace_moments(a->M2, j0).n;
   char es[32], note[200];
   jk_text(&r, 1, "samples", es, sizeof es, note, sizeof note);
-  fprintf(f, "dielectric_constant = %.4g%s (dipole fluctuations, reaction-field boundary eps_rf = %g, T = %g%s %s; "
-             "%s)\n", eps, es, d->ff.eps_rf, T, real ? " K" : "", Tname, note);
+  /* the boundary the formula takes: the reaction field's eps_rf, or the Ewald sum's eps' (Neumann's
+   * formula is the same with eps' for eps_rf) */
+  char bnd[96];
+  if (d->coulomb == RL_DECK_COULOMB_RF) snprintf(bnd, sizeof bnd, "reaction-field boundary eps_rf = %g", d->ff.eps_rf);
+  else if (isinf(d->ewald.eps_surface)) snprintf(bnd, sizeof bnd, "Ewald sum in tin-foil (conducting) surroundings");
+  else snprintf(bnd, sizeof bnd, "Ewald sum in surroundings eps' = %g", d->ewald.eps_surface);
+  fprintf(f, "dielectric_constant = %.4g%s (dipole fluctuations, %s, T = %g%s %s; %s)\n", eps, es, bnd, T,
+          real ? " K" : "", Tname, note);
   /* what the estimate needs: a plateau of the blocking of |M|^2 (more samples than a few
    * correlation times of M) and an error of at most 10 % of eps - 1, the part the fluctuation
    * measures */

@@ -17,7 +17,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef enum { K_STRING, K_PATH, K_INT, K_REAL, K_BOOL, K_CHOICE } key_type; /* K_PATH: any path the system accepts */
+typedef enum { K_STRING, K_PATH, K_INT, K_REAL, K_BOOL, K_CHOICE, K_INTS } key_type; /* K_PATH: any path the system accepts;
+                                                                                 K_INTS: one whole number or three */
 
 typedef struct {
   const char *section, *name;
@@ -30,7 +31,8 @@ typedef struct {
 
 enum {
   K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
-  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
+  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
+  K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_BARO, K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING,
   K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_PROGRESS, NKEYS
@@ -52,7 +54,15 @@ static const key_def keys[NKEYS] = {
     [K_LJ] = {"interactions", "lj", K_CHOICE, Q_NONE, "plain", "plain|shifted|shifted-force|switched", "Lennard-Jones truncation"},
     [K_SWITCH] = {"interactions", "switch", K_REAL, Q_LENGTH, NULL, NULL, "switching distance for lj = switched"},
     [K_DISP] = {"interactions", "dispersion_correction", K_BOOL, Q_NONE, "no", NULL, "long-range LJ correction of energy and pressure"},
-    [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting)"},
+    [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting): of the charges under coulomb = rf, and of point dipoles"},
+    [K_COULOMB] = {"interactions", "coulomb", K_CHOICE, Q_NONE, "rf", "rf|ewald|pme", "charges: reaction field (eps_rf), Ewald summation (a k-vector sum) or smooth particle-mesh Ewald (FFTW3), as OpenMM's NonbondedForce Ewald and PME: erfc(alpha r)/r within the cutoff (site pairs, pairs within a molecule excluded) plus the reciprocal sum; tin-foil boundary unless ewald_boundary says otherwise. Charges only: a model with point dipoles or quadrupoles needs rf. The run prints alpha, the grid or k vectors and the estimated RMS force error (docs/interactions.md, Ewald)"},
+    [K_ETOL] = {"interactions", "ewald_tolerance", K_REAL, Q_NONE, "5e-4", NULL, "coulomb = ewald or pme: OpenMM's ewaldErrorTolerance delta, in (0, 0.1): alpha = sqrt(-ln(2 delta)) / cutoff, the PME grid max(6, ceil(2 alpha L / (3 delta^(1/5)))) and the Ewald k vectors as OpenMM 7.7 derives them; explicit values below are checked against it"},
+    [K_EALPHA] = {"interactions", "ewald_alpha", K_REAL, Q_INVLENGTH, NULL, NULL, "coulomb = ewald or pme: the splitting parameter alpha (3.2 /nm, 0.32 /A; reduced: 1/sigma, bare); default from ewald_tolerance. alpha cutoff >= 1.27 (the real-space cut leaves erfc(alpha cutoff) <= 0.1)"},
+    [K_PGRID] = {"interactions", "pme_grid", K_INTS, Q_NONE, NULL, NULL, "coulomb = pme: mesh points per edge, \"nx ny nz\" or one number for all three (OpenMM's setPMEParameters); default from ewald_tolerance. Refused if too coarse for the tolerance (exp(-k^2 / 4 alpha^2) > 10 ewald_tolerance at the Nyquist vector pi K / L) or below pme_order"},
+    [K_PORDER] = {"interactions", "pme_order", K_INT, Q_NONE, "5", NULL, "coulomb = pme: order of the B-splines, 3 to 12 (5: OpenMM's; GROMACS's pme-order = 4 is 4)"},
+    [K_EKMAX] = {"interactions", "ewald_kmax", K_INTS, Q_NONE, NULL, NULL, "coulomb = ewald: the k vectors 2 pi (nx/Lx, ny/Ly, nz/Lz) with abs(n_c) <= kmax_c, \"kx ky kz\" or one number; default from ewald_tolerance (OpenMM's kmax - 1: OpenMM sums abs(n_c) < kmax_c). Refused if too coarse for the tolerance"},
+    [K_EKMAX2] = {"interactions", "ewald_kmax2", K_REAL, Q_NONE, NULL, NULL, "coulomb = ewald: also nx^2 + ny^2 + nz^2 <= ewald_kmax2, a sphere in units of (2 pi / L)^2 (the NIST SPC/E reference sums: ewald_kmax = 5, ewald_kmax2 = 26); default: no such limit (OpenMM's box of vectors)"},
+    [K_EBOUND] = {"interactions", "ewald_boundary", K_STRING, Q_NONE, "tinfoil", NULL, "coulomb = ewald or pme: the dielectric around the sphere of periodic images: tinfoil (conducting, no surface term), vacuum (eps' = 1), or a number eps' >= 1: the surface term 2 pi kc M^2 / ((2 eps' + 1) V). The dielectric constant in PREFIX.results.txt uses it"},
     [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles: reaction field or shifted force"},
     [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff, growing at large steps as sqrt(v h / 0.0015 cutoff) (v the thermal speed sqrt(3kT/m)) up to 0.25 cutoff: 0.1 cutoff for TIP4P up to 2 fs, 0.2 at 8 fs. The summary prints the skin used"},
     [K_KERNEL] = {"interactions", "kernel", K_CHOICE, Q_NONE, "auto", "auto|general", "auto: pair kernels specialised by site pattern (TIP4P, charges+LJ, Stockmayer), threaded; general: the serial reference routine (docs/interactions.md)"},
@@ -67,7 +77,7 @@ static const key_def keys[NKEYS] = {
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi or Langevin thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
-    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums)"},
+    [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop, the Ewald terms and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums; the Ewald terms' do not depend on it)"},
     [K_BARO] = {"run", "barostat", K_CHOICE, Q_NONE, "none", "none|mc|c-rescale", "constant pressure (NPT; needs run.ensemble = nvt-bussi or nvt-langevin and a periodic box): mc, the Monte Carlo barostat (OpenMM's: trial scalings of the molecular centres, molecules rigid); c-rescale, stochastic cell rescaling (Bernetti & Bussi 2020, GROMACS's C-rescale; isotropic). docs/integrators.md, \"Barostats\""},
     [K_PRESSURE] = {"run", "pressure", K_REAL, Q_PRESSURE, NULL, NULL, "target pressure of run.barostat (bar, atm, Pa, MPa; reduced for lj models); required with a barostat"},
     [K_BINTERVAL] = {"run", "barostat_interval", K_INT, Q_NONE, NULL, NULL, "steps between barostat moves: Monte Carlo trials (default 25, OpenMM's) or C-rescale couplings (default 10, GROMACS's nstpcouple; a multiple of output.energy_every)"},
@@ -640,6 +650,142 @@ static void step_resolves_rotation(raw_deck *r, const rl_deck *d, int k, double 
 /* output.prefix, or its default (the deck's path without .ini), into d->prefix: whole (never cut),
  * leaving room for the outputs' suffixes in a path and in a file name, and naming a file, not a
  * directory ("", "dir/", "." and ".." would make hidden files such as dir/.thermo.csv). */
+/* A K_INTS key: one whole number in [lo, hi] for all three axes, or three; 1 if given and good. */
+static int ints3(raw_deck *r, int k, int lo, int hi, int out[3])
+{
+  const char *v = r->val[k];
+  if (!v || r->bad[k]) return 0;
+  long x[4];
+  int n = 0;
+  const char *p = v;
+  while (*p) {
+    char *end;
+    errno = 0;
+    const long y = strtol(p, &end, 10);
+    if (end == p || (*end && !isspace((unsigned char)*end)) || n == 3) {
+      problem(r, r->line[k], "%s.%s: '%s' is not one whole number or three (\"%s = 24\" or \"24 24 32\")", keys[k].section,
+              keys[k].name, v, keys[k].name);
+      r->bad[k] = 1;
+      return 0;
+    }
+    x[n++] = errno == ERANGE ? LONG_MAX : y;
+    p = end + strspn(end, " \t");
+  }
+  if (n == 2) {
+    problem(r, r->line[k], "%s.%s: '%s' has two numbers: give one for all three axes, or three", keys[k].section, keys[k].name, v);
+    r->bad[k] = 1;
+    return 0;
+  }
+  for (int c = 0; c < 3; c++) {
+    const long y = x[n == 1 ? 0 : c];
+    if (y < lo || y > hi) {
+      problem(r, r->line[k], "%s.%s: %ld is outside %d..%d", keys[k].section, keys[k].name, y, lo, hi);
+      r->bad[k] = 1;
+      return 0;
+    }
+    out[c] = (int)y;
+  }
+  return 1;
+}
+
+/* The key of [interactions] that a message of rl_ewald_resolve ("pme: grid[0] = 8 is too
+ * coarse ...", "ewald: kmax_sq = ...") is about: the parameter it names first, as given in the
+ * deck; the keys whose defaults a derived value comes from (cutoff, ewald_tolerance) otherwise. */
+static int ewald_message_key(const raw_deck *r, const char *msg)
+{
+  const char *p = strstr(msg, ": ");
+  p = p ? p + 2 : msg;
+  static const struct { const char *param; int key, fallback; } map[] = {
+      {"tolerance", K_ETOL, K_ETOL},   {"cutoff", K_CUTOFF, K_CUTOFF},   {"alpha", K_EALPHA, K_CUTOFF},
+      {"kmax_sq", K_EKMAX2, K_EKMAX2}, {"kmax", K_EKMAX, K_EKMAX2},      {"grid", K_PGRID, K_CUTOFF},
+      {"a grid", K_PGRID, K_CUTOFF},   {"order", K_PORDER, K_PORDER},    {"eps_surface", K_EBOUND, K_EBOUND}};
+  for (size_t i = 0; i < sizeof map / sizeof map[0]; i++) {
+    const size_t n = strlen(map[i].param);
+    if (strncmp(p, map[i].param, n) || isalnum((unsigned char)p[n]) || p[n] == '_') continue;
+    if (r->val[map[i].key]) return map[i].key;
+    return map[i].key == K_EKMAX && !r->val[K_EKMAX2] ? K_CUTOFF : map[i].fallback; /* derived kmax: the cutoff's */
+  }
+  return K_COULOMB; /* the model: no charges, dipoles or quadrupoles */
+}
+
+/* interactions.coulomb and the Ewald keys: each used only where it means something, each value
+ * checked, and then the whole choice resolved as the terms will resolve it (rl_ewald_resolve on a
+ * system of one molecule in the deck's box: alpha, the grid or k vectors against the tolerance,
+ * the model's charges), its message at the line of the key it is about. */
+static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
+{
+  static const int pme_only[] = {K_PGRID, K_PORDER}, ewald_only[] = {K_EKMAX, K_EKMAX2},
+                   either[] = {K_ETOL, K_EALPHA, K_EBOUND};
+  rl_ewald_params_default(&d->ewald);
+  d->coulomb = (rl_deck_coulomb)choice(r, K_COULOMB);
+  if (r->bad[K_COULOMB]) return;
+  const char *cv = val(r, K_COULOMB);
+  for (size_t i = 0; i < sizeof either / sizeof either[0]; i++)
+    if (r->val[either[i]] && d->coulomb == RL_DECK_COULOMB_RF)
+      problem(r, r->line[either[i]], "interactions.%s is only used with coulomb = ewald or pme (coulomb = rf here)", keys[either[i]].name);
+  for (size_t i = 0; i < 2; i++) {
+    if (r->val[pme_only[i]] && d->coulomb != RL_DECK_COULOMB_PME)
+      problem(r, r->line[pme_only[i]], "interactions.%s is only used with coulomb = pme (coulomb = %s here)", keys[pme_only[i]].name, cv);
+    if (r->val[ewald_only[i]] && d->coulomb != RL_DECK_COULOMB_EWALD)
+      problem(r, r->line[ewald_only[i]], "interactions.%s is only used with coulomb = ewald (coulomb = %s here)", keys[ewald_only[i]].name, cv);
+  }
+  if (d->coulomb == RL_DECK_COULOMB_RF) return;
+  if (r->val[K_EPSRF])
+    problem(r, r->line[K_EPSRF], "interactions.eps_rf is only used with coulomb = rf (coulomb = %s here: the Ewald sum's "
+            "surroundings are interactions.ewald_boundary)", cv);
+  if (d->ff.scheme == RL_CUTOFF_MOLECULE && !r->bad[K_SCHEME])
+    problem(r, r->line[K_SCHEME], "interactions.scheme = molecule does not go with coulomb = %s: the real-space Ewald sum "
+            "cuts every site pair by its own distance (scheme = site)", cv);
+  const int before = r->problems;
+  d->ewald.tolerance = number(r, K_ETOL, u, 0, 5e-4);
+  if (r->val[K_EALPHA]) {
+    d->ewald.alpha = number(r, K_EALPHA, u, 0, 0.0);
+    if (!r->bad[K_EALPHA] && !(d->ewald.alpha > 0)) problem(r, r->line[K_EALPHA], "interactions.ewald_alpha must be positive");
+  }
+  ints3(r, K_PGRID, 1, 4096, d->ewald.grid);
+  d->ewald.order = (int)integer_in(r, K_PORDER, 3, 12, 5);
+  ints3(r, K_EKMAX, 1, 4096, d->ewald.kmax);
+  if (r->val[K_EKMAX2]) {
+    d->ewald.kmax_sq = number(r, K_EKMAX2, u, 0, 0.0);
+    if (!r->bad[K_EKMAX2] && !(d->ewald.kmax_sq >= 1)) problem(r, r->line[K_EKMAX2], "interactions.ewald_kmax2 must be >= 1 (it bounds nx^2 + ny^2 + nz^2)");
+  }
+  const char *b = val(r, K_EBOUND);
+  if (!strcmp(b, "tinfoil")) d->ewald.eps_surface = INFINITY;
+  else if (!strcmp(b, "vacuum")) d->ewald.eps_surface = 1.0;
+  else {
+    char msg[256];
+    if (rl_parse_quantity(b, Q_NONE, u, 1, &d->ewald.eps_surface, msg, sizeof msg) || !(d->ewald.eps_surface >= 1.0))
+      problem(r, r->line[K_EBOUND], "interactions.ewald_boundary: '%s' is not tinfoil, vacuum or a dielectric constant >= 1", b);
+  }
+  if (r->problems > before || !d->model || !(d->box[0] > 0) || !(d->ff.cutoff > 0) || r->bad[K_CUTOFF] ||
+      d->ff.cutoff > 0.5 * fmin(d->box[0], fmin(d->box[1], d->box[2])))
+    return; /* reported already: the resolution would only repeat it */
+  rl_molecule m;
+  if (rl_model_build(d->model, d->params, 0, &m)) return; /* reported with the model */
+  rl_species_desc sd;
+  rl_molecule_species(&m, &sd);
+  rl_species_ff sff = rl_molecule_ff(&m);
+  rl_system *sys = rl_system_alloc(u);
+  rl_ewald_params p = d->ewald;
+  p.species = &sff;
+  p.nspecies = 1;
+  p.cutoff = d->ff.cutoff;
+  rl_ewald_info info;
+  int st = !sys || rl_system_add_species(sys, &sd, 1, NULL) || rl_system_set_box(sys, d->box);
+  if (!st) st = rl_ewald_resolve(sys, &p, d->coulomb == RL_DECK_COULOMB_PME ? RL_EWALD_PME : RL_EWALD_SUM, &info);
+  if (st) {
+    const char *msg = rl_last_error(), *tail = strstr(msg, ": ");
+    const int k = ewald_message_key(r, msg);
+    if (k == K_COULOMB)
+      problem(r, r->line[k], "interactions.coulomb = %s needs point charges: model %s: %s", cv, d->model->name, tail ? tail + 2 : msg);
+    else if (r->val[k]) problem(r, r->line[k], "interactions.%s = %s: %s", keys[k].name, r->val[k], tail ? tail + 2 : msg);
+    else problem(r, r->line[k], "interactions.%s (default %s): %s", keys[k].name, default_text(k), tail ? tail + 2 : msg);
+  }
+  rl_system_free(sys);
+}
+
+double rl_deck_boundary_eps(const rl_deck *d) { return d->coulomb == RL_DECK_COULOMB_RF ? d->ff.eps_rf : d->ewald.eps_surface; }
+
 static void output_prefix(raw_deck *r, rl_deck *d, const char *path)
 {
   if (r->bad[K_PREFIX]) return; /* no value: reported */
@@ -875,6 +1021,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
     if (!r.bad[K_SKIN] && !(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
   }
+  ewald_keys(&r, d, u);
 
   /* [run] */
   require(&r, K_STEPS);
@@ -1022,7 +1169,7 @@ void rl_deck_print_keys(FILE *f, int md)
       if (md) fprintf(f, "\n## [%s]\n\n| key | type | unit (real) | default | meaning |\n|---|---|---|---|---|\n", sec);
       else fprintf(f, "\n[%s]\n", sec);
     }
-    const char *type = K->type == K_CHOICE ? K->choices : K->type == K_INT ? "integer" : K->type == K_BOOL ? "yes/no"
+    const char *type = K->type == K_CHOICE ? K->choices : K->type == K_INT ? "integer" : K->type == K_INTS ? "integers" : K->type == K_BOOL ? "yes/no"
                      : K->type == K_REAL ? "number" : K->type == K_PATH ? "path" : K->dim == Q_LENGTH ? "lengths" : "text";
     const char *unit = K->dim == Q_NONE ? "" : rl_dim_unit(K->dim, RL_UNITS_REAL);
     if (md) fprintf(f, "| `%s` | %s | %s | %s | %s |\n", K->name, type, unit, K->def ? K->def : "", K->help);

@@ -27,6 +27,11 @@
  * a last path part that leaves less room below NAME_MAX (255 bytes). */
 #define RL_DECK_SUFFIX_MAX 64
 
+/* interactions.coulomb: how charges interact.  rf: the pair term's reaction field (eps_rf);
+ * ewald, pme: the pair term without charges, plus the Ewald terms "ewald-real" and "ewald"
+ * (k-vector sum) or "pme" (smooth PME) of rotleap/ewald.h. */
+typedef enum { RL_DECK_COULOMB_RF = 0, RL_DECK_COULOMB_EWALD = 1, RL_DECK_COULOMB_PME = 2 } rl_deck_coulomb;
+
 typedef struct {
   /* [system] */
   const rl_model *model;
@@ -41,6 +46,10 @@ typedef struct {
   char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file (a regular file) */
   /* [interactions] */
   rl_ff_params ff;
+  rl_deck_coulomb coulomb;  /* interactions.coulomb                                       */
+  rl_ewald_params ewald;    /* interactions.ewald_*, pme_* (coulomb = ewald | pme): tolerance,
+                               alpha, grid, order, kmax, kmax_sq, eps_surface as given (0:
+                               derived); species, cutoff and threads are the scene's       */
   /* [run] */
   long steps;
   double timestep;
@@ -87,6 +96,12 @@ extern const rl_deck_integrator rl_deck_integrators[];
 extern const int rl_deck_nintegrators;
 /* Index into rl_deck_integrators, or -1. */
 int rl_deck_integrator_lookup(const char *name);
+
+/* The dielectric constant of the surroundings that the dipole-fluctuation formula of the
+ * dielectric constant needs: eps_rf for the reaction field, the Ewald sum's eps' (INFINITY for
+ * tin foil) under coulomb = ewald | pme.  The formula is the same (Neumann, Mol. Phys. 50, 841
+ * (1983)): (eps - 1)(2 eps' + 1)/(2 eps' + eps) = 4 pi kc <dM^2>/(3 V kT). */
+double rl_deck_boundary_eps(const rl_deck *d);
 
 /* The higher of system.temperature and run.temperature (the start's and the thermostat's); *key
  * (if key is not NULL) is "" for system.temperature, " (run.temperature)" for the thermostat's,

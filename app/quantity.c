@@ -1,5 +1,6 @@
 /* Unit suffixes for deck values.  Conversion factors: 1 A = 0.1 nm; 1 fs = 1e-3 ps;
- * 1 g/cm^3 = 602.214076 amu/nm^3 (N_A 1e-21); 1 kcal = 4.184 kJ; energies given in K mean k_B T. */
+ * 1 g/cm^3 = 602.214076 amu/nm^3 (N_A 1e-21); 1 kcal = 4.184 kJ; energies given in K mean k_B T;
+ * 1 /A = 10 /nm (an inverse length: the Ewald splitting parameter). */
 #include "quantity.h"
 
 #include <ctype.h>
@@ -28,6 +29,9 @@ static const unit_def units[] = {
     {Q_PRESSURE, "MPa", 0.602214076},  {Q_COMPRESSIBILITY, "1/bar", 1.0 / 0.0602214076},
     {Q_COMPRESSIBILITY, "bar^-1", 1.0 / 0.0602214076}, {Q_COMPRESSIBILITY, "1/Pa", 1e5 / 0.0602214076},
     {Q_COMPRESSIBILITY, "Pa^-1", 1e5 / 0.0602214076},
+    {Q_INVLENGTH, "/nm", 1.0},    {Q_INVLENGTH, "nm^-1", 1.0},   {Q_INVLENGTH, "1/nm", 1.0},
+    {Q_INVLENGTH, "/A", 10.0},    {Q_INVLENGTH, "A^-1", 10.0},   {Q_INVLENGTH, "1/A", 10.0},
+    {Q_INVLENGTH, "/Å", 10.0},
 };
 
 const char *rl_dim_unit(rl_dim dim, rl_units u)
@@ -41,6 +45,7 @@ const char *rl_dim_unit(rl_dim dim, rl_units u)
   case Q_ENERGY: return "kJ/mol";
   case Q_PRESSURE: return "bar";
   case Q_COMPRESSIBILITY: return "1/bar";
+  case Q_INVLENGTH: return "/nm";
   default: return "";
   }
 }
@@ -55,6 +60,7 @@ const char *rl_dim_suffixes(rl_dim dim)
   case Q_ENERGY: return "kJ/mol, kcal/mol, K";
   case Q_PRESSURE: return "bar, atm, Pa, MPa";
   case Q_COMPRESSIBILITY: return "1/bar, bar^-1, 1/Pa, Pa^-1";
+  case Q_INVLENGTH: return "/nm, nm^-1, /A, A^-1";
   default: return "";
   }
 }
@@ -94,10 +100,11 @@ int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, d
     for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
       if (units[k].dim == dim && !strcmp(units[k].suffix, suffix)) { factor = units[k].factor; found = 1; break; }
     if (!found) {
-      snprintf(err, errlen, "unit '%s' is not a %s unit (use %s)", suffix,
-               dim == Q_LENGTH ? "length" : dim == Q_TIME ? "time" : dim == Q_TEMPERATURE ? "temperature"
-               : dim == Q_DENSITY ? "density" : dim == Q_ENERGY ? "energy" : dim == Q_PRESSURE ? "pressure"
-               : "compressibility", rl_dim_suffixes(dim));
+      snprintf(err, errlen, "unit '%s' is not %s unit (use %s)", suffix,
+               dim == Q_LENGTH ? "a length" : dim == Q_TIME ? "a time" : dim == Q_TEMPERATURE ? "a temperature"
+               : dim == Q_DENSITY ? "a density" : dim == Q_INVLENGTH ? "an inverse length"
+               : dim == Q_PRESSURE ? "a pressure" : dim == Q_COMPRESSIBILITY ? "a compressibility" : "an energy",
+               rl_dim_suffixes(dim));
       return -1;
     }
   }

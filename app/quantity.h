@@ -4,11 +4,12 @@
 #include <rotleap/units.h>
 #include <stddef.h>
 
-typedef enum { Q_NONE = 0, Q_LENGTH, Q_TIME, Q_TEMPERATURE, Q_DENSITY, Q_ENERGY, Q_PRESSURE, Q_COMPRESSIBILITY } rl_dim;
+typedef enum { Q_NONE = 0, Q_LENGTH, Q_TIME, Q_TEMPERATURE, Q_DENSITY, Q_ENERGY, Q_PRESSURE, Q_COMPRESSIBILITY,
+               Q_INVLENGTH } rl_dim;
 
 /* Parse `text` as a number with an optional unit suffix of dimension `dim` in unit system `u`,
  * into the system's base unit (real: nm, ps, K, amu/nm^3, kJ/mol, kJ mol^-1 nm^-3 for pressures and its inverse for
- * compressibilities; lj: reduced, where a suffix is
+ * compressibilities, 1/nm; lj: reduced, where a suffix is
  * an error).  "inf" is accepted when allow_inf.  Returns 0, or -1 with a message in err. */
 int rl_parse_quantity(const char *text, rl_dim dim, rl_units u, int allow_inf, double *out,
                       char *err, size_t errlen);

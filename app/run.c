@@ -265,7 +265,21 @@ static char *physics_text(const rl_deck *d)
   ADD("interactions.lj = %s\n", lj[d->ff.lj_truncation]);
   if (d->ff.lj_truncation == RL_LJ_SWITCHED) ADD("interactions.switch = %s %s\n", exact(r3, d->ff.r_switch), L);
   ADD("interactions.dispersion_correction = %s\n", d->ff.dispersion_correction ? "yes" : "no");
-  ADD("interactions.eps_rf = %s\n", exact(r4, d->ff.eps_rf));
+  if (d->coulomb == RL_DECK_COULOMB_RF) ADD("interactions.eps_rf = %s\n", exact(r4, d->ff.eps_rf));
+  else { /* the Ewald choice as given (derived values follow from it and the box) */
+    const rl_ewald_params *e = &d->ewald;
+    ADD("interactions.coulomb = %s\n", d->coulomb == RL_DECK_COULOMB_PME ? "pme" : "ewald");
+    ADD("interactions.ewald_tolerance = %s\n", exact(r4, e->tolerance));
+    if (e->alpha > 0) ADD("interactions.ewald_alpha = %s %s\n", exact(r3, e->alpha), rl_dim_unit(Q_INVLENGTH, d->units));
+    if (d->coulomb == RL_DECK_COULOMB_PME) {
+      if (e->grid[0] > 0) ADD("interactions.pme_grid = %d %d %d\n", e->grid[0], e->grid[1], e->grid[2]);
+      ADD("interactions.pme_order = %d\n", e->order);
+    } else {
+      if (e->kmax[0] > 0) ADD("interactions.ewald_kmax = %d %d %d\n", e->kmax[0], e->kmax[1], e->kmax[2]);
+      if (e->kmax_sq > 0) ADD("interactions.ewald_kmax2 = %s\n", exact(r3, e->kmax_sq));
+    }
+    ADD("interactions.ewald_boundary = %s\n", isinf(e->eps_surface) ? "tinfoil" : exact(r3, e->eps_surface));
+  }
   ADD("interactions.dipole = %s\n", dip[d->ff.dipole_method]);
   ADD("run.timestep = %s %s\n", exact(r5, d->timestep), tu);
   ADD("run.integrator = %s\n", rl_rot_method_name(d->method));
@@ -656,6 +670,10 @@ static void report_setup(run_ctx *c)
   rl_ff_warning w[8];
   const int nw = rl_forcefield_warnings(ff, w, 8);
   for (int k = 0; k < nw && k < 8; k++) fprintf(stderr, "rotleap run: warning: %s\n", w[k].text);
+  char line[1024];
+  if (scene_electrostatics(c->d, c->s.terms, line, sizeof line)) fprintf(stderr, "rotleap run: note: electrostatics: %s\n", line);
+  const int ne = scene_ewald_warnings(c->s.terms, w, 8);
+  for (int k = 0; k < ne && k < 8; k++) fprintf(stderr, "rotleap run: warning: %s\n", w[k].text);
   rl_ff_discontinuity dd[8];
   const int nd = rl_forcefield_discontinuities(ff, dd, 8);
   for (int k = 0; k < nd && k < 8; k++) {
@@ -681,7 +699,7 @@ static void start_check(run_ctx *c)
   rl_forces F = {calloc((size_t)(n > 0 ? n : 1), sizeof(double[3])), calloc((size_t)(nr > 0 ? nr : 1), sizeof(double[3])),
                  0.0, {0}, 0};
   const double kT = rl_units_kB(d->units) * (d->thermostat_temperature > 0 ? d->thermostat_temperature : d->temperature);
-  int st = F.f && F.k ? rl_forcefield_compute(c->s.ff, sys, &F) : RL_ENOMEM;
+  int st = F.f && F.k ? rl_terms_compute(c->s.terms, sys, &F) : RL_ENOMEM;
   if (!st && n > 1 && kT > 0 && F.energy / (n * kT) > 5.0) {
     int worst = 0;
     double fmax = -1.0;
@@ -842,6 +860,8 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
           rl_rot_method_name(m), d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every);
   fprintf(f, "neighbour_list = skin %.4g %s, %ld builds in this invocation\n", scene_skin(d, &c->s.mol),
           rl_dim_unit(Q_LENGTH, d->units), ff ? rl_forcefield_rebuilds(ff) : 0L);
+  char elec[1024];
+  if (scene_electrostatics(d, c->s.terms, elec, sizeof elec)) fprintf(f, "electrostatics = %s\n", elec);
   fprintf(f, "pair_kernels = %s (%s rows, %d thread(s), %s precision)\nwall_seconds = %.3f\nfallbacks = %ld\n",
           ff ? rl_forcefield_kernel(ff) : "none", ff ? rl_forcefield_rows(ff) : "no", ff ? rl_forcefield_threads(ff) : 1,
           ff ? rl_forcefield_precision(ff) : "double", wall, c->in ? rl_integrator_fallbacks(c->in) : 0L);

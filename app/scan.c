@@ -57,6 +57,7 @@ typedef struct {
   int plot;
   int analysis;       /* per-run results, RDFs, TCFs          */
   const char *prefix;
+  char electrostatics[1024]; /* the Ewald terms' choice (scene_electrostatics), "" for the reaction field */
 } scan_opts;
 
 static double now(void)
@@ -323,6 +324,7 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
           d->thermostat == RL_THERMO_NONE ? "NVE" : "NVT (", d->thermostat == RL_THERMO_NONE ? "" : rl_thermostat_name(d->thermostat),
           d->thermostat == RL_THERMO_NONE ? "" : ")",
           o->time > 0 ? "equal simulated time" : "equal number of steps");
+  if (o->electrostatics[0]) fprintf(f, "# electrostatics: %s\n", o->electrostatics);
   fprintf(f, "# calE, calU: relative rms fluctuations of the conserved and potential energy; drift: of the conserved "
              "energy, %s per molecule per %s; ortho: max |A A^T - I| or ||rho|-1| at the end; rdf: int |g - g_ref| dr "
              "/ r_max for %s against the first run; iter: quaternion/implicit iterations per body and step\n",
@@ -615,6 +617,7 @@ int rl_app_scan(int argc, char **argv)
     outputs_free(lock);
     return 1;
   }
+  scene_electrostatics(&d, s.terms, o.electrostatics, sizeof o.electrostatics);
   int site[2];
   char rdfname[64];
   if (rdf_pair(&d, &s.mol, site, rdfname, sizeof rdfname)) {

@@ -93,11 +93,22 @@ double scene_skin(const rl_deck *d, const rl_molecule *mol)
 
 rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
 {
-  rl_species_ff sff = rl_molecule_ff(mol);
-  rl_pair_params pp = {d->ff, &sff, 1, d->model->geometric_mixing}; /* OPLS, EPM2: geometric mixing */
+  const rl_species_ff sff = rl_molecule_ff(mol);
+  rl_species_ff pair_sff = sff;
+  double no_charge[RL_MOLECULE_MAX_SITES] = {0};
+  const int ewald = d->coulomb != RL_DECK_COULOMB_RF;
+  if (ewald) pair_sff.charge = no_charge; /* the charges are the Ewald terms': no reaction field in the pair term */
+  rl_pair_params pp = {d->ff, &pair_sff, 1, d->model->geometric_mixing}; /* OPLS, EPM2: geometric mixing */
   pp.p.skin = scene_skin(d, mol);
+  rl_ewald_params ep = d->ewald;
+  ep.species = &sff;
+  ep.nspecies = 1;
+  ep.cutoff = d->ff.cutoff;
+  ep.threads = d->ff.threads;
+  ep.remove_net_force = 1; /* the mesh's net force off: the total momentum stays zero, a continuation bit for bit */
   rl_terms *t = rl_terms_alloc(sys);
-  if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL)) {
+  if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL) || (ewald && rl_terms_add(t, &rl_term_ewald_real, &ep, NULL)) ||
+      (ewald && rl_terms_add(t, d->coulomb == RL_DECK_COULOMB_PME ? &rl_term_pme : &rl_term_ewald, &ep, NULL))) {
     rl_terms_free(t);
     return NULL;
   }
@@ -108,6 +119,26 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
                     "terms; the pair terms run in double\n",
             d->model->name, rl_forcefield_kernel(ff), rl_forcefield_rows(ff));
   return t;
+}
+
+int scene_electrostatics(const rl_deck *d, rl_terms *t, char *buf, size_t size)
+{
+  for (int k = 0; k < rl_terms_count(t); k++) {
+    const rl_term_type *type = rl_terms_type(t, k);
+    if (type == &rl_term_pme || type == &rl_term_ewald)
+      return rl_ewald_describe(rl_ewald_term_info(rl_terms_state(t, k)), d->units, buf, size) > 0;
+  }
+  if (size) buf[0] = '\0';
+  return 0;
+}
+
+int scene_ewald_warnings(rl_terms *t, rl_ff_warning *out, int max)
+{
+  for (int k = 0; k < rl_terms_count(t); k++) {
+    const rl_term_type *type = rl_terms_type(t, k);
+    if (type == &rl_term_pme || type == &rl_term_ewald) return rl_ewald_warnings(rl_terms_state(t, k), out, max);
+  }
+  return 0;
 }
 
 void scene_free(scene *s)

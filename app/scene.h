@@ -27,8 +27,6 @@ void scene_free(scene *s);
  * inode); then an error naming both, for the caller to stop before anything is written.  A .chk
  * output may be a .chk start: that is a continuation. */
 int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
-/* The interactions of the deck for `sys`: the pair term (with the model's geometric mixing),
- * or NULL with a message. */
 /* The Verlet skin: interactions.skin, or if not given 0.1 cutoff, the fastest in the scans at
  * 2 fs for TIP4P and h* = 0.002 for Stockmayer (bench/skin_*.csv), where a molecule's thermal
  * displacement per step v h (v = sqrt(3 kT / m), T the thermostat's or the start's) is about
@@ -39,7 +37,17 @@ int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
  * of the pair sums (round-off); the kernels' sums do not depend on the candidates beyond the
  * cutoff. */
 double scene_skin(const rl_deck *d, const rl_molecule *mol);
+/* The interactions of the deck for `sys`: the pair term (with the model's geometric mixing),
+ * or NULL with a message. */
 rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
+/* With interactions.coulomb = ewald | pme, the terms are the pair term without charges (LJ,
+ * dispersion), "ewald-real" and "ewald" or "pme" (rotleap/ewald.h), one parameter block
+ * (interactions.ewald_*, pme_*, the cutoff, run.threads).  scene_electrostatics: the reciprocal
+ * term's one-line description (alpha, grid or k vectors, boundary, estimated RMS force error) in
+ * buf, and 1; 0 (buf empty) with the reaction field.  scene_ewald_warnings: its setup warnings
+ * (a net charge), as rl_ewald_warnings. */
+int scene_electrostatics(const rl_deck *d, rl_terms *t, char *buf, size_t size);
+int scene_ewald_warnings(rl_terms *t, rl_ff_warning *out, int max);
 /* The deck's relaxation phase (run.equilibrate steps at run.equilibrate_timestep under Bussi with
  * tau = 20 steps; nothing for a checkpoint start).  scene_relax runs all of it (rotleap scan);
  * rotleap run drives it in parts so that a signal can stop it and a checkpoint continue it. */

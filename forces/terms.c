@@ -2,13 +2,14 @@
 #include "rotleap/terms.h"
 #include "rotleap/error.h"
 #include "rotleap/forcefield.h"
+#include "rotleap/ewald.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 /* The term types, by name.  A new term type is one more entry (docs/extending.md). */
-static const rl_term_type *const types[] = {&rl_term_pair};
+static const rl_term_type *const types[] = {&rl_term_pair, &rl_term_ewald_real, &rl_term_ewald, &rl_term_pme};
 enum { NTYPES = sizeof types / sizeof types[0] };
 
 int rl_term_type_count(void) { return NTYPES; }

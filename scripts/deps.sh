@@ -2,7 +2,7 @@
 # Install the Debian 12 packages rotleap needs (as root; uses sudo otherwise).  Skips apt when
 # everything is already installed.  Usage: scripts/deps.sh [build|example|test|validate|bench|python]
 set -euo pipefail
-build=(build-essential cmake pkg-config libgsl-dev libinih-dev)  # compiler, CMake, GSL, INI decks
+build=(build-essential cmake pkg-config libgsl-dev libinih-dev libfftw3-dev)  # compiler, CMake, GSL, INI decks, FFTs (PME)
 testdeps=(libcmocka-dev python3 python3-mdtraj python3-mdanalysis python3-ase strace python3-numpy python3-pytest
           python3-pip python3-setuptools)
 # unit tests; JSON check; MDTraj and MDAnalysis read our DCD, ASE our extended XYZ; strace

@@ -24,7 +24,7 @@ LAYERS = ["core", "models", "io", "forces", "observables", "integrators", "run",
 PUBLIC = {  # include/rotleap/NAME.h -> the layer implementing it
     "error.h": "core", "units.h": "core", "system.h": "core", "geometry.h": "core",
     "molecule.h": "models", "catalog.h": "models", "io.h": "io",
-    "forces.h": "forces", "forcefield.h": "forces", "terms.h": "forces", "observables.h": "observables",
+    "forces.h": "forces", "forcefield.h": "forces", "terms.h": "forces", "ewald.h": "forces", "observables.h": "observables",
     "rotation.h": "integrators", "integrator.h": "integrators", "stepops.h": "integrators",
     "run.h": "run", "rotleap.h": "app",
 }

@@ -15,6 +15,7 @@
 #include "rotleap/catalog.h"
 #include "rotleap/terms.h"
 #include "rotleap/forcefield.h"
+#include "rotleap/ewald.h"
 #include "rotleap/observables.h"
 #include "rotleap/io.h"
 #include "rotleap/run.h"

@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# Ewald and smooth PME from a deck (interactions.coulomb = ewald | pme, issue 33): bad input
+# refused at the line of its key; the reaction field unchanged when coulomb is not given; the
+# energy by term from the terms, PME against Ewald, explicit parameters against derived ones,
+# 1 against 2 threads; the run and its summary print alpha, the grid and the estimated error;
+# checkpoint continuation bit for bit; scan; the dielectric constant's boundary.
+# usage: ewald_tests.sh ROTLEAP SRCDIR WORKDIR
+set -u
+rotleap=$1; src=$2; work=$3
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+pass=0; fail=0
+check() { if eval "$2"; then echo "check $1 ok"; pass=$((pass+1)); else echo "check $1 FAIL"; fail=$((fail+1)); fi; }
+quiet() { ! grep -qv "^rotleap [a-z]*: note: " "$1"; }
+pme="$src/tests/cli/water_pme.ini"
+sm="$src/tests/cli/stockmayer_short.ini"
+
+# --- bad input: one problem each, at the line of the key that causes it, naming it
+# bad NAME EXPECTED SED-SCRIPT [DECK]: the deck edited by SED-SCRIPT must be refused with exit 2,
+# one problem, whose message (after "FILE:LINE: ") contains EXPECTED, LINE being the line where
+# the sed script left the key named first in EXPECTED
+bad() {
+  local name=$1 want=$2 script=$3 deck=${4:-$pme}
+  sed "$script" "$deck" > "$name.ini"
+  local key=${want%%[ :=]*}; key=${key#interactions.}
+  local line; line=$(grep -n "^$key *=" "$name.ini" | head -1 | cut -d: -f1)
+  "$rotleap" energy "$name.ini" >out.txt 2>"$name.err"; local code=$?
+  check "$name: refused at $name.ini:$line, naming the key" \
+    '[ $code -eq 2 ] && grep -qF "$name.ini:$line: $want" "$name.err" && grep -q "^rotleap energy: 1 problem in" "$name.err"'
+}
+bad tol_high "interactions.ewald_tolerance = 0.2: tolerance = 0.2 must lie in (0, 0.1)" 's/^ewald_tolerance = .*/ewald_tolerance = 0.2/'
+bad tol_zero "interactions.ewald_tolerance = 0: tolerance = 0 must lie in (0, 0.1)" 's/^ewald_tolerance = .*/ewald_tolerance = 0/'
+bad grid_coarse "interactions.pme_grid = 4 5 6: grid[0] = 4 is below the spline order 5" 's/^coulomb = pme/&\npme_grid = 4 5 6/'
+bad grid_nyquist "interactions.pme_grid = 6: grid[0] = 6 is too coarse for tolerance 0.0005" 's/^coulomb = pme/&\npme_grid = 6/'
+bad grid_two "interactions.pme_grid: '8 9' has two numbers" 's/^coulomb = pme/&\npme_grid = 8 9/'
+bad order "interactions.pme_order: 13 is above the maximum 12" 's/^coulomb = pme/&\npme_order = 13/'
+bad alpha_small "interactions.ewald_alpha = 1 /nm: alpha = 1 with cutoff = 0.6: alpha cutoff = 0.6 is below sqrt(-ln 0.2)" 's/^coulomb = pme/&\newald_alpha = 1 \/nm/'
+bad alpha_unit "interactions.ewald_alpha: unit '/s' is not an inverse length unit" 's/^coulomb = pme/&\newald_alpha = 3 \/s/'
+bad kmax_coarse "interactions.ewald_kmax = 2: kmax = 2 2 2, kmax_sq = 0 is too coarse for tolerance 0.0005" 's/^coulomb = pme/coulomb = ewald\newald_kmax = 2/'
+bad kmax_pme "interactions.ewald_kmax is only used with coulomb = ewald (coulomb = pme here)" 's/^coulomb = pme/&\newald_kmax = 5/'
+bad grid_ewald "interactions.pme_grid is only used with coulomb = pme (coulomb = ewald here)" 's/^coulomb = pme/coulomb = ewald\npme_grid = 20/'
+bad tol_rf "interactions.ewald_tolerance is only used with coulomb = ewald or pme (coulomb = rf here)" 's/^coulomb = pme/coulomb = rf/'
+bad epsrf_pme "interactions.eps_rf is only used with coulomb = rf (coulomb = pme here" 's/^coulomb = pme/&\neps_rf = 80/'
+bad boundary "interactions.ewald_boundary: '0.5' is not tinfoil, vacuum or a dielectric constant >= 1" 's/^coulomb = pme/&\newald_boundary = 0.5/'
+bad scheme "interactions.scheme = molecule does not go with coulomb = pme" 's/^coulomb = pme/&\nscheme = molecule/'
+bad cutoff_box "interactions.cutoff 0.7 is larger than half the shortest box edge" 's/^cutoff = .*/cutoff = 0.7 nm/'
+bad nocharge "interactions.coulomb = pme needs point charges: model stockmayer: species 0 (stockmayer), site 0 carries a point dipole" \
+  's/^dipole = .*/coulomb = pme/' "$sm"
+"$rotleap" energy "$src/examples/n2.ini" --set interactions.coulomb=ewald --set interactions.scheme=site >out.txt 2>err.txt; code=$?
+check "a quadrupole-only model (N2, no charges) is refused for Ewald, naming coulomb" \
+  '[ $code -eq 2 ] && grep -q "^--set: interactions.coulomb = ewald needs point charges: model n2: .* carries a quadrupole" err.txt'
+
+# --- the reaction field is what it was: coulomb = rf (the default) changes nothing
+"$rotleap" energy "$src/examples/tip4p.ini" --json >rf_default.json 2>/dev/null
+"$rotleap" energy "$src/examples/tip4p.ini" --json --set interactions.coulomb=rf >rf_given.json 2>/dev/null
+check "coulomb = rf is the default, to the byte, with no Ewald term" \
+  'cmp -s rf_default.json rf_given.json && grep -q "\"terms\": \[\"pair\"\]" rf_default.json && ! grep -q ewald rf_default.json'
+
+# --- energies by term from the terms; PME against Ewald; explicit against derived; threads
+e() { local out=$1; shift; "$rotleap" energy "$pme" --json --set run.threads=1 "$@" >"$out" 2>"$out.err"; }
+e pme.json
+e pme_t2.json --set run.threads=2
+e pme_grid.json --set "interactions.pme_grid=17 17 17" --set interactions.pme_order=5
+e pme_grid1.json --set interactions.pme_grid=17
+e alpha_nm.json --set "interactions.ewald_alpha=4.5 /nm"
+e alpha_A.json --set "interactions.ewald_alpha=0.45 /A"
+e tight_pme.json --set interactions.ewald_tolerance=1e-6
+e tight_ewald.json --set interactions.ewald_tolerance=1e-6 --set interactions.coulomb=ewald
+e nist.json --set interactions.coulomb=ewald --set "interactions.ewald_alpha=5.6 /nm" --set interactions.ewald_kmax=5 --set interactions.ewald_kmax2=26
+e vacuum.json --set interactions.ewald_boundary=vacuum
+e eps1.json --set interactions.ewald_boundary=1
+/usr/bin/python3 - <<'PY' > py.txt
+import json
+J = lambda f: json.load(open(f))
+ok = lambda c, m: print(("ok " if c else "FAIL ") + m)
+a = J("pme.json")
+E = a["energy"]
+comps = ["lj", "coulomb", "dipolar", "quadrupolar", "dispersion", "ewald_real", "ewald_recip", "ewald_self", "ewald_intra",
+         "ewald_background", "ewald_surface"]
+ok(a["terms"] == ["pair", "ewald-real", "pme"], "the terms are pair, ewald-real, pme")
+ok(sorted(k for k in E if k != "total") == sorted(comps), "energy by term: the components of the three terms")
+ok(abs(sum(E[k] for k in comps) - E["total"]) <= 1e-12 * abs(E["ewald_self"]), "the components sum to the total")
+ok(E["coulomb"] == 0 and E["ewald_surface"] == 0 and E["ewald_background"] == 0,
+   "no reaction-field Coulomb in the pair term; tin foil, neutral: no surface or background energy")
+b = J("pme_t2.json")
+ok(all(a["energy"][k] == b["energy"][k] for k in comps if k.startswith("ewald")), "2 threads: the Ewald energies to the bit")
+ok(abs(a["energy"]["total"] - b["energy"]["total"]) <= 1e-12 * abs(E["ewald_self"]), "2 threads: the total to round-off")
+# PME's derived grid for this box (1.2439 nm, alpha from 5e-4 and 0.6 nm) is 17^3: given explicitly, the same bits
+ok(J("pme_grid.json") == a and J("pme_grid1.json") == a, "pme_grid = 17 17 17 (and = 17), pme_order = 5: the derived choice, to the bit")
+ok(J("alpha_nm.json") == J("alpha_A.json") and J("alpha_nm.json")["energy"] != E, "ewald_alpha 4.5 /nm = 0.45 /A, and it is used")
+t, w = J("tight_pme.json")["energy"], J("tight_ewald.json")["energy"]
+ok(abs(t["total"] - w["total"]) <= 1e-5 * abs(w["total"]) and t["ewald_real"] == w["ewald_real"],
+   "PME and Ewald at tolerance 1e-6: one energy (1e-5 relative), the same real-space sum")
+f1 = J("tight_pme.json")["molecules"]; f2 = J("tight_ewald.json")["molecules"]
+num = sum((x - y) ** 2 for m1, m2 in zip(f1, f2) for x, y in zip(m1["force"], m2["force"]))
+den = sum(x ** 2 for m in f2 for x in m["force"])
+ok((num / den) ** 0.5 <= 1e-4, "PME and Ewald at tolerance 1e-6: molecular forces agree to 1e-4 RMS relative (%.2g)" % (num / den) ** 0.5)
+n = J("nist.json")
+ok(n["terms"] == ["pair", "ewald-real", "ewald"], "coulomb = ewald with the NIST SPC/E setup (alpha 5.6 /nm, kmax 5, kmax2 26)")
+v, v1 = J("vacuum.json")["energy"], J("eps1.json")["energy"]
+ok(v == v1 and v["ewald_surface"] > 0 and abs(v["total"] - v["ewald_surface"] - E["total"]) <= 1e-9 * abs(E["ewald_self"]),
+   "ewald_boundary = vacuum (= 1): the surface term, positive, added to the tin-foil energy")
+PY
+while read -r st msg; do check "$msg" '[ "$st" = ok ]'; done < py.txt
+check "the energy checks ran" '[ "$(wc -l < py.txt)" -ge 12 ]'
+
+# --- a run: what it prints, its summary, the dielectric constant's boundary
+"$rotleap" run "$pme" --set output.prefix="$work/run" >out.txt 2>err.txt; code=$?
+want='smooth PME: alpha = 4.38043 /nm (from tolerance 0.0005 and cutoff 0.6 nm), grid 17 x 17 x 17 (from the tolerance), order 5, tin-foil boundary; estimated RMS force error on a charge'
+check "the run prints alpha, the grid and the estimated RMS force error before it starts and in its summary" \
+  '[ $code -eq 0 ] && grep -qF "rotleap run: note: electrostatics: $want" err.txt && grep -qF "electrostatics = $want" run.summary.txt'
+check "the thermo file has the Ewald terms' columns" \
+  'head -1 run.thermo.csv | grep -q ",lj,coulomb,dipolar,quadrupolar,dispersion,ewald_real,ewald_recip,ewald_self,ewald_intra,ewald_background,ewald_surface,"'
+check "the dielectric constant takes the Ewald sum's tin-foil boundary" \
+  'grep -q "^dielectric_constant = .*Ewald sum in tin-foil (conducting) surroundings" run.results.txt'
+
+# --- checkpoint continuation bit for bit (2 threads): 2N steps against N + continue N
+args=(--set run.threads=2 --set output.checkpoint_every=20)
+"$rotleap" run "$pme" "${args[@]}" --set output.prefix="$work/A" >/dev/null 2>A.err
+"$rotleap" run "$pme" "${args[@]}" --set run.steps=20 --set output.prefix="$work/B" >/dev/null 2>B.err
+"$rotleap" run "$pme" "${args[@]}" --set system.start="$work/B.chk" --set output.prefix="$work/B" >/dev/null 2>>B.err
+check "PME runs: no error" 'quiet A.err && quiet B.err && [ -e A.chk ] && [ -e B.chk ]'
+check "PME: checkpoint after 2N steps = after N + a continuation of N, byte for byte" 'cmp -s A.chk B.chk'
+check "PME: thermo files byte for byte" 'cmp -s A.thermo.csv B.thermo.csv'
+"$rotleap" run "$pme" "${args[@]}" --set system.start="$work/B.chk" --set run.steps=60 --set interactions.coulomb=rf \
+  --set interactions.ewald_tolerance= --set output.prefix="$work/B" >/dev/null 2>C.err; code=$?
+check "a continuation under the same prefix with another coulomb is refused, naming it" \
+  '[ $code -ne 0 ] && grep -q "interactions.coulomb: pme -> (not used)" C.err'
+"$rotleap" run "$pme" "${args[@]}" --set system.start="$work/B.chk" --set run.steps=60 --set interactions.pme_order=6 \
+  --set output.prefix="$work/B" >/dev/null 2>C.err; code=$?
+check "... and so is one with another pme_order" '[ $code -ne 0 ] && grep -q "interactions.pme_order: 5 -> 6" C.err'
+
+# --- scan with a PME deck
+"$rotleap" scan "$pme" --timesteps 1,2fs --steps 10 --no-plot --set output.prefix="$work/scan" >out.txt 2>err.txt; code=$?
+check "rotleap scan runs a PME deck and says which electrostatics it used" \
+  '[ $code -eq 0 ] && grep -qF "# electrostatics: $want" out.txt && [ "$(wc -l < scan.scan.csv)" -eq 3 ]'
+
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
