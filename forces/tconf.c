@@ -328,11 +328,19 @@ int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tcon
   double *lap = calloc((size_t)(2 * n + 1), sizeof *lap);
   int *off = malloc(sizeof *off * (size_t)(n + 1)), *type0 = malloc(sizeof *type0 * (size_t)(n + 1));
   char *oriented = malloc((size_t)ff->ntypes + 1); /* a type with a dipole or quadrupole */
-  if (!site || !ctr || !axis || !acc || !lap || !off || !type0 || !oriented) {
-    free(site); free(ctr); free(axis); free(acc); free(lap); free(off); free(type0); free(oriented);
+  char *pairs = malloc((size_t)ff->ntypes * (size_t)ff->ntypes + 1); /* type pairs with some term */
+  if (!site || !ctr || !axis || !acc || !lap || !off || !type0 || !oriented || !pairs) {
+    free(site); free(ctr); free(axis); free(acc); free(lap); free(off); free(type0); free(oriented); free(pairs);
     return rl_error(RL_ENOMEM, "rl_config_temperature: out of memory for %d bodies", n);
   }
   for (int t = 0; t < ff->ntypes; t++) oriented[t] = ff->mu[t] != 0.0 || ff->Q[t] != 0.0;
+  for (int ta = 0; ta < ff->ntypes; ta++)
+    for (int tb = 0; tb < ff->ntypes; tb++) {
+      const int qa = ff->q[ta] != 0.0, qb = ff->q[tb] != 0.0, ma = ff->mu[ta] != 0.0, mb = ff->mu[tb] != 0.0;
+      pairs[ta * ff->ntypes + tb] = ff->lj[ta * ff->ntypes + tb].epsilon != 0.0 || (qa && qb) || (ma && mb) ||
+                                    (qa && mb) || (ma && qb) || (ff->Q[ta] != 0.0 && ff->Q[tb] != 0.0);
+    }
+  const double half[3] = {0.5 * ff->box.L[0], 0.5 * ff->box.L[1], 0.5 * ff->box.L[2]};
   rl_system_site_positions(sys, site);
   double ext = 0.0; /* the largest site offset: the site scheme's bodies interact within rc + 2 ext */
   for (int i = 0; i < n; i++) {
@@ -359,13 +367,15 @@ int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tcon
       if (mol ? R2 >= rc2 : R2 >= rb * rb) continue;
       for (int a = off[i]; a < off[i + 1] && !st; a++)
         for (int b = off[j]; b < off[j + 1]; b++) {
+          const int ta = type0[i] + a - off[i], tb = type0[j] + b - off[j];
+          if (!pairs[ta * ff->ntypes + tb]) continue; /* no interaction between these sites */
           const double da[3] = {site[a][0] - ctr[i][0], site[a][1] - ctr[i][1], site[a][2] - ctr[i][2]};
           const double db[3] = {site[b][0] - ctr[j][0], site[b][1] - ctr[j][1], site[b][2] - ctr[j][2]};
           double r[3] = {R[0] + da[0] - db[0], R[1] + da[1] - db[1], R[2] + da[2] - db[2]};
-          if (!mol) { /* each site pair by its own minimum image, as the reference routine */
-            for (int k = 0; k < 3; k++) r[k] = site[a][k] - site[b][k];
+          /* the site scheme takes each site pair's own minimum image, as the reference routine: the
+           * centres' image unless a component is beyond half the box */
+          if (!mol && (fabs(r[0]) > half[0] || fabs(r[1]) > half[1] || fabs(r[2]) > half[2]))
             rl_box_minimum_image(&ff->box, r);
-          }
           const double s = dot3(r, r);
           if (!mol && s >= rc2) continue;
           if (s < md2) {
@@ -373,7 +383,6 @@ int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tcon
                           "body %d are %g apart", a - off[i], i, b - off[j], j, sqrt(s));
             break;
           }
-          const int ta = type0[i] + a - off[i], tb = type0[j] + b - off[j];
           if (!oriented[ta] && !oriented[tb]) { /* LJ and charges only */
             pd p = {{0.0}, {{0.0}}};
             site_pd(ff, ta, tb, s, 0.0, 0.0, 0.0, &p);
@@ -395,6 +404,6 @@ int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tcon
       out->lap_rot += S.lap_rot[i];
     }
   }
-  free(site); free(ctr); free(axis); free(acc); free(lap); free(off); free(type0); free(oriented);
+  free(site); free(ctr); free(axis); free(acc); free(lap); free(off); free(type0); free(oriented); free(pairs);
   return st;
 }
