@@ -30,9 +30,9 @@ mkdir -p "$out/obj"
 flags=(-std=c17 -g -O1 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -DROTLEAP_NO_CLONES -Iinclude
        -fsanitize=address,undefined -fno-sanitize-recover=undefined $(pkg-config --cflags gsl inih))
 # the library, compiled once (again when a source or a header is newer than its object)
-newest_header=$(find include core models io observables forces integrators -name '*.h' -printf '%T@ %p\n' | sort -n | tail -1 | cut -d' ' -f2)
+newest_header=$(find include core models io observables forces integrators run -name '*.h' -printf '%T@ %p\n' | sort -n | tail -1 | cut -d' ' -f2)
 objs=()
-for src in core/*.c models/*.c io/*.c observables/*.c forces/*.c forces/pair/*.c integrators/*.c integrators/paths/*.c; do
+for src in core/*.c models/*.c io/*.c observables/*.c forces/*.c forces/pair/*.c integrators/*.c integrators/paths/*.c integrators/stepops/*.c run/*.c; do
   obj=$out/obj/$(echo "$src" | tr / _).o
   if [ ! "$obj" -nt "$src" ] || [ ! "$obj" -nt "$newest_header" ]; then
     "$cc" "${flags[@]}" -fsanitize=fuzzer-no-link -c "$src" -o "$obj"
