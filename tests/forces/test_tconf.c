@@ -203,6 +203,7 @@ static void mc_check(rl_system *sys, rl_forcefield *ff, const mc_case *c, gsl_rn
   double blk[B][4];
   memset(blk, 0, sizeof blk);
   long acc = 0, tries = 0;
+  double(*f)[3] = calloc((size_t)n + 1, sizeof *f), (*kk)[3] = calloc((size_t)rl_system_nrot(sys) + 1, sizeof *kk);
   const char *scale = getenv("TCONF_MC_SCALE"); /* longer chains by hand */
   const long per_block = c->sweeps / B * (scale ? atol(scale) : 1);
   for (long sw = 0; sw < c->equil + per_block * B; sw++) {
@@ -221,14 +222,11 @@ static void mc_check(rl_system *sys, rl_forcefield *ff, const mc_case *c, gsl_rn
       }
       int bad = 0;
       {
-        int nn = rl_system_count(sys), nr = rl_system_nrot(sys);
-        double(*f)[3] = calloc((size_t)nn + 1, sizeof *f);
-        double(*kk)[3] = calloc((size_t)nr + 1, sizeof *kk);
+        memset(f, 0, sizeof *f * (size_t)n);
+        memset(kk, 0, sizeof *kk * (size_t)rl_system_nrot(sys));
         rl_forces out = {f, kk, 0.0, {0}, 0};
         bad = rl_forcefield_compute(ff, sys, &out) != RL_OK; /* an overlap: rejected */
         double u1 = out.energy;
-        free(f);
-        free(kk);
         tries++;
         if (!bad && (u1 <= u || gsl_rng_uniform(rng) < exp(-(u1 - u) / kT))) {
           u = u1;
@@ -249,6 +247,8 @@ static void mc_check(rl_system *sys, rl_forcefield *ff, const mc_case *c, gsl_rn
     b[2] += t.k2;
     b[3] += t.lap_rot;
   }
+  free(f);
+  free(kk);
   printf("# %s: acceptance %.2f\n", c->label, (double)acc / (double)tries);
   /* the ratio of means and its error from the spread of the block ratios */
   for (int part = 0; part < 2; part++) {
