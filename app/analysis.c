@@ -59,6 +59,13 @@ struct analysis {
   long seq;           /* records written or replayed                                          */
   int jbad;           /* a write failed: the journal is no longer a prefix of the run         */
   int replayed;
+  /* output.tconf: the configurational temperature's sums of each sample (forcefield.h) */
+  int tconf;
+  rl_trace *tc[6];              /* per sample: sum |F|^2, sum lap_r, sum |tau|^2, sum lap_rot, and
+                                   the totals sum |F|^2 + |tau|^2, sum lap_r + lap_rot                */
+  const rl_forcefield *ff;      /* analysis_set_tconf: the force field the sums use                */
+  char tconf_na[RL_FF_TEXT + 64]; /* why the sums cannot be taken (another term), or ""           */
+  char tconf_note[3 * RL_FF_TEXT]; /* the force field's discontinuities (the estimator is biased) */
 };
 
 /* The correlation functions and the MSD keep whole configurations (four vectors per body and
@@ -132,6 +139,7 @@ typedef struct {
   double rmax, box[3], timestep;
   int64_t energy_every, sample_every, tcf_cap;
   char model[64];
+  int32_t tconf; /* output.tconf; only in the header of a journal with it (so the others are as before) */
 } jheader;
 
 /* Copy k bytes between *x and buf + *off, in the direction `out` (1: x to buf). */
@@ -161,6 +169,7 @@ static size_t header_io(jheader *h, unsigned char *buf, int out)
   io(buf, &o, &h->sample_every, 8, out);
   io(buf, &o, &h->tcf_cap, 8, out);
   io(buf, &o, h->model, sizeof h->model, out);
+  if (out ? h->tconf : h->bytes > o) io(buf, &o, &h->tconf, 4, out);
   return o;
 }
 
@@ -171,6 +180,7 @@ static void header_of(const analysis *a, jheader *h)
   memcpy(h->magic, JOURNAL_MAGIC, 8);
   h->version = JOURNAL_VERSION;
   h->bom = JOURNAL_BOM;
+  h->tconf = a->tconf;
   unsigned char scratch[JOURNAL_HEADER_MAX];
   h->bytes = (uint32_t)header_io(h, scratch, 1);
   h->n = a->n;
@@ -199,6 +209,9 @@ static int header_check(const jheader *got, const jheader *want, const char *pat
     return rl_error(RL_EINVAL, "%s is not a rotleap analysis journal (no '%s' at its start)", path, JOURNAL_MAGIC);
   if (got->bom != want->bom)
     return rl_error(RL_EINVAL, "%s was written on a machine of another byte order", path);
+  if (got->version == want->version && got->tconf != want->tconf)
+    return rl_error(RL_EINVAL, "%s was written with output.tconf = %s, this run has %s", path, got->tconf ? "yes" : "no",
+                    want->tconf ? "yes" : "no");
   if (got->version != want->version || got->bytes != want->bytes)
     return rl_error(RL_EINVAL, "%s is an analysis journal of version %u (%u header bytes); this rotleap reads "
                     "version %u (%u bytes)", path, got->version, got->bytes, want->version, want->bytes);
@@ -239,6 +252,8 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   int ok = 1;
   for (int k = 0; k < NV; k++) ok = (a->v[k] = rl_trace_alloc(0)) && ok;
   for (int k = 0; k < 3; k++) ok = (a->M[k] = rl_trace_alloc(0)) && ok;
+  a->tconf = d->tconf && d->sample_every > 0;
+  for (int k = 0; k < 6 && a->tconf; k++) ok = (a->tc[k] = rl_trace_alloc(0)) && ok;
   ok = (a->M2 = rl_trace_alloc(0)) && ok;
   /* output.rdf: "O-O, H-H" */
   /* under a barostat, the deck's box (the first run's start; a continuation's box differs): the
@@ -261,7 +276,8 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->mark_c = calloc(RL_RDF_MARKS, sizeof *a->mark_c);
   a->mark_every = 1;
   /* the largest record: a sample that still feeds the correlation functions */
-  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV));
+  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV) +
+                  sizeof(double[4]));
   a->hist = malloc(sizeof *a->hist * RDF_BINS);
   ok = ok && a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->mark_c && a->rec &&
        a->hist;
@@ -283,6 +299,7 @@ void analysis_free(analysis *a)
   if (!a) return;
   for (int k = 0; k < NV; k++) rl_trace_free(a->v[k]);
   for (int k = 0; k < 3; k++) rl_trace_free(a->M[k]);
+  for (int k = 0; k < 6; k++) rl_trace_free(a->tc[k]);
   rl_trace_free(a->M2);
   for (int k = 0; k < a->nrdf; k++) rl_rdf_free(a->rdf[k]);
   rl_vec_series_free(a->axis);
@@ -293,12 +310,39 @@ void analysis_free(analysis *a)
   free(a);
 }
 
+int analysis_set_tconf(analysis *a, const rl_terms *terms, const rl_forcefield *ff)
+{
+  if (!a || !a->tconf) return RL_OK;
+  a->ff = NULL;
+  a->tconf_na[0] = a->tconf_note[0] = '\0';
+  for (int k = 0; terms && k < rl_terms_count(terms); k++)
+    if (strcmp(rl_terms_type(terms, k)->name, "pair")) {
+      snprintf(a->tconf_na, sizeof a->tconf_na, "the force term '%s' has no Laplacian in rl_config_temperature (only "
+               "the pair term has)", rl_terms_type(terms, k)->name);
+      return RL_OK;
+    }
+  if (!ff) {
+    snprintf(a->tconf_na, sizeof a->tconf_na, "no pair force field");
+    return RL_OK;
+  }
+  a->ff = ff;
+  rl_ff_discontinuity dis[8];
+  const int nd = rl_forcefield_discontinuities(ff, dis, 8);
+  for (int t = 0; t < nd && t < 8; t++) {
+    if (!dis[t].force_jumps && !dis[t].energy_jumps) continue;
+    const size_t used = strlen(a->tconf_note);
+    snprintf(a->tconf_note + used, sizeof a->tconf_note - used, "%s%s (%s jumps)", used ? ", " : "", dis[t].term,
+             dis[t].energy_jumps ? "energy" : "force");
+  }
+  return RL_OK;
+}
+
 /* ------------------------------------------------------------------ records */
 
 /* Bytes of the next sample record's payload (it feeds the correlation functions or not). */
 static size_t sample_bytes(const analysis *a)
 {
-  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0);
+  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0) + (a->tconf ? sizeof(double[4]) : 0);
   if (a->samples < a->tcf_cap) len += (size_t)(3 + (a->orient != ORIENT_NONE)) * sizeof(double[3]) * (size_t)a->n;
   return len;
 }
@@ -343,6 +387,14 @@ static int consume_sample(analysis *a, const unsigned char *p)
 {
   int st = RL_OK;
   mark_sample(a);
+  if (a->tconf) { /* the configurational temperature's sums come first */
+    double x[4];
+    memcpy(x, p, sizeof x);
+    p += sizeof x;
+    for (int k = 0; k < 4 && !st; k++) st = rl_trace_add(a->tc[k], x[k]);
+    if (!st) st = rl_trace_add(a->tc[4], x[0] + x[2]);
+    if (!st) st = rl_trace_add(a->tc[5], x[1] + x[3]);
+  }
   for (int q = 0; q < a->nrdf && !st; q++) {
     double pairs;
     int32_t na;
@@ -446,6 +498,15 @@ int analysis_sample(analysis *a, const rl_system *sys)
   int st = journal_ok(a);
   if (st) return st;
   unsigned char *p = a->rec;
+  if (a->tconf) {
+    rl_tconf_sums t = {0.0, 0.0, 0.0, 0.0};
+    if (!a->ff && !a->tconf_na[0])
+      return rl_error(RL_ESTATE, "analysis_sample: output.tconf needs the force field (analysis_set_tconf)");
+    if (a->ff && (st = rl_config_temperature(a->ff, sys, &t))) return st;
+    const double x[4] = {t.f2, t.lap_r, t.k2, t.lap_rot}; /* zeros where n/a: the lines say why */
+    memcpy(p, x, sizeof x);
+    p += sizeof x;
+  }
   for (int q = 0; q < a->nrdf; q++) {
     double pairs;
     int na;
@@ -557,6 +618,7 @@ int analysis_replay(analysis *a, const char *path, long nbytes)
   struct stat sb;
   int st = RL_OK;
   jheader want, got;
+  memset(&got, 0, sizeof got);
   header_of(a, &want);
   unsigned char hbuf[JOURNAL_HEADER_MAX];
   char magic[8] = "";
@@ -1051,6 +1113,49 @@ static void rdf_lines(FILE *f, const analysis *a, long j0, const char *path, cha
   free(g);
 }
 
+/* k_B T_conf / k_B from the moments of (numerator, denominator) sums: a ratio of means */
+static double tconf_ratio(const rl_moments *m, const void *ctx)
+{
+  const double kB = *(const double *)ctx;
+  return m[0].n > 0 && m[1].mean > 0.0 ? m[0].mean / m[1].mean / kB : NAN;
+}
+
+/* The configurational temperatures of the samples from j0 (output.tconf). */
+static void tconf_lines(FILE *f, const analysis *a, long j0)
+{
+  if (!a->tconf) return;
+  const units_text u = units_of(a->d->units);
+  static const char *name[3] = {"tconf_translational", "tconf_rotational", "tconf"};
+  if (a->tconf_na[0]) {
+    for (int k = 0; k < 3; k++) fprintf(f, "%s = n/a (%s)\n", name[k], a->tconf_na);
+    return;
+  }
+  const long n = rl_trace_moments(a->tc[0], j0).n;
+  if (n == 0) {
+    for (int k = 0; k < 3; k++) fprintf(f, "%s = n/a (no sampled configuration averaged)\n", name[k]);
+    return;
+  }
+  double kB = rl_units_kB(a->d->units);
+  rl_trace *pairs[3][2] = {{a->tc[0], a->tc[1]}, {a->tc[2], a->tc[3]}, {a->tc[4], a->tc[5]}};
+  for (int k = 0; k < 3; k++) {
+    if (k == 1 && !(rl_trace_moments(a->tc[3], j0).mean > 0.0)) {
+      fprintf(f, "%s = n/a (no rotating molecule, or no torque)\n", name[k]);
+      continue;
+    }
+    jk_result r;
+    char es[32], note[200];
+    jackknife(pairs[k], 2, j0, tconf_ratio, &kB, &r);
+    jk_text(&r, 1, "samples", es, sizeof es, note, sizeof note);
+    fprintf(f, "%s = %.6g%s %s (<sum |%s|^2> / <sum %s>, %ld samples; %s)\n", name[k], r.value, es, u.T,
+            k == 0 ? "F" : k == 1 ? "tau" : "F|^2 + |tau", k == 0 ? "lap_R U" : k == 1 ? "lap_phi U" : "lap_R U + lap_phi U",
+            n, note);
+  }
+  if (a->tconf_note[0])
+    fprintf(f, "tconf_note = biased: the forces jump at the cutoff (%s), which puts delta functions into the "
+               "Laplacian that the configuration's sums leave out; use interactions.lj = shifted-force or switched, "
+               "eps_rf = inf, dipole = sf for an exact estimate (docs/observables.md)\n", a->tconf_note);
+}
+
 /* calE, calU, their ratio and the heat capacity of the step records from i0. */
 static void fluctuation_lines(FILE *f, const analysis *a, long i0, long per)
 {
@@ -1137,6 +1242,7 @@ int analysis_write(analysis *a, const char *prefix, const char *suffix, double d
   line_mean(f, "mean_square_force", a->v[V_F2], w.i0, u.F2);
   line_mean(f, "mean_square_torque", a->v[V_K2], w.i0, u.K2);
   fluctuation_lines(f, a, w.i0, per);
+  tconf_lines(f, a, w.j0);
   char *tcf_path = file_name(prefix, ".tcf.csv", suffix), *rdf_path = file_name(prefix, ".rdf.csv", suffix);
   correlation_lines(f, a, w.j0, tcf_path, dt_sample, errs, sizeof errs);
   if (a->dipolar && rl_trace_moments(a->M2, w.j0).n >= 2) {

@@ -30,7 +30,12 @@ void analysis_free(analysis *a);
  * taken) for a non-finite value; a failed journal write names the journal and the reason. */
 int analysis_step(analysis *a, const rl_step_info *info, double pressure, const rl_forces *F,
                   const rl_system *sys);
-/* Every output.sample_every steps: the configuration (positions, orientations, velocities). */
+/* output.tconf: the force field whose configurational temperature each sample takes (forcefield.h,
+ * rl_config_temperature), before the first sample; the results say n/a where the scene has a
+ * force term other than the pair term.  Does nothing without output.tconf. */
+int analysis_set_tconf(analysis *a, const rl_terms *terms, const rl_forcefield *ff);
+/* Every output.sample_every steps: the configuration (positions, orientations, velocities) and,
+ * with output.tconf, the configurational temperature's sums. */
 int analysis_sample(analysis *a, const rl_system *sys);
 
 /* Journal every later record to fp (binary, append-only; `path` names it in messages).  A fresh

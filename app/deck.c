@@ -35,7 +35,7 @@ enum {
   K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_BARO, K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING,
-  K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_PROGRESS, NKEYS
+  K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_TCONF, K_PROGRESS, NKEYS
 };
 
 static const key_def keys[NKEYS] = {
@@ -92,6 +92,7 @@ static const key_def keys[NKEYS] = {
     [K_SAMPLE] = {"output", "sample_every", K_INT, Q_NONE, "10", NULL, "steps between configurations sampled for RDFs, correlation functions, diffusion and the dielectric constant (0: none)"},
     [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites)"},
     [K_DISCARD] = {"output", "discard", K_STRING, Q_NONE, "auto", NULL, "steps left out of every average in PREFIX.results.txt, .rdf.csv and .tcf.csv, counted from the run's first step: auto (the equilibrated region detected from U per molecule: Chodera's start that maximises the uncorrelated samples, docs/observables.md) or a whole number of steps (0: average everything)"},
+    [K_TCONF] = {"output", "tconf", K_BOOL, Q_NONE, "no", NULL, "configurational temperature (translational, rotational, total) of every sampled configuration in PREFIX.results.txt: <|F|^2>/<Laplacian U> from forces and torques, independent of the velocities, so it says whether the configurations are sampled at the thermostat's T at large steps, where the on-step kinetic temperature reads low (docs/observables.md). Costs an O(N^2) pass over molecule pairs per sample; exact only for forces continuous at the cutoff (lj = shifted-force or switched, eps_rf = inf, dipole = sf)"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
 };
 
@@ -1120,6 +1121,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     }
   }
   d->discard = strcmp(val(&r, K_DISCARD), "auto") ? integer(&r, K_DISCARD, 0, 0) : -1;
+  d->tconf = boolean(&r, K_TCONF);
   if (!r.bad[K_START] && strcmp(val(&r, K_START), "lattice")) start_file(&r, d, val(&r, K_START));
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;

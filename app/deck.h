@@ -74,6 +74,7 @@ typedef struct {
   long sample_every;        /* configurations for RDFs and correlation functions         */
   char rdf[256];            /* "O-O, H-H": site pairs (a longer value is refused)         */
   long discard;             /* output.discard: -1 auto, else steps left out of the averages */
+  int tconf;                /* output.tconf: the configurational temperature of each sample */
   int progress;             /* -1 auto (a terminal), 0 no, 1 yes                        */
   rl_units units;
   char path[RL_DECK_PATH_MAX]; /* the deck's path, as given                                */

@@ -592,6 +592,7 @@ static int attach_journal(run_ctx *c)
     if (!c->an || !(c->journal = outputs_create(c->out, OUT_SAMPLES))) return RL_EINVAL;
     st = RL_OK;
   }
+  if (!st) st = analysis_set_tconf(c->an, c->s.terms, c->s.ff); /* output.tconf */
   return st ? st : analysis_set_journal(c->an, c->journal, part);
 }
 

@@ -40,6 +40,7 @@ typedef struct {
   char error[512];
   double calE, calU, drift, ortho, t_trans, t_rot, rdf_dist, wall_per_step, ns_day, iterations;
   double max_h_omega;
+  double tconf_trans, tconf_rot; /* output.tconf: configurational temperatures (NaN: not taken) */
   long fallbacks;
   rl_rdf *rdf;
   double (*curve)[3]; /* step, time, running calE */
@@ -160,6 +161,8 @@ typedef struct {
   long done;
   double st_sum, stt, sE, stE, sTt, sTr, its;
   double report_wall;       /* time spent in these reporters (not the step's cost)          */
+  const rl_forcefield *tconf; /* output.tconf: the pair term whose sums each sample takes     */
+  rl_tconf_sums tc;         /* their sums over the samples                                   */
 } scan_acc;
 
 /* Every step: the series of calE and calU, the sums of the drift fit and the temperatures, the
@@ -195,13 +198,35 @@ static int scan_step(void *ctx, const rl_run_report *rep)
   return st;
 }
 
-/* Every sampling interval: the RDF of the first output.rdf pair, and the analysis's sample. */
+/* output.tconf: the pair term of the scene's terms (NULL, and the columns n/a, where another term
+ * has no Laplacian in rl_config_temperature, or without output.tconf). */
+static const rl_forcefield *scan_tconf_ff(const rl_deck *d, rl_terms *t)
+{
+  if (!d->tconf || !t || rl_terms_count(t) != 1) return NULL;
+  return rl_terms_find(t, &rl_term_pair);
+}
+
+/* One sample's sums added to sum. */
+static int scan_tconf_add(const rl_forcefield *ff, const rl_system *sys, rl_tconf_sums *sum)
+{
+  rl_tconf_sums t;
+  const int st = rl_config_temperature(ff, sys, &t);
+  sum->f2 += t.f2;
+  sum->lap_r += t.lap_r;
+  sum->k2 += t.k2;
+  sum->lap_rot += t.lap_rot;
+  return st;
+}
+
+/* Every sampling interval: the RDF of the first output.rdf pair, the analysis's sample and, with
+ * output.tconf, the configurational temperature's sums. */
 static int scan_sample(void *ctx, const rl_run_report *rep)
 {
   scan_acc *a = ctx;
   const double t0 = now();
   int st = rl_rdf_add_sites(a->r->rdf, rep->sys, 0, a->site[0], 0, a->site[1]);
   if (!st && a->an) st = analysis_sample(a->an, rep->sys);
+  if (!st && a->tconf) st = scan_tconf_add(a->tconf, rep->sys, &a->tc);
   a->report_wall += now() - t0;
   return st;
 }
@@ -234,6 +259,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   dr.energy_every = 1;
   dr.sample_every = sample;
   analysis *an = o->analysis && sys ? analysis_alloc(&dr, &base->mol, sys) : NULL;
+  if (an) analysis_set_tconf(an, ff, scan_tconf_ff(d, ff));
   int st = !sys || !ff || (o->analysis && !an) ? RL_EINVAL : RL_OK; /* these say why */
   if (!st && (!E || !U || !r->curve || (sample && !r->rdf)))
     st = rl_error(RL_ENOMEM, "out of memory for the run's accumulators (%d molecules)", n);
@@ -251,8 +277,10 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     rp.watch.names.timestep = "the time step";
     if (!st && !(drv = rl_run_alloc(sys, in, ff, &rp))) st = RL_ENOMEM;
   }
-  scan_acc acc = {r, d, thermo, E, U, an, sys, site, sample, cap, 0, 0, 0, 0, 0, 0, 0, 0, 0.0};
+  scan_acc acc = {r, d, thermo, E, U, an, sys, site, sample, cap, 0, 0, 0, 0, 0, 0, 0, 0, 0.0,
+                  sample ? scan_tconf_ff(d, ff) : NULL, {0.0, 0.0, 0.0, 0.0}};
   r->max_h_omega = 0.0;
+  r->tconf_trans = r->tconf_rot = NAN;
   const rl_reporter reps[2] = {{"scan", RL_REPORT_STEP, 1, scan_step, &acc},
                                {"scan samples", RL_REPORT_STATE, sample > 0 ? sample : 1, scan_sample, &acc}};
   for (int q = 0; !st && q < (sample > 0 ? 2 : 1); q++) st = rl_run_add_reporter(drv, &reps[q]);
@@ -287,6 +315,9 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     r->drift = slope / n * (d->units == RL_UNITS_REAL ? 1e3 : 1.0); /* per molecule per ns (real) */
     r->t_trans = sTt / done;
     r->t_rot = sTr / done;
+    const double kB = rl_units_kB(d->units);
+    r->tconf_trans = acc.tconf && acc.tc.lap_r > 0.0 ? acc.tc.f2 / acc.tc.lap_r / kB : NAN;
+    r->tconf_rot = acc.tconf && acc.tc.lap_rot > 0.0 ? acc.tc.k2 / acc.tc.lap_rot / kB : NAN;
     r->wall_per_step = wall / done;
     r->ns_day = d->units == RL_UNITS_REAL ? r->h * 1e-3 * 86400.0 / r->wall_per_step : 0.0;
   }
@@ -329,18 +360,26 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
              "energy, %s per molecule per %s; ortho: max |A A^T - I| or ||rho|-1| at the end; rdf: int |g - g_ref| dr "
              "/ r_max for %s against the first run; iter: quaternion/implicit iterations per body and step\n",
           real ? "kJ/mol" : "reduced", real ? "ns" : "time unit", rdfname);
-  fprintf(f, "%-14s %7s %7s %10s %10s %8s %10s %8s %6s %8s %8s %6s %8s %6s %9s %9s  %s\n", "integrator",
-          real ? "h(fs)" : "h", "steps", "calE", "calU", "E/U", "drift", "ortho", "fallb", "T_trans", "T_rot", "Tr/Tt",
-          "rdf", "iter", "ms/step", real ? "ns/day" : "", "status");
+  if (d->tconf)
+    fprintf(f, "# Tc_trans, Tc_rot: configurational temperatures <sum |F|^2> / <sum lap_R U> and <sum |tau|^2> / <sum "
+               "lap_phi U> over the samples (output.tconf; docs/observables.md)\n");
+  fprintf(f, "%-14s %7s %7s %10s %10s %8s %10s %8s %6s %8s %8s %6s ", "integrator", real ? "h(fs)" : "h", "steps", "calE",
+          "calU", "E/U", "drift", "ortho", "fallb", "T_trans", "T_rot", "Tr/Tt");
+  if (d->tconf) fprintf(f, "%8s %8s ", "Tc_trans", "Tc_rot");
+  fprintf(f, "%8s %6s %9s %9s  %s\n", "rdf", "iter", "ms/step", real ? "ns/day" : "", "status");
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
     char rdf[32];
-    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f %8s %6.2f %9.3f %9.3g  %s\n",
+    fprintf(f, "%-14s %7.3g %7ld %10.3e %10.3e %7.2f%% %10.3e %8.1e %6ld %8.2f %8.2f %6.3f ",
             rl_deck_integrators[r->integ].name, r->h * hs, r->done, r->calE, r->calU,
             r->calU > 0 ? 100.0 * r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->t_trans, r->t_rot,
-            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0, rdf_text(rdf, sizeof rdf, "%.4f", r->rdf_dist),
-            r->iterations, 1e3 * r->wall_per_step,
-            r->ns_day, r->ok ? "ok" : r->error);
+            r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0);
+    if (d->tconf) {
+      char tt[32], tr[32];
+      fprintf(f, "%8s %8s ", rdf_text(tt, sizeof tt, "%.2f", r->tconf_trans), rdf_text(tr, sizeof tr, "%.2f", r->tconf_rot));
+    }
+    fprintf(f, "%8s %6.2f %9.3f %9.3g  %s\n", rdf_text(rdf, sizeof rdf, "%.4f", r->rdf_dist), r->iterations,
+            1e3 * r->wall_per_step, r->ns_day, r->ok ? "ok" : r->error);
   }
   fprintf(f, "# largest time step with calE/calU <= %.3g%% (and no error):\n", 100.0 * o->tolerance);
   for (int i = 0; i < o->ninteg; i++) {
@@ -395,17 +434,18 @@ static int write_table_csv(const rl_deck *d, const scan_opts *o, const scan_run 
   const int real = d->units == RL_UNITS_REAL;
   if (rl_atomic_open(&af, path)) return 1;
   fprintf(af.fp, "integrator,h_%s,steps,steps_done,calE,calU,calE_over_calU,drift_per_molecule_per_%s,ortho_error,fallbacks,"
-                 "iterations_per_body_step,max_h_omega,t_trans,t_rot,t_rot_over_t_trans,rdf_distance_%s,wall_s_per_step,"
-                 "ns_per_day,meets_tolerance,status\n",
+                 "iterations_per_body_step,max_h_omega,t_trans,t_rot,t_rot_over_t_trans,tconf_trans,tconf_rot,rdf_distance_%s,"
+                 "wall_s_per_step,ns_per_day,meets_tolerance,status\n",
           real ? "fs" : "reduced", real ? "ns" : "time", rdfname);
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
     int meets = r->ok && r->calU > 0 && r->calE <= o->tolerance * r->calU;
-    char rdf[32];
-    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%s,%.6e,%.6g,%s,",
+    char rdf[32], tt[32], tr[32];
+    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%s,%s,%s,%.6e,%.6g,%s,",
             rl_deck_integrators[r->integ].name, r->h * (real ? 1e3 : 1.0), r->steps, r->done, r->calE, r->calU,
             r->calU > 0 ? r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->iterations, r->max_h_omega,
             r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0,
+            rdf_text(tt, sizeof tt, "%.6g", r->tconf_trans), rdf_text(tr, sizeof tr, "%.6g", r->tconf_rot),
             rdf_text(rdf, sizeof rdf, "%.6e", r->rdf_dist), r->wall_per_step,
             r->ns_day, meets ? "yes" : "no");
     csv_text(af.fp, r->ok ? "ok" : r->error);

@@ -286,6 +286,47 @@ typedef struct {
  * coulomb-intramolecular. */
 int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *out, int max);
 
+
+/* ------------------------------------------------------------- configurational temperature
+ * k_B T_conf = <|grad U|^2> / <Laplacian U> (Rugh 1997; Butler, Ayton, Jepps & Evans, Mol. Phys.
+ * 93, 875 (1998)), for rigid bodies split into a translational part (gradients with respect to
+ * the centres: the forces) and a rotational one (with respect to small rotations of each body
+ * about the lab axes through its centre: the torques).  rl_config_temperature returns the sums
+ * over bodies of one configuration; the temperature is a ratio of their means over samples:
+ *   k_B T_trans = <f2> / <lap_r>,  k_B T_rot = <k2> / <lap_rot>,
+ *   k_B T_conf  = <f2 + k2> / <lap_r + lap_rot>.
+ * The rotational Laplacian of body i is sum_a d^2 U / d phi_a^2 at phi = 0 for the rotation
+ * exp(phi [e_a]x) about the body's centre (the divergence of the torque field under the
+ * invariant measure of the orientations); for coordinates x_p of the body (its sites' offsets
+ * d from the centre, its axis e) with gradient g_p and Hessian blocks H_pq:
+ *   lap_rot = sum_pq [(x_p . x_q) tr H_pq - x_q^T H_pq x_p] - 2 sum_p g_p . x_p
+ * (docs/observables.md, "Configurational temperature").  Every pair term of the force field is
+ * included (LJ in each truncation, reaction-field charges, point dipoles RF and SF, charge-
+ * dipole, linear quadrupoles); the dispersion correction and the intramolecular reaction field
+ * are constants of a rigid configuration and add nothing.  Computed by a serial O(N^2) loop over
+ * body pairs with the reference potentials (not the specialised kernels).
+ *
+ * The estimator is exact only where the forces are continuous at the cutoff: a force that
+ * jumps there puts a delta function into the Laplacian (a surface term this pointwise sum
+ * leaves out) and an energy jump one more.  rl_tconf_exact says which case holds (from
+ * rl_forcefield_discontinuities, whose sampling of orientations makes it a setup-time call): the
+ * shifted-force and switched LJ, eps_rf = infinity and the shifted-force dipoles are
+ * continuous under the site cutoff; the Laplacian of a shifted-force term jumps at the cutoff,
+ * which is harmless (no delta function). */
+typedef struct {
+  double f2;      /* sum_i |F_i|^2 over all bodies                        (energy/length)^2 */
+  double lap_r;   /* sum_i Laplacian of U in the centre R_i                 energy/length^2 */
+  double k2;      /* sum_i |tau_i|^2 over rotating bodies                           energy^2 */
+  double lap_rot; /* sum_i rotational Laplacian of U (per rad^2)                      energy */
+} rl_tconf_sums;
+
+/* The sums of the configuration of sys under the force field ff (the system it was made for;
+ * its box is the force field's).  RL_OK; RL_ESTATE if sys no longer matches, RL_EINVAL for
+ * overlapping sites, RL_ENOMEM. */
+int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tconf_sums *out);
+/* 1 if every force of ff is continuous at the cutoff (the sums give an exact estimator), else 0. */
+int rl_tconf_exact(const rl_forcefield *ff);
+
 #ifdef __cplusplus
 }
 #endif

@@ -102,5 +102,13 @@ check "scan with a blow-up exits 0" '[ $code -eq 0 ]'
 check "blow-up named with its step and cause" 'grep -q "rl at h = 20 fs: step [0-9]* (t = .*): the total energy jumped" err.txt'
 check "blow-up in the CSV status, the stable run kept" 'grep -q "^rl,20,100,[0-9]*,.*energy jumped" "$work/b.scan.csv" && grep -q "^rl,1,100,100,.*,\"ok\"$" "$work/b.scan.csv"'
 
+# output.tconf: the configurational temperatures as columns (n/a without it), and with --analysis
+# in each run's results
+"$rotleap" scan "$deck" --set system.start="$work/c.chk" --set run.equilibrate=0 --timesteps 1,2fs --steps 60 \
+  --analysis --no-plot --set output.tconf=yes --set output.sample_every=5 --set output.prefix="$work/tc" >out.txt 2>err.txt; code=$?
+check "scan with output.tconf: tconf_trans, tconf_rot numbers in K-range, per-run results have them" \
+  '[ $code -eq 0 ] && /usr/bin/python3 -c "import csv,sys; rows=list(csv.DictReader(open(sys.argv[1]))); sys.exit(not (len(rows) == 2 and all(100 < float(r[\"tconf_trans\"]) < 600 and 100 < float(r[\"tconf_rot\"]) < 600 for r in rows)))" "$work/tc.scan.csv" && grep -q "Tc_trans" out.txt && grep -q "^tconf_rotational = " "$work/tc.rl.h1.results.txt"'
+check "scan without output.tconf: the columns say n/a" 'cut -d, -f16,17 "$work/w.scan.csv" | sed -n 2p | grep -q "^n/a,n/a$"'
+
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -10,70 +10,7 @@
  * floor = 1e-3 of the largest body force (torque) of the scene, so that a body that hardly
  * interacts is not judged on the round-off of the total energy. */
 #include "ff_testutil.h"
-
-enum { SCENE_CHARGES = 0, SCENE_DIPOLES = 1, SCENE_QUADS = 2 };
-
-typedef struct {
-  ff_test_species sp[4];
-  rl_species_ff sff[4];
-  int nsp;
-  rl_system *sys;
-} scene;
-
-static const double fd_box[3] = {4.0, 4.0, 4.0}; /* every scene's */
-
-static void scene_add(scene *s, const ff_test_species *t, int count)
-{
-  s->sp[s->nsp] = *t;
-  s->sp[s->nsp].desc.sites = &s->sp[s->nsp].sites[0][0];
-  int st = rl_system_add_species(s->sys, &s->sp[s->nsp].desc, count, NULL);
-  if (st) fprintf(stderr, "add_species: %s\n", rl_last_error());
-  assert_int_equal(st, RL_OK);
-  s->nsp++;
-}
-
-static void scene_build(scene *s, int which, gsl_rng *rng)
-{
-  memset(s, 0, sizeof *s);
-  s->sys = rl_system_alloc(RL_UNITS_REAL);
-  assert_int_equal(rl_system_set_box(s->sys, fd_box), RL_OK);
-  ff_test_species t;
-  if (which == SCENE_CHARGES) {
-    ff_ion(&t, 0.8); scene_add(s, &t, 2);
-    ff_water(&t); scene_add(s, &t, 2);
-    ff_tetra(&t); scene_add(s, &t, 2);
-    ff_co2(&t); scene_add(s, &t, 2);
-  } else if (which == SCENE_DIPOLES) {
-    ff_ion(&t, -0.5); scene_add(s, &t, 2);
-    ff_stockmayer(&t, 0.04); scene_add(s, &t, 3);
-    ff_symtop(&t); scene_add(s, &t, 2);
-    ff_water(&t); scene_add(s, &t, 1);
-  } else {
-    ff_2cljq(&t, 0.012); scene_add(s, &t, 3);
-    ff_symtop(&t);
-    t.has_dipole = 0;
-    t.has_quad = 1;
-    t.quadrupole[0] = -0.009;
-    for (int a = 0; a < 4; a++) t.charge[a] = 0.0;
-    scene_add(s, &t, 2);
-    ff_water(&t);
-    for (int a = 0; a < 4; a++) t.charge[a] = 0.0;
-    t.has_quad = 1;
-    t.quadrupole[3] = 0.01;
-    t.quadrupole[0] = 0.0;
-    scene_add(s, &t, 2);
-  }
-  for (int k = 0; k < s->nsp; k++) s->sff[k] = ff_test_species_ff(&s->sp[k]);
-  double c[3] = {2.0, 2.0, 2.0};
-  ff_place_cluster(s->sys, rng, c, 0.55, 0.34);
-}
-
-static void base_params(rl_ff_params *p)
-{
-  rl_ff_params_default(p);
-  p->cutoff = 0.9;
-  p->r_switch = 0.7;
-}
+#include "ff_scenes.h"
 
 static double norm3(const double a[3]) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
@@ -135,76 +72,38 @@ static void fd_check(scene *s, const rl_ff_params *p, const char *label)
   rl_forcefield_free(ff);
 }
 
-static const char *trunc_name[] = {"plain", "shifted", "shifted-force", "switched"};
 static const char *scheme_name[] = {"site", "molecule"};
+
+/* Every force-field case of scene `which` (ff_scene_case) on the scene from `seed`. */
+static void fd_scene(int which, unsigned long seed)
+{
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, seed);
+  scene s;
+  scene_build(&s, which, rng);
+  rl_ff_params p;
+  char label[128];
+  for (int k = 0; ff_scene_case(which, k, &p, label, sizeof label); k++) fd_check(&s, &p, label);
+  rl_system_free(s.sys);
+  gsl_rng_free(rng);
+}
 
 static void test_fd_lj_coulomb(void **state)
 {
   (void)state;
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, 11);
-  scene s;
-  scene_build(&s, SCENE_CHARGES, rng);
-  for (int sc = 0; sc < 2; sc++)
-    for (int t = 0; t < 4; t++) {
-      rl_ff_params p;
-      base_params(&p);
-      p.scheme = (rl_cutoff_scheme)sc;
-      p.lj_truncation = (rl_lj_truncation)t;
-      p.eps_rf = t % 2 ? INFINITY : 78.3;
-      char label[128];
-      snprintf(label, sizeof label, "LJ %s + RF(eps %s), %s cutoff", trunc_name[t],
-               t % 2 ? "inf" : "78.3", scheme_name[sc]);
-      fd_check(&s, &p, label);
-    }
-  rl_system_free(s.sys);
-  gsl_rng_free(rng);
+  fd_scene(SCENE_CHARGES, 11);
 }
 
 static void test_fd_dipoles(void **state)
 {
   (void)state;
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, 12);
-  scene s;
-  scene_build(&s, SCENE_DIPOLES, rng);
-  static const char *meth[] = {"dipole RF eps 78.3", "dipole RF eps 1", "dipole SF"};
-  for (int sc = 0; sc < 2; sc++)
-    for (int m = 0; m < 3; m++) {
-      rl_ff_params p;
-      base_params(&p);
-      p.scheme = (rl_cutoff_scheme)sc;
-      p.lj_truncation = RL_LJ_SHIFTED_FORCE;
-      p.eps_rf = m == 1 ? 1.0 : 78.3;
-      p.dipole_method = m == 2 ? RL_DIPOLE_SF : RL_DIPOLE_RF;
-      char label[128];
-      snprintf(label, sizeof label, "%s + charge-dipole, %s cutoff", meth[m], scheme_name[sc]);
-      fd_check(&s, &p, label);
-    }
-  rl_system_free(s.sys);
-  gsl_rng_free(rng);
+  fd_scene(SCENE_DIPOLES, 12);
 }
 
 static void test_fd_quadrupoles(void **state)
 {
   (void)state;
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, 13);
-  scene s;
-  scene_build(&s, SCENE_QUADS, rng);
-  for (int sc = 0; sc < 2; sc++)
-    for (int t = 0; t < 4; t += 2) {
-      rl_ff_params p;
-      base_params(&p);
-      p.scheme = (rl_cutoff_scheme)sc;
-      p.lj_truncation = (rl_lj_truncation)t;
-      char label[128];
-      snprintf(label, sizeof label, "quadrupole + LJ %s, %s cutoff", trunc_name[t],
-               scheme_name[sc]);
-      fd_check(&s, &p, label);
-    }
-  rl_system_free(s.sys);
-  gsl_rng_free(rng);
+  fd_scene(SCENE_QUADS, 13);
 }
 
 /* ------------------------------------------------------------- Newton and invariance */
