@@ -18,7 +18,6 @@
 void rl_ff_params_default(rl_ff_params *p)
 {
   memset(p, 0, sizeof *p);
-  p->box[0] = p->box[1] = p->box[2] = 0.0;
   p->cutoff = 0.0;
   p->scheme = RL_CUTOFF_SITE;
   p->lj_truncation = RL_LJ_PLAIN;
@@ -162,19 +161,14 @@ static int check_array(const double *x, int k, int ns, const char *name, int non
 
 /* The box the force field takes: the system's cell; for a system without one, the deprecated
  * p.box of callers written before the system owned its cell (forcefield.h). */
-static int system_box(const rl_system *sys, const double pbox[3], rl_box *box)
+/* The periodic cell is the system's (rl_system_set_box); the force field keeps a copy that
+ * rl_forcefield_compute refreshes when the system's box version changes. */
+static int system_box(const rl_system *sys, rl_box *box)
 {
   double L[3];
   rl_system_box(sys, L);
-  const int legacy = pbox[0] != 0.0 || pbox[1] != 0.0 || pbox[2] != 0.0;
-  if (!rl_system_periodic(sys)) {
-    if (legacy) return rl_box_set(box, pbox);
+  if (!rl_system_periodic(sys))
     return rl_error(RL_EINVAL, "forcefield: the system has no periodic box (rl_system_set_box)");
-  }
-  if (legacy && (pbox[0] != L[0] || pbox[1] != L[1] || pbox[2] != L[2]))
-    return rl_error(RL_EINVAL, "forcefield: rl_ff_params.box (%g %g %g) differs from the system's "
-                    "box (%g %g %g); the box is the system's: leave p.box 0", pbox[0], pbox[1],
-                    pbox[2], L[0], L[1], L[2]);
   return rl_box_set(box, L);
 }
 
@@ -197,7 +191,7 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     return NULL;
   }
   rl_box box;
-  if (system_box(sys, p->box, &box)) return NULL;
+  if (system_box(sys, &box)) return NULL;
   if (check_cutoff(&box, p->cutoff)) return NULL;
   if (p->scheme != RL_CUTOFF_SITE && p->scheme != RL_CUTOFF_MOLECULE) {
     rl_error(RL_EINVAL, "forcefield: unknown cutoff scheme %d", (int)p->scheme);
@@ -316,7 +310,6 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
   rl_forcefield *ff = calloc(1, sizeof *ff);
   if (!ff) { free(first_body); free(count); rl_error(RL_ENOMEM, "forcefield: out of memory"); return NULL; }
   ff->p = *p;
-  memset(ff->p.box, 0, sizeof ff->p.box); /* the box in use is ff->box, the system's */
   ff->box = box;
   ff->box_version = rl_system_box_version(sys);
   ff->kc = p->coulomb_constant != 0.0 ? p->coulomb_constant

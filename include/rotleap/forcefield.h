@@ -88,11 +88,6 @@ typedef enum {
  * at round-off (about 1e-15 relative).  Built without OpenMP, everything runs on one thread. */
 
 typedef struct {
-  double box[3];                  /* deprecated: leave 0.  The force field takes the periodic cell
-                                     from the system (rl_system_set_box) and follows its changes.
-                                     Read only for a system without a cell (callers written
-                                     before the system owned it); with a cell it must be 0 or
-                                     equal to the system's edges                               */
   double cutoff;                  /* rc (> 0, <= half the shortest edge)                        */
   rl_cutoff_scheme scheme;        /* default RL_CUTOFF_SITE                                     */
   rl_lj_truncation lj_truncation; /* default RL_LJ_PLAIN                                        */

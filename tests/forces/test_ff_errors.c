@@ -83,18 +83,10 @@ static void test_params(void **state)
   assert_int_equal(rl_system_set_box(u.sys, none), RL_OK);
   expect("a system without a periodic box", alloc_status(&u), RL_EINVAL, "no periodic box",
          "rl_system_set_box", NULL);
-  /* the deprecated p.box: taken only for a system without a cell, checked as before */
-  u.p.box[0] = 3.0; u.p.box[1] = 2.4; u.p.box[2] = -1.0;
-  expect("negative box edge (deprecated p.box)", alloc_status(&u), RL_EINVAL, "box edge Lz",
-         "positive", NULL);
-  u.p.box[2] = 3.0;
-  expect("p.box for a system without a cell accepted", alloc_status(&u), RL_OK, NULL);
+  const double neg[3] = {3.0, 2.4, -1.0};
+  expect("a negative box edge is refused by the system", rl_system_set_box(u.sys, neg), RL_EINVAL, NULL);
   assert_int_equal(rl_system_set_box(u.sys, L), RL_OK);
-  expect("p.box equal to the system's box accepted", alloc_status(&u), RL_OK, NULL);
-  u.p.box[1] = 3.0;
-  expect("p.box that differs from the system's box", alloc_status(&u), RL_EINVAL,
-         "differs from the system's box", "leave p.box 0", NULL);
-  u.p.box[0] = u.p.box[1] = u.p.box[2] = 0.0;
+  expect("the system's box accepted", alloc_status(&u), RL_OK, NULL);
 
   u.p.cutoff = NAN;
   expect("non-finite cutoff", alloc_status(&u), RL_EINVAL, "cutoff", "finite", NULL);

@@ -9,6 +9,7 @@
 /* The default Coulomb constant must be OpenMM 7.7's ONE_4PI_EPS0 (CODATA 2018). */
 #define KC_OPENMM77 138.93545764438198
 
+static const double openmm_box[3] = {3.0, 3.0, 3.0}; /* the script's periodic cell, nm */
 static const double centres[3][3] = {{1.00, 1.10, 0.90}, {1.27, 1.05, 1.12}, {0.85, 1.33, 1.20}};
 static const double axes[3][3] = {{0.3, -0.5, 0.8}, {-0.6, 0.2, 0.4}, {0.1, 0.9, -0.3}};
 static const double angles[3] = {0.7, 2.1, -1.3};
@@ -51,6 +52,7 @@ static void test_tip3p_waters(void **state)
   ff_site(&w, 1, hx, 0, hz - zc, 1.0, 0.0, 0.417);
   ff_site(&w, 2, -hx, 0, hz - zc, 1.0, 0.0, 0.417);
   rl_system *sys = rl_system_alloc(RL_UNITS_REAL);
+  assert_int_equal(rl_system_set_box(sys, openmm_box), RL_OK);
   assert_int_equal(rl_system_add_species(sys, &w.desc, 3, NULL), RL_OK);
   for (int i = 0; i < 3; i++) place(sys, i, centres[i], axes[i], angles[i]);
   rl_species_ff sff = ff_test_species_ff(&w);
@@ -61,7 +63,6 @@ static void test_tip3p_waters(void **state)
     for (int nl = 0; nl < 2; nl++) {
       rl_ff_params p;
       rl_ff_params_default(&p);
-      p.box[0] = p.box[1] = p.box[2] = 3.0;
       p.cutoff = 1.0;
       p.eps_rf = eps[k];
       p.neighbor_list = nl;
@@ -98,6 +99,7 @@ static void test_stretched(void **state)
   ff_site(&b, 0, 0, 0, -0.2, 1.0, 0.0, 0.4);
   ff_site(&b, 1, 0, 0, 0.2, 1.0, 0.0, -0.4);
   rl_system *sys = rl_system_alloc(RL_UNITS_REAL);
+  assert_int_equal(rl_system_set_box(sys, openmm_box), RL_OK);
   assert_int_equal(rl_system_add_species(sys, &a.desc, 1, NULL), RL_OK);
   assert_int_equal(rl_system_add_species(sys, &b.desc, 1, NULL), RL_OK);
   double r0[3] = {1.0, 1.0, 1.35}, r1[3] = {1.3, 1.2, 1.3};
@@ -106,7 +108,6 @@ static void test_stretched(void **state)
   rl_species_ff sff[2] = {ff_test_species_ff(&a), ff_test_species_ff(&b)};
   rl_ff_params p;
   rl_ff_params_default(&p);
-  p.box[0] = p.box[1] = p.box[2] = 3.0;
   p.cutoff = 0.5;
   for (int intra = 0; intra < 2; intra++) {
     p.intramolecular_rf = intra;
