@@ -148,8 +148,11 @@ int ew_gather(ew_base *b, const rl_system *sys)
     return rl_error(RL_ESTATE, "Ewald: the system has changed (%d bodies, %d sites; the term was made for %d, %d)",
                     rl_system_count(sys), rl_system_nsites(sys), b->n, b->nsites);
   const int T = b->threads;
+  (void)T; /* a build without OpenMP */
   int bad = -1;
+#ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1 && b->n >= RL_THREAD_MIN_BODIES) reduction(max : bad)
+#endif
   {
     int i0, i1;
     rl_thread_range(b->n, &i0, &i1);
@@ -197,9 +200,12 @@ void ew_finish(ew_base *b, const rl_system *sys, rl_forces *out, double etotal, 
 {
   /* site forces, then bodies (each body sums its own sites, in order: any thread count) */
   const int T = b->threads;
+  (void)T; /* a build without OpenMP */
   memset(b->fs, 0, sizeof(double[3]) * (size_t)b->nsites);
   for (int k = 0; k < b->nq; k++) memcpy(b->fs[b->qsite[k]], b->fq[k], sizeof(double[3]));
+#ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1 && b->n >= RL_THREAD_MIN_BODIES)
+#endif
   {
     int i0, i1;
     rl_thread_range(b->n, &i0, &i1);

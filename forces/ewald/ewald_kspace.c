@@ -94,9 +94,12 @@ static int ewald_part(ew_base *b, double *energy, double W[9])
 {
   ewald_state *s = (ewald_state *)b;
   const int T = b->threads, nq = b->nq;
+  (void)T; /* a build without OpenMP */
   const int *km = b->info.kmax;
   /* tables exp(i n t_c), n = 0..kmax_c */
+#ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
+#endif
   {
     int k0, k1;
     rl_thread_range(nq, &k0, &k1);
@@ -116,7 +119,9 @@ static int ewald_part(ew_base *b, double *energy, double W[9])
       }
   }
   /* structure factors, column by column */
+#ifdef _OPENMP
 #pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 4)
+#endif
   for (int c = 0; c < s->ncol; c++) {
     const int j0 = s->col_start[c], j1 = s->col_start[c + 1], nx = s->col_nx[c], ny = s->col_ny[c];
     double *Sr = s->Sr + j0, *Si = s->Si + j0;
@@ -157,7 +162,9 @@ static int ewald_part(ew_base *b, double *energy, double W[9])
   *energy = E;
   ew_add_virial6(W, w);
   /* forces, site by site */
+#ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
+#endif
   {
     int k0, k1;
     rl_thread_range(nq, &k0, &k1);

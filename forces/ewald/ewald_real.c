@@ -164,6 +164,7 @@ static int real_part(ew_base *b, double *energy, double W[9])
 {
   real_state *s = (real_state *)b;
   const int T = b->threads, nq = b->nq, *nc = s->nc;
+  (void)T; /* a build without OpenMP */
   /* wrap, bin and sort (counting sort: site order within a cell) */
   memset(s->cell_start, 0, sizeof(int) * (size_t)(s->ncell + 1));
   for (int k = 0; k < nq; k++) {
@@ -196,7 +197,9 @@ static int real_part(ew_base *b, double *energy, double W[9])
     s->B[j] = b->qbody[k];
   }
   /* every site against its neighbours (sorted order j, written back to site k) */
+#ifdef _OPENMP
 #pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 64)
+#endif
   for (int j = 0; j < nq; j++) real_site(s, j);
   double E = 0, w[6] = {0, 0, 0, 0, 0, 0};
   for (int k = 0; k < nq; k++) {

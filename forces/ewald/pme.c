@@ -177,13 +177,18 @@ static int pme_part(ew_base *b, double *energy, double W[9])
 {
   pme_state *s = (pme_state *)b;
   const int T = b->threads, nq = b->nq, P = s->P, Kx = s->K[0], Ky = s->K[1], Kz = s->K[2], Kh = Kz / 2 + 1;
+  (void)T; /* a build without OpenMP */
   const size_t yz = (size_t)Ky * Kz;
+#ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
+#endif
   {
     int k0, k1;
     rl_thread_range(nq, &k0, &k1);
     for (int k = k0; k < k1; k++) pme_splines(s, k);
+#ifdef _OPENMP
 #pragma omp barrier
+#endif
     /* spread: this thread's x planes [x0, x1), from every charge reaching them, in site order */
     int x0, x1;
     rl_thread_range(Kx, &x0, &x1);
@@ -205,7 +210,9 @@ static int pme_part(ew_base *b, double *energy, double W[9])
   }
   fftw_execute(s->fwd);
   const double a = b->info.alpha, f2 = M_PI * M_PI / (a * a);
+#ifdef _OPENMP
 #pragma omp parallel for num_threads(T) if (T > 1) schedule(static)
+#endif
   for (int x = 0; x < Kx; x++) {
     double e = 0, w[6] = {0, 0, 0, 0, 0, 0};
     const double mx = s->mh[0][x];
@@ -245,7 +252,9 @@ static int pme_part(ew_base *b, double *energy, double W[9])
   ew_add_virial6(W, w);
   fftw_execute(s->bwd); /* the mesh potential phi = dU/dQ: U = (1/2) sum_j Q(j) phi(j) */
   const double sx = Kx / b->L[0], sy = Ky / b->L[1], sz = Kz / b->L[2];
+#ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
+#endif
   {
     int k0, k1;
     rl_thread_range(nq, &k0, &k1);
