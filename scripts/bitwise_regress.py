@@ -92,20 +92,20 @@ def main():
     dirs = {k: os.path.join(a.work, k) for k in ("old", "new")}
     for d in dirs.values():
         os.makedirs(d)
-    todo = list(cases(decks, a.quick))
+    selected = list(cases(decks, a.quick))
     with ThreadPoolExecutor(a.jobs) as pool:  # one binary after the other, so that the two never share the CPUs unevenly
         for which, binary in (("old", a.old), ("new", a.new)):
-            results = list(pool.map(lambda c: run(binary, dirs[which], c), todo))
-            for c, (code, err) in zip(todo, results):
+            results = list(pool.map(lambda c: run(binary, dirs[which], c), selected))
+            for c, (code, err) in zip(selected, results):
                 if code:
                     print("%s: %s run failed (%d): %s" % (c[0], which, code, err.strip()[:300]))
     same = 0
-    for name, _, _ in todo:
+    for name, _, _ in selected:
         bad = compare(dirs["old"], dirs["new"], name)
         print("%s: %s" % (name, "identical" if not bad else "DIFFERS in " + ", ".join(bad)))
         same += not bad
-    print("%d of %d cases byte for byte identical" % (same, len(todo)))
-    return 0 if same == len(todo) else 1
+    print("%d of %d cases byte for byte identical" % (same, len(selected)))
+    return 0 if same == len(selected) else 1
 
 
 if __name__ == "__main__":
