@@ -2,6 +2,7 @@
  * neutralising background and the surface term, and the way from site forces and the site virial
  * to body forces, torques and the molecular virial. */
 #include "ewald_impl.h"
+#include "ewald_dipole.h"
 #include "rotleap/error.h"
 #include "../../core/system_impl.h"
 #include "../../core/threads.h"
@@ -26,7 +27,13 @@ static int ew_base_init(ew_base *b, const rl_system *sys, const rl_ewald_params 
   b->threads = rl_threads_resolve(p->threads);
   b->n = rl_system_count(sys);
   b->nsites = rl_system_nsites(sys);
-  b->nq = b->info.nsites_charged;
+  b->ndip = b->info.nsites_dipolar;
+  int npolar = 0; /* with dipoles the list holds every polar site */
+  for (int s = 0; s < sys->nspecies; s++)
+    for (int a = 0; a < sys->sp[s].nsites; a++)
+      npolar += sys->sp[s].count * ((p->species[s].charge && p->species[s].charge[a] != 0.0) ||
+                                    (b->ndip && p->species[s].dipole && p->species[s].dipole[a] != 0.0));
+  b->nq = npolar;
   rl_system_box(sys, b->L);
   const size_t nq = (size_t)b->nq, ns = (size_t)(b->nsites ? b->nsites : 1), n = (size_t)(b->n ? b->n : 1);
   b->qsite = malloc(sizeof(int) * nq);
@@ -39,46 +46,66 @@ static int ew_base_init(ew_base *b, const rl_system *sys, const rl_ewald_params 
   b->xq = malloc(sizeof(double[3]) * nq);
   b->fq = malloc(sizeof(double[3]) * nq);
   b->rc = malloc(sizeof(double[3]) * n);
-  if (!b->qsite || !b->qbody || !b->qmol_first || !b->qmol_count || !b->q || !b->xs || !b->fs || !b->xq || !b->fq || !b->rc) {
+  b->mu = calloc(nq ? nq : 1, sizeof(double));
+  b->md = calloc(nq ? nq : 1, sizeof(double[3]));
+  b->eq = calloc(nq ? nq : 1, sizeof(double[3]));
+  if (!b->qsite || !b->qbody || !b->qmol_first || !b->qmol_count || !b->q || !b->xs || !b->fs || !b->xq || !b->fq || !b->rc ||
+      !b->mu || !b->md || !b->eq) {
     ew_base_free(b);
     return rl_error(RL_ENOMEM, "Ewald: out of memory");
   }
-  /* the charged sites in site order, and U_self, U_intra */
+  /* the charged (and, with dipoles, dipolar) sites in site order, and U_self, U_intra */
   const double kc = b->info.coulomb_constant, alpha = b->info.alpha;
-  double self = 0.0, intra = 0.0;
+  double self = 0.0, intra = 0.0, selfmu = 0.0;
   int k = 0;
   for (int s = 0; s < sys->nspecies; s++) {
     const rl_species *sp = &sys->sp[s];
-    const double *q = p->species[s].charge;
-    if (!q) continue;
+    const double *q = p->species[s].charge, *dm = b->ndip ? p->species[s].dipole : NULL;
+    if (!q && !dm) continue;
+#define EW_Q(a) (q ? q[a] : 0.0)
+#define EW_MU(a) (dm ? dm[a] : 0.0)
     double mol = 0.0; /* U_intra of one molecule of the species, from its body-frame sites */
     int nqm = 0;
     for (int a = 0; a < sp->nsites; a++) {
-      if (q[a] == 0.0) continue;
+      if (EW_Q(a) == 0.0 && EW_MU(a) == 0.0) continue;
       nqm++;
       for (int c = a + 1; c < sp->nsites; c++) {
-        if (q[c] == 0.0) continue;
+        if (EW_Q(c) == 0.0 && EW_MU(c) == 0.0) continue;
         const double *da = sp->sites + 3 * a, *dc = sp->sites + 3 * c;
         const double r = sqrt((da[0] - dc[0]) * (da[0] - dc[0]) + (da[1] - dc[1]) * (da[1] - dc[1]) + (da[2] - dc[2]) * (da[2] - dc[2]));
-        mol -= kc * q[a] * q[c] * erf_over_r(alpha, r);
+        if (EW_MU(a) == 0.0 && EW_MU(c) == 0.0) {
+          mol -= kc * q[a] * q[c] * erf_over_r(alpha, r);
+          continue;
+        }
+        /* a pair with a dipole: the erf parts of the B functions (ewald_dipole.h), in the body
+         * frame, where the dipoles lie along Z: r_ac = d_a - d_c */
+        double B[3];
+        ew_erf_b(alpha, r, B);
+        const double rz = da[2] - dc[2], ma = EW_MU(a), mc = EW_MU(c);
+        mol -= kc * (EW_Q(a) * EW_Q(c) * B[0] + (EW_Q(a) * mc * rz - EW_Q(c) * ma * rz + ma * mc) * B[1] - ma * rz * mc * rz * B[2]);
       }
     }
     intra += mol * sp->count;
     for (int i = 0; i < sp->count; i++) {
       const int first = k;
       for (int a = 0; a < sp->nsites; a++) {
-        if (q[a] == 0.0) continue;
+        if (EW_Q(a) == 0.0 && EW_MU(a) == 0.0) continue;
         b->qsite[k] = sp->site_off + i * sp->nsites + a;
         b->qbody[k] = sp->first + i;
         b->qmol_first[k] = first;
         b->qmol_count[k] = nqm;
-        b->q[k] = q[a];
-        self += q[a] * q[a];
+        b->q[k] = EW_Q(a);
+        b->mu[k] = EW_MU(a);
+        self += EW_Q(a) * EW_Q(a);
+        selfmu += EW_MU(a) * EW_MU(a);
         k++;
       }
     }
+#undef EW_Q
+#undef EW_MU
   }
   b->e_self = -kc * alpha / sqrt(M_PI) * self;
+  if (b->ndip) b->e_self -= kc * 2.0 * alpha * alpha * alpha / (3.0 * sqrt(M_PI)) * selfmu;
   b->e_intra = intra;
   return RL_OK;
 }
@@ -96,6 +123,9 @@ void ew_base_free(ew_base *b)
   free(b->xq);
   free(b->fq);
   free(b->rc);
+  free(b->mu);
+  free(b->md);
+  free(b->eq);
 }
 
 void *ew_alloc(size_t size, const rl_system *sys, const void *params, rl_ewald_method method)
@@ -169,6 +199,15 @@ int ew_gather(ew_base *b, const rl_system *sys)
     memcpy(b->xq[k], x, sizeof(double[3]));
     b->fq[k][0] = b->fq[k][1] = b->fq[k][2] = 0.0;
   }
+  if (b->ndip)
+    for (int k = 0; k < b->nq; k++) {
+      double e[3] = {0, 0, 0};
+      if (b->mu[k] != 0.0) rl_system_get_axis(sys, b->qbody[k], e);
+      for (int c = 0; c < 3; c++) {
+        b->md[k][c] = b->mu[k] * e[c];
+        b->eq[k][c] = 0.0;
+      }
+    }
   return RL_OK;
 }
 
@@ -186,6 +225,25 @@ void ew_reciprocal_extras(ew_base *b, double e[5], double W[9])
   e[4] = 0.0;
   if (isinf(b->info.eps_surface)) return;
   const double cs = 2.0 * M_PI * kc / ((2.0 * b->info.eps_surface + 1.0) * V);
+  if (b->ndip) {
+    /* M = sum q r + sum mu: the charges' forces -2 c q M, the dipoles' field -2 c M; the site
+     * virial (dipoles fixed under the strain) sum r_r f_c + U delta = -2 c Mq_r M_c + U delta */
+    double Mq[3] = {0, 0, 0}, M[3];
+    for (int k = 0; k < b->nq; k++)
+      for (int c = 0; c < 3; c++) Mq[c] += b->q[k] * b->xq[k][c];
+    for (int c = 0; c < 3; c++) M[c] = Mq[c];
+    for (int k = 0; k < b->nq; k++)
+      for (int c = 0; c < 3; c++) M[c] += b->md[k][c];
+    e[4] = cs * (M[0] * M[0] + M[1] * M[1] + M[2] * M[2]);
+    for (int k = 0; k < b->nq; k++)
+      for (int c = 0; c < 3; c++) {
+        b->fq[k][c] -= 2.0 * cs * b->q[k] * M[c];
+        b->eq[k][c] -= 2.0 * cs * M[c];
+      }
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) W[3 * r + c] += -2.0 * cs * Mq[r] * M[c] + (r == c ? e[4] : 0.0);
+    return;
+  }
   double M[3] = {0, 0, 0};
   for (int k = 0; k < b->nq; k++)
     for (int c = 0; c < 3; c++) M[c] += b->q[k] * b->xq[k][c];
@@ -211,6 +269,16 @@ void ew_finish(ew_base *b, const rl_system *sys, rl_forces *out, double etotal, 
     rl_thread_range(b->n, &i0, &i1);
     rl_system_add_site_forces_of(sys, (const double(*)[3])b->fs, out, i0, i1);
   }
+  /* the dipoles' torques md x E (site order: the same sums for any thread count) */
+  if (b->ndip)
+    for (int k = 0; k < b->nq; k++) {
+      const int ri = b->mu[k] != 0.0 ? rl_system_rot_index(sys, b->qbody[k]) : -1;
+      if (ri < 0) continue;
+      const double *m = b->md[k], *E = b->eq[k];
+      out->k[ri][0] += m[1] * E[2] - m[2] * E[1];
+      out->k[ri][1] += m[2] * E[0] - m[0] * E[2];
+      out->k[ri][2] += m[0] * E[1] - m[1] * E[0];
+    }
   if (out->forces_only) return;
   out->energy += etotal;
   /* molecular virial: W_site - sum_a d_a (x) f_a, d_a = r_a - R (virial[3r + c] = sum r_r f_c) */

@@ -29,6 +29,13 @@ struct ew_base {
   int n, nsites, nq;
   int *qsite, *qbody; /* [nq] global site index, body of each charged site                    */
   double *q;          /* [nq]                                                                 */
+  /* point dipoles (ndip > 0): the list then holds every polar site (q != 0 or mu != 0), and the
+   * parts take their dipolar paths; with ndip == 0 it holds the charged sites and the charge-only
+   * paths run unchanged (the same bits as before dipoles were added) */
+  int ndip;
+  double *mu;         /* [nq] dipole along the body's Z axis (0: none)                         */
+  double (*md)[3];    /* [nq] lab dipoles mu e_z of the current configuration                  */
+  double (*eq)[3];    /* [nq] field at each site, E = -dU/d(md) (torque md x E)                */
   double (*xs)[3];    /* [nsites] scratch: site positions                                     */
   double (*fs)[3];    /* [nsites] scratch: site forces                                        */
   double (*xq)[3];    /* [nq] positions of the charged sites                                  */
@@ -51,13 +58,15 @@ int ew_base_box(ew_base *b, const rl_system *sys);
 /* W (3x3, row-major) += the symmetric tensor w = (xx, yy, zz, xy, xz, yz). */
 void ew_add_virial6(double W[9], const double w[6]);
 
-/* Positions of the charged sites (and the centres) for the current configuration. */
+/* Positions of the charged sites (and the centres), and the lab dipoles, for the current
+ * configuration; fq and eq zeroed. */
 int ew_gather(ew_base *b, const rl_system *sys);
 /* The reciprocal terms' constant and boundary parts: adds U_self, U_intra, U_background,
  * U_surface to e[1..4] (e[0] is U_recip), their forces to fq and their site virial to W. */
 void ew_reciprocal_extras(ew_base *b, double e[5], double W[9]);
-/* fq -> site forces -> bodies in out; W (site virial) -> molecular virial added to out;
- * energies added unless out->forces_only. */
+/* fq -> site forces -> bodies in out, and md x eq to the torques of the dipoles' bodies; W (site
+ * virial, dipoles held fixed under the strain) -> molecular virial added to out; energies added
+ * unless out->forces_only. */
 void ew_finish(ew_base *b, const rl_system *sys, rl_forces *out, double etotal, const double W[9]);
 
 /* The whole compute of a term with its part; ne energy components (1: real, 5: reciprocal). */

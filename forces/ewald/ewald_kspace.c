@@ -90,13 +90,13 @@ static inline void eint(const ewald_state *s, int k, int c, int n, double *re, d
   *im = n < 0 ? -t[2 * m + 1] : t[2 * m + 1];
 }
 
-static int ewald_part(ew_base *b, double *energy, double W[9])
+/* The tables exp(i n t_c), n = 0..kmax_c, of every site. */
+static void ewald_tables(ewald_state *s)
 {
-  ewald_state *s = (ewald_state *)b;
+  ew_base *b = &s->b;
   const int T = b->threads, nq = b->nq;
   (void)T; /* a build without OpenMP */
   const int *km = b->info.kmax;
-  /* tables exp(i n t_c), n = 0..kmax_c */
 #ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
 #endif
@@ -118,42 +118,50 @@ static int ewald_part(ew_base *b, double *energy, double W[9])
         }
       }
   }
-  /* structure factors, column by column */
-#ifdef _OPENMP
-#pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 4)
-#endif
-  for (int c = 0; c < s->ncol; c++) {
-    const int j0 = s->col_start[c], j1 = s->col_start[c + 1], nx = s->col_nx[c], ny = s->col_ny[c];
-    double *Sr = s->Sr + j0, *Si = s->Si + j0;
-    memset(Sr, 0, sizeof(double) * (size_t)(j1 - j0));
-    memset(Si, 0, sizeof(double) * (size_t)(j1 - j0));
-    for (int k = 0; k < nq; k++) {
-      double xr, xi, yr, yi;
-      eint(s, k, 0, nx, &xr, &xi);
-      eint(s, k, 1, ny, &yr, &yi);
-      const double q = b->q[k], er = q * (xr * yr - xi * yi), ei = q * (xr * yi + xi * yr);
-      for (int j = j0; j < j1; j++) {
-        double zr, zi;
-        eint(s, k, 2, s->knz[j], &zr, &zi);
-        Sr[j - j0] += er * zr - ei * zi;
-        Si[j - j0] += er * zi + ei * zr;
-      }
-    }
-    double e = 0, w[6] = {0, 0, 0, 0, 0, 0};
-    for (int j = j0; j < j1; j++) {
-      const double ek = s->A[j] * (s->Sr[j] * s->Sr[j] + s->Si[j] * s->Si[j]), v = s->vf[j], *kv = s->k[j];
-      e += ek;
-      w[0] += ek * (1.0 - v * kv[0] * kv[0]);
-      w[1] += ek * (1.0 - v * kv[1] * kv[1]);
-      w[2] += ek * (1.0 - v * kv[2] * kv[2]);
-      w[3] -= ek * v * kv[0] * kv[1];
-      w[4] -= ek * v * kv[0] * kv[2];
-      w[5] -= ek * v * kv[1] * kv[2];
-    }
-    double *cs = s->colsum + (size_t)c * 7;
-    cs[0] = e;
-    for (int j = 0; j < 6; j++) cs[1 + j] = w[j];
+}
+
+/* exp(i (n_x t_x + n_y t_y)) of site k for column c */
+static inline void col_phase(const ewald_state *s, int k, int c, double *er, double *ei)
+{
+  double xr, xi, yr, yi;
+  eint(s, k, 0, s->col_nx[c], &xr, &xi);
+  eint(s, k, 1, s->col_ny[c], &yr, &yi);
+  *er = xr * yr - xi * yi;
+  *ei = xr * yi + xi * yr;
+}
+
+/* exp(i k.r) of site k for vector j, from its column's phase (er, ei) */
+static inline void vec_phase(const ewald_state *s, int k, int j, double er, double ei, double *pr, double *pi)
+{
+  double zr, zi;
+  eint(s, k, 2, s->knz[j], &zr, &zi);
+  *pr = er * zr - ei * zi;
+  *pi = er * zi + ei * zr;
+}
+
+/* Energy and site virial of the columns [their structure factors made], added in column order:
+ * sum_k A |S|^2 (delta - 2 (1 + k^2/4 alpha^2) k k^T / k^2). */
+static void ewald_column_sums(ewald_state *s, int c)
+{
+  const int j0 = s->col_start[c], j1 = s->col_start[c + 1];
+  double e = 0, w[6] = {0, 0, 0, 0, 0, 0};
+  for (int j = j0; j < j1; j++) {
+    const double ek = s->A[j] * (s->Sr[j] * s->Sr[j] + s->Si[j] * s->Si[j]), v = s->vf[j], *kv = s->k[j];
+    e += ek;
+    w[0] += ek * (1.0 - v * kv[0] * kv[0]);
+    w[1] += ek * (1.0 - v * kv[1] * kv[1]);
+    w[2] += ek * (1.0 - v * kv[2] * kv[2]);
+    w[3] -= ek * v * kv[0] * kv[1];
+    w[4] -= ek * v * kv[0] * kv[2];
+    w[5] -= ek * v * kv[1] * kv[2];
   }
+  double *cs = s->colsum + (size_t)c * 7;
+  cs[0] = e;
+  for (int j = 0; j < 6; j++) cs[1 + j] = w[j];
+}
+
+static void ewald_total(const ewald_state *s, double *energy, double W[9])
+{
   double E = 0, w[6] = {0, 0, 0, 0, 0, 0};
   for (int c = 0; c < s->ncol; c++) {
     E += s->colsum[(size_t)c * 7];
@@ -161,6 +169,106 @@ static int ewald_part(ew_base *b, double *energy, double W[9])
   }
   *energy = E;
   ew_add_virial6(W, w);
+}
+
+/* With point dipoles: S(k) = sum_a (q_a + i mu_a.k) exp(i k.r_a), and per site
+ *   f_a = 2 sum_k A k Im[S* (q_a + i mu_a.k) e^{i k.r_a}],  E_a = 2 sum_k A k Im[S* e^{i k.r_a}];
+ * the site virial (dipoles held fixed under the strain, so that mu.k changes with k) is that of
+ * the charges with this S plus -sum_a mu_a (x) E_a (storage W[3r + c] = -dU/d strain_cr). */
+static int ewald_part_dip(ewald_state *s, double *energy, double W[9])
+{
+  ew_base *b = &s->b;
+  const int T = b->threads, nq = b->nq;
+  (void)T; /* a build without OpenMP */
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 4)
+#endif
+  for (int c = 0; c < s->ncol; c++) {
+    const int j0 = s->col_start[c], j1 = s->col_start[c + 1];
+    const double kx = s->k[j0][0], ky = s->k[j0][1];
+    double *Sr = s->Sr + j0, *Si = s->Si + j0;
+    memset(Sr, 0, sizeof(double) * (size_t)(j1 - j0));
+    memset(Si, 0, sizeof(double) * (size_t)(j1 - j0));
+    for (int k = 0; k < nq; k++) {
+      double er, ei, pr, pi;
+      col_phase(s, k, c, &er, &ei);
+      const double q = b->q[k], *m = b->md[k], mxy = m[0] * kx + m[1] * ky;
+      for (int j = j0; j < j1; j++) {
+        vec_phase(s, k, j, er, ei, &pr, &pi);
+        const double mk = mxy + m[2] * s->k[j][2];
+        Sr[j - j0] += q * pr - mk * pi;
+        Si[j - j0] += q * pi + mk * pr;
+      }
+    }
+    ewald_column_sums(s, c);
+  }
+  ewald_total(s, energy, W);
+#ifdef _OPENMP
+#pragma omp parallel num_threads(T) if (T > 1)
+#endif
+  {
+    int k0, k1;
+    rl_thread_range(nq, &k0, &k1);
+    for (int k = k0; k < k1; k++) {
+      double f[3] = {0, 0, 0}, E[3] = {0, 0, 0};
+      const double q = b->q[k], *m = b->md[k];
+      for (int c = 0; c < s->ncol; c++) {
+        double er, ei, pr, pi;
+        col_phase(s, k, c, &er, &ei);
+        for (int j = s->col_start[c]; j < s->col_start[c + 1]; j++) {
+          vec_phase(s, k, j, er, ei, &pr, &pi);
+          const double *kv = s->k[j];
+          const double cr = pr * s->Sr[j] + pi * s->Si[j], ci = pi * s->Sr[j] - pr * s->Si[j];
+          const double mk = m[0] * kv[0] + m[1] * kv[1] + m[2] * kv[2];
+          const double g = s->A[j] * (q * ci + mk * cr), h = s->A[j] * ci;
+          for (int d = 0; d < 3; d++) {
+            f[d] += g * kv[d];
+            E[d] += h * kv[d];
+          }
+        }
+      }
+      for (int d = 0; d < 3; d++) {
+        b->fq[k][d] += 2.0 * f[d];
+        b->eq[k][d] += 2.0 * E[d];
+      }
+    }
+  }
+  for (int k = 0; k < nq; k++)
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) W[3 * r + c] -= b->md[k][r] * b->eq[k][c];
+  return RL_OK;
+}
+
+static int ewald_part(ew_base *b, double *energy, double W[9])
+{
+  ewald_state *s = (ewald_state *)b;
+  const int T = b->threads, nq = b->nq;
+  (void)T; /* a build without OpenMP */
+  ewald_tables(s);
+  if (b->ndip) return ewald_part_dip(s, energy, W);
+  /* structure factors, column by column */
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 4)
+#endif
+  for (int c = 0; c < s->ncol; c++) {
+    const int j0 = s->col_start[c], j1 = s->col_start[c + 1];
+    double *Sr = s->Sr + j0, *Si = s->Si + j0;
+    memset(Sr, 0, sizeof(double) * (size_t)(j1 - j0));
+    memset(Si, 0, sizeof(double) * (size_t)(j1 - j0));
+    for (int k = 0; k < nq; k++) {
+      double er, ei, pr, pi;
+      col_phase(s, k, c, &er, &ei);
+      er *= b->q[k];
+      ei *= b->q[k];
+      for (int j = j0; j < j1; j++) {
+        vec_phase(s, k, j, er, ei, &pr, &pi);
+        Sr[j - j0] += pr;
+        Si[j - j0] += pi;
+      }
+    }
+    ewald_column_sums(s, c);
+  }
+  ewald_total(s, energy, W);
   /* forces, site by site */
 #ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
@@ -171,14 +279,10 @@ static int ewald_part(ew_base *b, double *energy, double W[9])
     for (int k = k0; k < k1; k++) {
       double f[3] = {0, 0, 0};
       for (int c = 0; c < s->ncol; c++) {
-        double xr, xi, yr, yi;
-        eint(s, k, 0, s->col_nx[c], &xr, &xi);
-        eint(s, k, 1, s->col_ny[c], &yr, &yi);
-        const double er = xr * yr - xi * yi, ei = xr * yi + xi * yr;
+        double er, ei, pr, pi;
+        col_phase(s, k, c, &er, &ei);
         for (int j = s->col_start[c]; j < s->col_start[c + 1]; j++) {
-          double zr, zi;
-          eint(s, k, 2, s->knz[j], &zr, &zi);
-          const double pr = er * zr - ei * zi, pi = er * zi + ei * zr;
+          vec_phase(s, k, j, er, ei, &pr, &pi);
           const double g = s->A[j] * (pi * s->Sr[j] - pr * s->Si[j]);
           f[0] += g * s->k[j][0];
           f[1] += g * s->k[j][1];

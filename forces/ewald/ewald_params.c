@@ -196,12 +196,14 @@ int ew_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method m
   rl_system_box(sys, L);
   /* species and charges (at alloc; a change of cell keeps what alloc found: the caller's arrays
    * need not outlive the alloc) */
-  double q2 = 0.0, Q = 0.0;
-  long nq = 0;
+  double q2 = 0.0, Q = 0.0, mu2 = 0.0;
+  long nq = 0, nd = 0;
   if (keep) {
     nq = keep->nsites_charged;
     q2 = keep->sum_q2;
     Q = keep->net_charge;
+    nd = keep->nsites_dipolar;
+    mu2 = keep->sum_mu2;
   } else {
     const int ns = rl_system_nspecies(sys);
     if (p->nspecies != ns || (ns && !p->species))
@@ -213,10 +215,19 @@ int ew_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method m
       if (f->nsites != m)
         return rl_error(RL_EINVAL, "%s: species %d (%s): %d sites given, the system has %d", who, s, name ? name : "", f->nsites, m);
       for (int a = 0; a < m; a++) {
-        if ((f->dipole && f->dipole[a] != 0.0) || (f->quadrupole && f->quadrupole[a] != 0.0))
-          return rl_error(RL_EINVAL, "%s: species %d (%s), site %d carries a %s: the Ewald terms sum point charges only "
-                          "(dipolar Ewald is not built yet; quadrupoles are not supported)",
-                          who, s, name ? name : "", a, f->dipole && f->dipole[a] != 0.0 ? "point dipole" : "quadrupole");
+        if (f->quadrupole && f->quadrupole[a] != 0.0)
+          return rl_error(RL_EINVAL, "%s: species %d (%s), site %d carries a quadrupole: the Ewald terms sum point charges "
+                          "and point dipoles only (quadrupoles are not supported)", who, s, name ? name : "", a);
+        const double mu = f->dipole ? f->dipole[a] : 0.0;
+        if (!isfinite(mu)) return rl_error(RL_EINVAL, "%s: species %d (%s), site %d: dipole %g is not finite", who, s, name ? name : "", a, mu);
+        if (mu != 0.0 && method == RL_EWALD_PME)
+          return rl_error(RL_EINVAL, "pme: species %d (%s), site %d carries a point dipole: the mesh sums point charges only "
+                          "(dipoles on the mesh are not built yet); use the classical Ewald sum (\"ewald\") for dipoles",
+                          s, name ? name : "", a);
+        if (mu != 0.0) {
+          nd += count;
+          mu2 += (double)count * mu * mu;
+        }
         const double q = f->charge ? f->charge[a] : 0.0;
         if (!isfinite(q)) return rl_error(RL_EINVAL, "%s: species %d (%s), site %d: charge %g is not finite", who, s, name ? name : "", a, q);
         if (q == 0.0) continue;
@@ -225,9 +236,12 @@ int ew_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method m
         Q += (double)count * q;
       }
     }
-    if (nq == 0) return rl_error(RL_EINVAL, "%s: no site carries a charge: there is nothing for an Ewald sum to sum", who);
+    if (nq == 0 && nd == 0)
+      return rl_error(RL_EINVAL, "%s: no site carries a charge or a point dipole: there is nothing for an Ewald sum to sum", who);
   }
   in->nsites_charged = (int)nq;
+  in->nsites_dipolar = (int)nd;
+  in->sum_mu2 = mu2;
   in->sum_q2 = q2;
   in->net_charge = Q;
   in->volume = L[0] * L[1] * L[2];
@@ -373,6 +387,12 @@ int rl_ewald_describe(const rl_ewald_info *in, rl_units units, char *buf, size_t
   if (isinf(in->eps_surface)) snprintf(b, sizeof b, "tin-foil boundary");
   else snprintf(b, sizeof b, "dielectric boundary eps' = %.6g", in->eps_surface);
   const char *name = in->method == RL_EWALD_PME ? "smooth PME" : in->method == RL_EWALD_SUM ? "Ewald" : "Ewald real space";
+  if (in->nsites_dipolar > 0) { /* the estimates are those for charges (none for the dipoles) */
+    char dp[64] = "";
+    if (in->nsites_charged > 0) snprintf(dp, sizeof dp, "; RMS force error on a charge %.3g %s", in->method == RL_EWALD_REAL ? in->err_real : in->err_total, force);
+    return snprintf(buf, size, "%s of charges and point dipoles: %s%s%s%s; no error estimate for the dipoles%s", name, a, k,
+                    in->method == RL_EWALD_REAL ? "" : ", ", in->method == RL_EWALD_REAL ? "" : b, dp);
+  }
   if (in->method == RL_EWALD_REAL)
     return snprintf(buf, size, "%s: %s; estimated RMS force error of the real-space cut on a charge %.3g %s", name, a,
                     in->err_real, force);

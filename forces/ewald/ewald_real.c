@@ -14,6 +14,7 @@
  * The site virial is sum over pairs r_ab (x) f_ab; the molecular one follows in ew_finish. */
 #include "ewald_impl.h"
 #include "erfc.h"
+#include "ewald_dipole.h"
 #include "rotleap/error.h"
 #include "../../core/threads.h"
 
@@ -33,6 +34,9 @@ typedef struct {
   double (*xw)[3];    /* [nq] wrapped positions, in site order                                  */
   double *esite;      /* [nq] half the energy of each site's pairs                              */
   double (*wsite)[6]; /* [nq] half its pairs' virial (xx yy zz xy xz yz)                        */
+  /* with point dipoles (b.ndip > 0) */
+  double *MX, *MY, *MZ; /* [nq] lab dipoles, in cell order                                       */
+  double (*wsite9)[9];  /* [nq] half its pairs' virial, all nine (the dipoles make it asymmetric) */
 } real_state;
 
 static void real_free(void *state)
@@ -51,6 +55,10 @@ static void real_free(void *state)
   free(s->xw);
   free(s->esite);
   free(s->wsite);
+  free(s->MX);
+  free(s->MY);
+  free(s->MZ);
+  free(s->wsite9);
   free(s);
 }
 
@@ -160,6 +168,58 @@ EW_CLONES static void real_site(real_state *s, int j)
   for (int c = 0; c < 6; c++) s->wsite[k][c] = 0.5 * w[c];
 }
 
+/* With point dipoles: sorted site j against its neighbours (ewald_dipole.h), results to site k.
+ * Plain C: the dipolar rows are not vectorised. */
+static void real_site_dip(real_state *s, int j)
+{
+  ew_base *b = &s->b;
+  const int *nc = s->nc, k = s->order[j], cell = s->cellof[k];
+  const int cx = cell % nc[0], cy = (cell / nc[0]) % nc[1], cz = cell / (nc[0] * nc[1]);
+  const double L0 = b->L[0], L1 = b->L[1], L2 = b->L[2], h0 = 0.5 * L0, h1 = 0.5 * L1, h2 = 0.5 * L2;
+  const double rc2 = b->info.cutoff * b->info.cutoff, a = b->info.alpha, kc = b->info.coulomb_constant;
+  const double xi = s->X[j], yi = s->Y[j], zi = s->Z[j], qi = s->Qs[j], mi[3] = {s->MX[j], s->MY[j], s->MZ[j]};
+  const int bi = s->B[j];
+  double f[3] = {0, 0, 0}, E[3] = {0, 0, 0}, e = 0, w[9] = {0};
+  const int span = s->ncell == 1 ? 0 : 1;
+  for (int oz = -span; oz <= span; oz++)
+    for (int oy = -span; oy <= span; oy++)
+      for (int ox = -span; ox <= span; ox++) {
+        const int n = (((cz + oz + nc[2]) % nc[2]) * nc[1] + (cy + oy + nc[1]) % nc[1]) * nc[0] + (cx + ox + nc[0]) % nc[0];
+        for (int jj = s->cell_start[n]; jj < s->cell_start[n + 1]; jj++) {
+          if (s->B[jj] == bi) continue;
+          double r[3] = {xi - s->X[jj], yi - s->Y[jj], zi - s->Z[jj]};
+          r[0] = r[0] > h0 ? r[0] - L0 : r[0] < -h0 ? r[0] + L0 : r[0];
+          r[1] = r[1] > h1 ? r[1] - L1 : r[1] < -h1 ? r[1] + L1 : r[1];
+          r[2] = r[2] > h2 ? r[2] - L2 : r[2] < -h2 ? r[2] + L2 : r[2];
+          const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+          if (!(r2 < rc2)) continue;
+          const double rr = sqrt(r2), qj = s->Qs[jj], mj[3] = {s->MX[jj], s->MY[jj], s->MZ[jj]};
+          double ex, B[4];
+          const double ec = rl_erfc_exp(a * rr, &ex);
+          ew_erfc_b4(a, rr, ec, ex, B);
+          const double mir = mi[0] * r[0] + mi[1] * r[1] + mi[2] * r[2], mjr = mj[0] * r[0] + mj[1] * r[1] + mj[2] * r[2];
+          const double mm = mi[0] * mj[0] + mi[1] * mj[1] + mi[2] * mj[2];
+          const double G0 = qi * qj, G1 = qi * mjr - qj * mir + mm, G2 = -mir * mjr;
+          e += G0 * B[0] + G1 * B[1] + G2 * B[2];
+          const double fr = G0 * B[1] + G1 * B[2] + G2 * B[3];
+          double fp[3];
+          for (int c = 0; c < 3; c++) {
+            fp[c] = fr * r[c] - B[1] * (qi * mj[c] - qj * mi[c]) + B[2] * (mjr * mi[c] + mir * mj[c]);
+            f[c] += fp[c];
+            E[c] += (qj * B[1] + B[2] * mjr) * r[c] - B[1] * mj[c];
+          }
+          for (int x = 0; x < 3; x++)
+            for (int y = 0; y < 3; y++) w[3 * x + y] += r[x] * fp[y];
+        }
+      }
+  for (int c = 0; c < 3; c++) {
+    b->fq[k][c] += kc * f[c];
+    b->eq[k][c] += kc * E[c];
+  }
+  s->esite[k] = 0.5 * kc * e;
+  for (int c = 0; c < 9; c++) s->wsite9[k][c] = 0.5 * kc * w[c];
+}
+
 static int real_part(ew_base *b, double *energy, double W[9])
 {
   real_state *s = (real_state *)b;
@@ -196,6 +256,25 @@ static int real_part(ew_base *b, double *energy, double W[9])
     s->Qs[j] = b->q[k];
     s->B[j] = b->qbody[k];
   }
+  if (b->ndip) {
+    for (int j = 0; j < nq; j++) {
+      const int k = s->order[j];
+      s->MX[j] = b->md[k][0];
+      s->MY[j] = b->md[k][1];
+      s->MZ[j] = b->md[k][2];
+    }
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 64)
+#endif
+    for (int j = 0; j < nq; j++) real_site_dip(s, j);
+    double E = 0;
+    for (int k = 0; k < nq; k++) {
+      E += s->esite[k];
+      for (int c = 0; c < 9; c++) W[c] += s->wsite9[k][c];
+    }
+    *energy = E;
+    return RL_OK;
+  }
   /* every site against its neighbours (sorted order j, written back to site k) */
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(T) if (T > 1) schedule(dynamic, 64)
@@ -227,7 +306,14 @@ static void *real_alloc(const rl_system *sys, const void *params)
   s->xw = malloc(sizeof(double[3]) * nq);
   s->esite = malloc(sizeof(double) * nq);
   s->wsite = malloc(sizeof(double[6]) * nq);
-  if (!s->cellof || !s->order || !s->X || !s->Y || !s->Z || !s->Qs || !s->B || !s->xw || !s->esite || !s->wsite || real_cells(s)) {
+  if (s->b.ndip) {
+    s->MX = malloc(sizeof(double) * nq);
+    s->MY = malloc(sizeof(double) * nq);
+    s->MZ = malloc(sizeof(double) * nq);
+    s->wsite9 = malloc(sizeof(double[9]) * nq);
+  }
+  if (!s->cellof || !s->order || !s->X || !s->Y || !s->Z || !s->Qs || !s->B || !s->xw || !s->esite || !s->wsite || real_cells(s) ||
+      (s->b.ndip && (!s->MX || !s->MY || !s->MZ || !s->wsite9))) {
     real_free(s);
     rl_error(RL_ENOMEM, "ewald-real: out of memory");
     return NULL;

@@ -136,6 +136,8 @@ typedef struct {
   double eps_surface, coulomb_constant;
   int nsites_charged;      /* N: sites with q != 0                                              */
   double sum_q2, net_charge;
+  int nsites_dipolar;      /* sites with a point dipole (mu != 0)                               */
+  double sum_mu2;          /* sum over them of mu^2                                             */
   double volume;
   /* estimated RMS error of the force on a charge (energy/length), for randomly placed charges:
    * real-space cut (Kolafa-Perram), reciprocal part (omitted vectors, or the mesh functional),

@@ -53,6 +53,24 @@ static inline void ew_place(rl_system *sys, gsl_rng *rng, double dmin)
   free(r);
 }
 
+/* A scene of the species s->sp[0..nsp) (filled by the caller), counts[k] bodies of each, placed at
+ * random (centres >= dmin apart) in a box L; the parameter block at its defaults. */
+static inline void ew_scene_build(ew_scene *s, int nsp, const int *counts, const double L[3], double dmin, unsigned long seed)
+{
+  s->nsp = nsp;
+  for (int k = 0; k < s->nsp; k++) s->sff[k] = ff_test_species_ff(&s->sp[k]);
+  s->sys = rl_system_alloc(RL_UNITS_REAL);
+  for (int k = 0; k < nsp; k++) assert_int_equal(rl_system_add_species(s->sys, &s->sp[k].desc, counts[k], NULL), RL_OK);
+  assert_int_equal(rl_system_set_box(s->sys, L), RL_OK);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, seed);
+  ew_place(s->sys, rng, dmin);
+  gsl_rng_free(rng);
+  rl_ewald_params_default(&s->p);
+  s->p.species = s->sff;
+  s->p.nspecies = s->nsp;
+}
+
 /* The mixed scene: TIP4P-like waters (asymmetric, with a massless charge), tetrahedral spherical
  * tops, linear CO2, and point ions +1 / -1, in a non-cubic box; neutral unless `extra_ion` adds
  * one more cation. */
@@ -65,19 +83,8 @@ static inline void ew_scene_mixed(ew_scene *s, const double L[3], int nwater, in
   ff_co2(&s->sp[2]);
   ff_ion(&s->sp[3], 1.0);
   ff_ion(&s->sp[4], -1.0);
-  s->nsp = 5;
-  for (int k = 0; k < s->nsp; k++) s->sff[k] = ff_test_species_ff(&s->sp[k]);
-  s->sys = rl_system_alloc(RL_UNITS_REAL);
   const int counts[5] = {nwater, ntetra, nco2, nion + extra_ion, nion};
-  for (int k = 0; k < 5; k++) assert_int_equal(rl_system_add_species(s->sys, &s->sp[k].desc, counts[k], NULL), RL_OK);
-  assert_int_equal(rl_system_set_box(s->sys, L), RL_OK);
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, seed);
-  ew_place(s->sys, rng, 0.32);
-  gsl_rng_free(rng);
-  rl_ewald_params_default(&s->p);
-  s->p.species = s->sff;
-  s->p.nspecies = s->nsp;
+  ew_scene_build(s, 5, counts, L, 0.32, seed);
 }
 
 /* Random point ions (n/2 cations, n/2 anions of charge q) in a box. */
@@ -86,19 +93,8 @@ static inline void ew_scene_ions(ew_scene *s, const double L[3], int n, double q
   memset(s, 0, sizeof *s);
   ff_ion(&s->sp[0], q);
   ff_ion(&s->sp[1], -q);
-  s->nsp = 2;
-  for (int k = 0; k < s->nsp; k++) s->sff[k] = ff_test_species_ff(&s->sp[k]);
-  s->sys = rl_system_alloc(RL_UNITS_REAL);
-  assert_int_equal(rl_system_add_species(s->sys, &s->sp[0].desc, n / 2, NULL), RL_OK);
-  assert_int_equal(rl_system_add_species(s->sys, &s->sp[1].desc, n - n / 2, NULL), RL_OK);
-  assert_int_equal(rl_system_set_box(s->sys, L), RL_OK);
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, seed);
-  ew_place(s->sys, rng, dmin);
-  gsl_rng_free(rng);
-  rl_ewald_params_default(&s->p);
-  s->p.species = s->sff;
-  s->p.nspecies = s->nsp;
+  const int counts[2] = {n / 2, n - n / 2};
+  ew_scene_build(s, 2, counts, L, dmin, seed);
 }
 
 static inline void ew_scene_free(ew_scene *s) { rl_system_free(s->sys); }
@@ -116,6 +112,14 @@ static inline void ew_result_free(ew_result *r)
 {
   free(r->f);
   free(r->k);
+}
+
+/* Whether two results are the same to the bit (energies, components, forces, torques, virial). */
+static inline int ew_same_bits(const ew_result *a, const ew_result *b)
+{
+  return a->energy == b->energy && !memcmp(a->virial, b->virial, sizeof a->virial) &&
+         !memcmp(a->f, b->f, sizeof(double[3]) * (size_t)a->n) && !memcmp(a->k, b->k, sizeof(double[3]) * (size_t)a->nrot) &&
+         !memcmp(a->e, b->e, sizeof(double) * (size_t)a->ne);
 }
 
 static inline int ew_eval(rl_terms *t, rl_system *sys, ew_result *r)

@@ -161,13 +161,6 @@ static void alpha_independent(void **state)
 }
 
 /* ------------------------------------------------------------------------------- threads */
-static int same_bits(const ew_result *a, const ew_result *b)
-{
-  return a->energy == b->energy && !memcmp(a->virial, b->virial, sizeof a->virial) &&
-         !memcmp(a->f, b->f, sizeof(double[3]) * (size_t)a->n) && !memcmp(a->k, b->k, sizeof(double[3]) * (size_t)a->nrot) &&
-         !memcmp(a->e, b->e, sizeof(double) * (size_t)a->ne);
-}
-
 static void threads(void **state)
 {
   (void)state;
@@ -187,9 +180,9 @@ static void threads(void **state)
     }
     char name[128];
     snprintf(name, sizeof name, "%s: 1, 2 and 3 threads give the same bits (energies, forces, torques, virial)", types[k]->name);
-    EW_CHECK_TRUE(name, same_bits(&r[0], &r[1]) && same_bits(&r[0], &r[2]));
+    EW_CHECK_TRUE(name, ew_same_bits(&r[0], &r[1]) && ew_same_bits(&r[0], &r[2]));
     snprintf(name, sizeof name, "%s: a second run on 2 threads gives the same bits", types[k]->name);
-    EW_CHECK_TRUE(name, same_bits(&r[1], &r[3]));
+    EW_CHECK_TRUE(name, ew_same_bits(&r[1], &r[3]));
     for (int T = 0; T < 4; T++) ew_result_free(&r[T]);
   }
   ew_scene_free(&s);
@@ -309,7 +302,7 @@ static void box_change(void **state)
     assert_int_equal(ew_eval(t2, s.sys, &r2), RL_OK);
     char name[128];
     snprintf(name, sizeof name, "%s: after a change of cell, the same bits as a fresh term on the new cell", types[k]->name);
-    EW_CHECK_TRUE(name, same_bits(&r1, &r2) && r1.energy != r0.energy);
+    EW_CHECK_TRUE(name, ew_same_bits(&r1, &r2) && r1.energy != r0.energy);
     assert_int_equal(rl_system_set_box(s.sys, L), RL_OK);
     ew_result_free(&r0);
     ew_result_free(&r1);
@@ -356,7 +349,7 @@ static void net_force(void **state)
   EW_CHECK_LE("pme, remove_net_force: forces change by no more than the net force's share (rel. RMS)",
               ew_rel_rms((const double(*)[3])fixed[0].f, (const double(*)[3])raw.f, raw.n), 1e-3);
   EW_CHECK_TRUE("pme, remove_net_force: 1, 2 and 3 threads give the same bits",
-                same_bits(&fixed[0], &fixed[1]) && same_bits(&fixed[0], &fixed[2]));
+                ew_same_bits(&fixed[0], &fixed[1]) && ew_same_bits(&fixed[0], &fixed[2]));
   ew_result_free(&raw);
   for (int T = 0; T < 3; T++) ew_result_free(&fixed[T]);
   ew_scene_free(&s);

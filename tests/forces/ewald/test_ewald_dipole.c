@@ -1,0 +1,226 @@
+/* Point dipoles in the Ewald terms (forces/ewald/, issue 33): a Stockmayer box, and a mixture of
+ * Stockmayer dipoles, NH3-like symmetric tops (a dipole on one site and three charges: the
+ * intramolecular charge-dipole correction) and point ions, in a non-cubic box:
+ *   fd         forces, torques (turns about each lab axis) and the molecular virial (strain of the
+ *              box and the centres along each axis, orientations fixed) against Richardson-
+ *              extrapolated central differences of the energy, for "ewald-real" and "ewald"
+ *              with a dielectric boundary (eps' = 4); limits 1e-8 of the largest value
+ *   alpha      real + reciprocal sum independent of alpha (5.5 and 6.5 / nm, converged k sums):
+ *              energy 1e-10, forces and torques 1e-8 RMS relative
+ *   threads    1, 2 and 3 threads give the same bits (600 bodies: the body loops go parallel)
+ *   surface    the eps' term against 2 pi kc |M|^2 / ((2 eps' + 1) V), M = sum q r + sum mu, and
+ *              its torque mu x (-4 pi kc M / ((2 eps' + 1) V)); the self term's value
+ *   refuse     "pme" refuses dipoles, naming the key */
+#include "ewald_testutil.h"
+
+/* Stockmayer dipoles (0.04 e nm), symmetric tops and ions. */
+static void scene_dip(ew_scene *s, const double L[3], int ndip, int ntop, int nion, unsigned long seed)
+{
+  memset(s, 0, sizeof *s);
+  ff_stockmayer(&s->sp[0], 0.04);
+  ff_symtop(&s->sp[1]);
+  ff_ion(&s->sp[2], 1.0);
+  ff_ion(&s->sp[3], -1.0);
+  const int counts[4] = {ndip, ntop, nion, nion};
+  ew_scene_build(s, 4, counts, L, 0.3, seed);
+}
+
+static void fd_one(const char *what, const rl_term_type *type, int ntop, int nion)
+{
+  ew_scene s;
+  const double L[3] = {2.2, 2.3, 2.4};
+  scene_dip(&s, L, 20, ntop, nion, 5);
+  s.p.cutoff = 1.0;
+  s.p.alpha = 3.0;
+  s.p.eps_surface = 4.0;
+  for (int c = 0; c < 3; c++) s.p.kmax[c] = 9;
+  rl_terms *t = ew_terms(&s, type, NULL);
+  ew_result r;
+  assert_int_equal(ew_eval(t, s.sys, &r), RL_OK);
+  double F = 0, K = 0, dF = 0, dK = 0;
+  for (int i = 0; i < r.n; i++) {
+    F = fmax(F, norm3d(r.f[i]));
+    const int ri = rl_system_rot_index(s.sys, i);
+    if (ri >= 0) K = fmax(K, norm3d(r.k[ri]));
+    for (int c = 0; c < 3; c++) {
+      dF = fmax(dF, fabs(ew_fd(t, s.sys, i, 0, c, 1e-4) + r.f[i][c]));
+      if (ri >= 0) dK = fmax(dK, fabs(ew_fd(t, s.sys, i, 1, c, 1e-4) + r.k[ri][c]));
+    }
+  }
+  double dW = 0, Wn = 0;
+  for (int c = 0; c < 3; c++) {
+    dW = fmax(dW, fabs(ew_fd(t, s.sys, 0, 2, c, 1e-4) + r.virial[4 * c]));
+    Wn = fmax(Wn, fabs(r.virial[4 * c]));
+  }
+  printf("%s: U = %.10g, |F| <= %.4g, |K| <= %.4g, W = %.6g %.6g %.6g\n", what, r.energy, F, K, r.virial[0], r.virial[4], r.virial[8]);
+  char name[160];
+  snprintf(name, sizeof name, "%s: forces vs -dU/dx (largest difference / largest force)", what);
+  EW_CHECK_LE(name, dF / F, 1e-8);
+  snprintf(name, sizeof name, "%s: torques vs -dU/dphi (largest difference / largest torque)", what);
+  EW_CHECK_LE(name, dK / K, 1e-8);
+  snprintf(name, sizeof name, "%s: molecular virial W_cc vs -dU/d strain_cc", what);
+  EW_CHECK_LE(name, dW / Wn, 1e-8);
+  double sum = 0;
+  for (int j = 0; j < r.ne; j++) sum += r.e[j];
+  snprintf(name, sizeof name, "%s: its components add up to its energy", what);
+  EW_CHECK_LE(name, fabs(sum - r.energy) / fabs(r.energy), 1e-13);
+  ew_result_free(&r);
+  rl_terms_free(t);
+  ew_scene_free(&s);
+}
+
+typedef struct {
+  const char *what;
+  const rl_term_type *type;
+  int ntop, nion;
+} fd_case;
+
+static void fd(void **state)
+{
+  const fd_case *c = *state;
+  fd_one(c->what, c->type, c->ntop, c->nion);
+}
+
+static const fd_case fd_cases[4] = {{"ewald-real, Stockmayer", &rl_term_ewald_real, 0, 0},
+                                    {"ewald, Stockmayer (eps' 4)", &rl_term_ewald, 0, 0},
+                                    {"ewald-real, dipoles + tops + ions", &rl_term_ewald_real, 8, 4},
+                                    {"ewald, dipoles + tops + ions (eps' 4)", &rl_term_ewald, 8, 4}};
+
+/* ------------------------------------------------------------------------------------ alpha */
+static void alpha(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {2.4, 2.5, 2.6};
+  scene_dip(&s, L, 40, 10, 6, 9);
+  s.p.cutoff = 1.1;
+  ew_result r[2];
+  const double al[2] = {5.5, 6.5};
+  for (int j = 0; j < 2; j++) {
+    s.p.alpha = al[j];
+    for (int c = 0; c < 3; c++) s.p.kmax[c] = (int)ceil(2.0 * al[j] * sqrt(36.0) * L[c] / (2 * M_PI));
+    rl_terms *t = ew_terms(&s, &rl_term_ewald_real, &rl_term_ewald);
+    assert_int_equal(ew_eval(t, s.sys, &r[j]), RL_OK);
+    rl_terms_free(t);
+  }
+  printf("alpha 5.5: U = %.15g (real %.10g, recip %.10g, self %.10g, intra %.10g); alpha 6.5: U = %.15g\n", r[0].energy,
+         r[0].e[0], r[0].e[1], r[0].e[2], r[0].e[3], r[1].energy);
+  EW_CHECK_LE("real + reciprocal: energy at alpha 5.5 and 6.5 /nm, relative difference", fabs(r[0].energy - r[1].energy) / fabs(r[0].energy), 1e-10);
+  EW_CHECK_LE("forces at alpha 5.5 and 6.5, RMS relative", ew_rel_rms((const double(*)[3])r[0].f, (const double(*)[3])r[1].f, r[0].n), 1e-8);
+  EW_CHECK_LE("torques at alpha 5.5 and 6.5, RMS relative", ew_rel_rms((const double(*)[3])r[0].k, (const double(*)[3])r[1].k, r[0].nrot), 1e-8);
+  EW_CHECK_LE("molecular virial xx, relative", fabs(r[0].virial[0] - r[1].virial[0]) / fabs(r[0].virial[0]), 1e-8);
+  EW_CHECK_LE("molecular virial xy, relative to xx", fabs(r[0].virial[1] - r[1].virial[1]) / fabs(r[0].virial[0]), 1e-8);
+  EW_CHECK_LE("molecular virial yx, relative to xx", fabs(r[0].virial[3] - r[1].virial[3]) / fabs(r[0].virial[0]), 1e-8);
+  for (int j = 0; j < 2; j++) ew_result_free(&r[j]);
+  ew_scene_free(&s);
+}
+
+/* ---------------------------------------------------------------------------------- threads */
+static void threads(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {3.2, 3.3, 3.4};
+  scene_dip(&s, L, 500, 60, 20, 3);
+  s.p.cutoff = 0.9;
+  s.p.eps_surface = 10.0;
+  const rl_term_type *types[2] = {&rl_term_ewald_real, &rl_term_ewald};
+  for (int k = 0; k < 2; k++) {
+    ew_result r[3];
+    for (int T = 1; T <= 3; T++) {
+      s.p.threads = T;
+      rl_terms *t = ew_terms(&s, types[k], NULL);
+      assert_int_equal(ew_eval(t, s.sys, &r[T - 1]), RL_OK);
+      rl_terms_free(t);
+    }
+    char name[128];
+    snprintf(name, sizeof name, "%s with dipoles: 1, 2 and 3 threads give the same bits", types[k]->name);
+    EW_CHECK_TRUE(name, ew_same_bits(&r[0], &r[1]) && ew_same_bits(&r[0], &r[2]));
+    for (int T = 0; T < 3; T++) ew_result_free(&r[T]);
+  }
+  ew_scene_free(&s);
+}
+
+/* ---------------------------------------------------------------------------- surface, self */
+static void surface(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {2.2, 2.3, 2.4};
+  scene_dip(&s, L, 20, 6, 4, 11);
+  s.p.cutoff = 1.0;
+  s.p.alpha = 3.0;
+  for (int c = 0; c < 3; c++) s.p.kmax[c] = 7;
+  ew_result r[2];
+  const double eps = 4.0;
+  for (int j = 0; j < 2; j++) {
+    s.p.eps_surface = j ? eps : INFINITY;
+    rl_terms *t = ew_terms(&s, &rl_term_ewald, NULL);
+    assert_int_equal(ew_eval(t, s.sys, &r[j]), RL_OK);
+    rl_terms_free(t);
+  }
+  /* M from the sites and axes, as the formula says */
+  const int ns = rl_system_nsites(s.sys), n = rl_system_count(s.sys);
+  double (*x)[3] = malloc(sizeof(double[3]) * (size_t)ns), M[3] = {0, 0, 0}, sq = 0, smu = 0;
+  rl_system_site_positions(s.sys, x);
+  int site = 0;
+  for (int i = 0; i < n; i++) {
+    const int sp = rl_system_species_of(s.sys, i);
+    double e[3];
+    rl_system_get_axis(s.sys, i, e);
+    for (int a = 0; a < s.sp[sp].desc.nsites; a++, site++) {
+      const double q = s.sp[sp].charge[a], mu = s.sp[sp].has_dipole ? s.sp[sp].dipole[a] : 0.0;
+      for (int c = 0; c < 3; c++) M[c] += q * x[site][c] + mu * e[c];
+      sq += q * q;
+      smu += mu * mu;
+    }
+  }
+  const double kc = RL_COULOMB_KJMOL_NM, V = L[0] * L[1] * L[2], cs = 2 * M_PI * kc / ((2 * eps + 1) * V);
+  const double Us = cs * (M[0] * M[0] + M[1] * M[1] + M[2] * M[2]);
+  printf("surface: %.15g (formula %.15g); tin foil %.3g\n", r[1].e[4], Us, r[0].e[4]);
+  EW_CHECK_LE("eps' 4: the surface energy against 2 pi kc |M|^2 / ((2 eps' + 1) V)", fabs(r[1].e[4] - Us) / Us, 1e-12);
+  EW_CHECK_TRUE("tin foil: no surface energy", r[0].e[4] == 0.0);
+  /* torque on the Stockmayer bodies: mu e x (-2 cs M) */
+  double dk = 0, kn = 0;
+  for (int i = 0; i < 20; i++) {
+    const int ri = rl_system_rot_index(s.sys, i);
+    double e[3];
+    rl_system_get_axis(s.sys, i, e);
+    const double m[3] = {0.04 * e[0], 0.04 * e[1], 0.04 * e[2]}, E[3] = {-2 * cs * M[0], -2 * cs * M[1], -2 * cs * M[2]};
+    const double k[3] = {m[1] * E[2] - m[2] * E[1], m[2] * E[0] - m[0] * E[2], m[0] * E[1] - m[1] * E[0]};
+    for (int c = 0; c < 3; c++) dk = fmax(dk, fabs(r[1].k[ri][c] - r[0].k[ri][c] - k[c]));
+    kn = fmax(kn, norm3d(k));
+  }
+  EW_CHECK_LE("eps' 4: the surface torque on each dipole mu x (-4 pi kc M / ((2 eps' + 1) V))", dk / kn, 1e-9);
+  const double a = 3.0, self = -kc * (a / sqrt(M_PI) * sq + 2 * a * a * a / (3 * sqrt(M_PI)) * smu);
+  EW_CHECK_LE("self term -kc (alpha/sqrt(pi) sum q^2 + 2 alpha^3/(3 sqrt(pi)) sum mu^2)", fabs(r[0].e[1] - self) / fabs(self), 1e-14);
+  free(x);
+  for (int j = 0; j < 2; j++) ew_result_free(&r[j]);
+  ew_scene_free(&s);
+}
+
+static void refuse(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {2.2, 2.3, 2.4};
+  scene_dip(&s, L, 10, 0, 0, 1);
+  s.p.cutoff = 1.0;
+  rl_ewald_info in;
+  EW_CHECK_TRUE("pme refuses point dipoles, naming the method",
+                rl_ewald_resolve(s.sys, &s.p, RL_EWALD_PME, &in) == RL_EINVAL && strstr(rl_last_error(), "pme") &&
+                    strstr(rl_last_error(), "dipole"));
+  EW_CHECK_TRUE("ewald accepts them", rl_ewald_resolve(s.sys, &s.p, RL_EWALD_SUM, &in) == RL_OK && in.nsites_dipolar == 10 &&
+                                          fabs(in.sum_mu2 - 10 * 0.04 * 0.04) < 1e-15);
+  ew_scene_free(&s);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test_prestate(fd, (void *)&fd_cases[0]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[1]),
+      cmocka_unit_test_prestate(fd, (void *)&fd_cases[2]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[3]),
+      cmocka_unit_test(alpha),                             cmocka_unit_test(threads),
+      cmocka_unit_test(surface),                           cmocka_unit_test(refuse)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
