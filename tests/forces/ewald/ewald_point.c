@@ -8,6 +8,9 @@
  *                                    random orientations (for timing)
  *   --ions COUNT EDGE SEED           COUNT random point ions of charge +1 / -1 (alternately) in a
  *                                    cube of EDGE nm, centres at least 0.25 nm apart
+ *   --dipoles FILE                   point dipoles in LJ units (kc = 1): FILE has "N L MU" (count,
+ *                                    cube edge, dipole moment) and then N lines "x y z ex ey ez"
+ *                                    (centre and unit axis); for the LAMMPS comparison
  * and the Ewald parameters (rl_ewald_params):
  *   --method pme|ewald  --cutoff RC  [--tolerance D] [--alpha A] [--grid NX NY NZ] [--order P]
  *   [--kmax KX KY KZ] [--kmax-sq S] [--eps-surface E] [--threads T]
@@ -40,6 +43,9 @@ static double now(void)
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/* JSON has no NaN: the error estimates (none for dipoles alone) as -1 then */
+static double finite_or(double x) { return isfinite(x) ? x : -1.0; }
+
 static void vec(const char *name, const double *v, int last)
 {
   printf("\"%s\": [%.17g, %.17g, %.17g]%s", name, v[0], v[1], v[2], last ? "" : ", ");
@@ -47,7 +53,7 @@ static void vec(const char *name, const double *v, int last)
 
 int main(int argc, char **argv)
 {
-  const char *chk = NULL, *model = NULL, *lattice = NULL, *method = "pme";
+  const char *chk = NULL, *model = NULL, *lattice = NULL, *method = "pme", *dipoles = NULL;
   int count = 0, nions = 0, sites = 0, repeat = 0, pair = 0;
   double density = 0, ion_edge = 0;
   unsigned long seed = 1;
@@ -60,6 +66,7 @@ int main(int argc, char **argv)
     else if (!strcmp(a, "--model")) { NEED(1); model = argv[++i]; }
     else if (!strcmp(a, "--lattice")) { NEED(4); lattice = argv[++i]; count = atoi(argv[++i]); density = atof(argv[++i]); seed = strtoul(argv[++i], NULL, 10); }
     else if (!strcmp(a, "--ions")) { NEED(3); nions = atoi(argv[++i]); ion_edge = atof(argv[++i]); seed = strtoul(argv[++i], NULL, 10); }
+    else if (!strcmp(a, "--dipoles")) { NEED(1); dipoles = argv[++i]; }
     else if (!strcmp(a, "--method")) { NEED(1); method = argv[++i]; }
     else if (!strcmp(a, "--cutoff")) { NEED(1); p.cutoff = atof(argv[++i]); }
     else if (!strcmp(a, "--tolerance")) { NEED(1); p.tolerance = atof(argv[++i]); }
@@ -81,7 +88,7 @@ int main(int argc, char **argv)
   rl_system *sys = NULL;
   rl_molecule mol;
   rl_species_ff sff[2];
-  double ionq[2] = {1.0, -1.0}, zero[2] = {0, 0}, sig[2] = {0.25, 0.25};
+  double ionq[2] = {1.0, -1.0}, zero[2] = {0, 0}, sig[2] = {0.25, 0.25}, mu = 0.0;
   int nsp = 1;
   if (chk || lattice) {
     const rl_model *m = rl_catalog_find(chk ? model : lattice);
@@ -102,6 +109,23 @@ int main(int argc, char **argv)
       const double L[3] = {edge, edge, edge};
       if (rl_system_lattice(sys, L, RL_LATTICE_SC, 1, seed)) die("lattice");
     }
+  } else if (dipoles) {
+    FILE *in = fopen(dipoles, "r");
+    int nd = 0;
+    double edge = 0;
+    if (!in || fscanf(in, "%d %lf %lf", &nd, &edge, &mu) != 3 || nd < 1) { fprintf(stderr, "ewald_point: cannot read %s\n", dipoles); return 2; }
+    sys = rl_system_alloc(RL_UNITS_LJ);
+    const rl_species_desc d = {"stockmayer", RL_KIND_DIPOLE, 1.0, {0.025, 0.025, 0.025}, 1, (const double[3]){0, 0, 0}};
+    if (rl_system_add_species(sys, &d, nd, NULL)) die("dipoles");
+    sff[0] = (rl_species_ff){1, sig, zero, zero, &mu, NULL};
+    const double L[3] = {edge, edge, edge};
+    if (rl_system_set_box(sys, L)) die("box");
+    for (int i = 0; i < nd; i++) {
+      double r[3], e[3];
+      if (fscanf(in, "%lf %lf %lf %lf %lf %lf", r, r + 1, r + 2, e, e + 1, e + 2) != 6) { fprintf(stderr, "ewald_point: %s: line %d\n", dipoles, i + 2); return 2; }
+      if (rl_system_set_position(sys, i, r) || rl_system_set_axis(sys, i, e)) die("dipole");
+    }
+    fclose(in);
   } else if (nions > 0) {
     sys = rl_system_alloc(RL_UNITS_REAL);
     for (int s = 0; s < 2; s++) {
@@ -134,7 +158,7 @@ int main(int argc, char **argv)
     free(r);
     gsl_rng_free(rng);
   } else {
-    fprintf(stderr, "ewald_point: give --checkpoint FILE --model NAME, --lattice ..., or --ions ...\n");
+    fprintf(stderr, "ewald_point: give --checkpoint FILE --model NAME, --lattice ..., --ions ... or --dipoles FILE\n");
     return 2;
   }
   if (rl_system_nspecies(sys) != nsp) { fprintf(stderr, "ewald_point: one species expected\n"); return 2; }
@@ -153,10 +177,10 @@ int main(int argc, char **argv)
   printf("{\"describe\": \"%s\",\n", text);
   printf("\"params\": {\"method\": \"%s\", \"alpha\": %.17g, \"cutoff\": %.17g, \"tolerance\": %.17g, \"kmax\": [%d, %d, %d], "
          "\"kmax_sq\": %.17g, \"nkvec\": %ld, \"grid\": [%d, %d, %d], \"order\": %d, \"err_real\": %.6g, \"err_recip\": %.6g, "
-         "\"err_total\": %.6g, \"nsites_charged\": %d, \"sum_q2\": %.17g},\n",
+         "\"err_total\": %.6g, \"nsites_charged\": %d, \"sum_q2\": %.17g, \"nsites_dipolar\": %d, \"sum_mu2\": %.17g},\n",
          method, in->alpha, in->cutoff, in->tolerance, in->kmax[0], in->kmax[1], in->kmax[2], in->kmax_sq, in->nkvec,
-         in->grid[0], in->grid[1], in->grid[2], in->order, in->err_real, in->err_recip, in->err_total, in->nsites_charged,
-         in->sum_q2);
+         in->grid[0], in->grid[1], in->grid[2], in->order, finite_or(in->err_real), finite_or(in->err_recip),
+         finite_or(in->err_total), in->nsites_charged, in->sum_q2, in->nsites_dipolar, in->sum_mu2);
   double L[3];
   rl_system_box(sys, L);
   printf("\"box\": [%.17g, %.17g, %.17g], \"count\": %d,\n\"energy\": {", L[0], L[1], L[2], n);
