@@ -934,7 +934,7 @@ static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, cons
     fprintf(f, "dielectric_note = unreliable: the run is shorter than the estimate needs: the error is %.0f %% of "
                "eps - 1; about %.2g %s of sampling (%.2g times this run's %.3g %s) would bring it to 10 %%\n",
             100.0 * rel, span * (rel / 0.1) * (rel / 0.1), tu, (rel / 0.1) * (rel / 0.1), span, tu);
-  if (a->point_dipoles && d->ff.dipole_method == RL_DIPOLE_RF)
+  if (a->point_dipoles && d->ff.dipole_method == RL_DIPOLE_RF && d->coulomb == RL_DECK_COULOMB_RF) /* Ewald: no RF */
     fprintf(f, "dielectric_heating_note = the point dipoles interact by the dipolar reaction field (interactions.dipole "
                "= rf), whose energy jumps at the cutoff: it heats an NVE run, and a thermostat holds the temperature "
                "only by taking that heat out, so the run does not sample the canonical distribution the fluctuation "

@@ -97,7 +97,10 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
   rl_species_ff pair_sff = sff;
   double no_charge[RL_MOLECULE_MAX_SITES] = {0};
   const int ewald = d->coulomb != RL_DECK_COULOMB_RF;
-  if (ewald) pair_sff.charge = no_charge; /* the charges are the Ewald terms': no reaction field in the pair term */
+  if (ewald) { /* the charges and point dipoles are the Ewald terms': no reaction field in the pair term */
+    pair_sff.charge = no_charge;
+    pair_sff.dipole = NULL;
+  }
   rl_pair_params pp = {d->ff, &pair_sff, 1, d->model->geometric_mixing}; /* OPLS, EPM2: geometric mixing */
   pp.p.skin = scene_skin(d, mol);
   rl_ewald_params ep = d->ewald;

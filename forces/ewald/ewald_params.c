@@ -390,7 +390,8 @@ int rl_ewald_describe(const rl_ewald_info *in, rl_units units, char *buf, size_t
   if (in->nsites_dipolar > 0) { /* the estimates are those for charges (none for the dipoles) */
     char dp[64] = "";
     if (in->nsites_charged > 0) snprintf(dp, sizeof dp, "; RMS force error on a charge %.3g %s", in->method == RL_EWALD_REAL ? in->err_real : in->err_total, force);
-    return snprintf(buf, size, "%s of charges and point dipoles: %s%s%s%s; no error estimate for the dipoles%s", name, a, k,
+    return snprintf(buf, size, "%s of %s: %s%s%s%s; no error estimate for the dipoles%s", name,
+                    in->nsites_charged > 0 ? "charges and point dipoles" : "point dipoles", a, k,
                     in->method == RL_EWALD_REAL ? "" : ", ", in->method == RL_EWALD_REAL ? "" : b, dp);
   }
   if (in->method == RL_EWALD_REAL)
