@@ -1,4 +1,4 @@
-/* rotleap — Ewald summation of point charges as force terms (terms.h), issue 33.
+/* rotleap — Ewald summation of point charges and point dipoles as force terms (terms.h), issue 33.
  *
  * The Coulomb energy of point charges q_a in an orthorhombic periodic cell, split by the
  * screening parameter alpha into
@@ -23,6 +23,22 @@
  *   U_surface    kc 2 pi / ((2 eps' + 1) V) |M|^2, M = sum_a q_a r_a: a sphere of periodic
  *                images in a dielectric eps'; 0 for conducting (tin-foil) surroundings, the
  *                default (eps' = infinity)
+ *
+ * Point dipoles ("ewald-real" and "ewald"; "pme" refuses them): a site's dipole is the signed
+ * scalar rl_species_ff.dipole[a] along its body's Z axis, m_a = mu_a e_z.  With B_0 = erfc(alpha r)/r
+ * and B_l = [(2l - 1) B_{l-1} + (2 alpha^2)^l / (alpha sqrt(pi)) exp(-alpha^2 r^2)] / r^2 (B_1, B_2:
+ * Allen & Tildesley's B and C; LAMMPS lj/cut/dipole/long), for r = r_a - r_b
+ *   U_real       kc sum [q_a q_b B_0 + (q_a m_b.r - q_b m_a.r + m_a.m_b) B_1 - (m_a.r)(m_b.r) B_2]
+ *   U_recip      the same sum with S(k) = sum_a (q_a + i m_a.k) exp(i k.r_a)
+ *   U_self       adds -kc 2 alpha^3 / (3 sqrt(pi)) sum_a mu_a^2
+ *   U_intra      adds, for a molecule with several polar sites, the erf form of the pair terms
+ *                above (constant: the dipoles are fixed in the body)
+ *   U_surface    with M = sum_a q_a r_a + sum_a m_a
+ * and each dipole's torque m_a x E_a, E_a = -dU/dm_a, goes to its body.  The site virial keeps the
+ * dipoles fixed under the strain (a barostat keeps the orientations): in k space that adds
+ * -sum_a m_a (x) E_a^recip to the charges' formula, and the tensor is no longer symmetric.  The
+ * error estimates below are the charges' (none for the dipoles).  docs/interactions.md, "Point
+ * dipoles", has the derivations and the comparison with LAMMPS's ewald/dipole.
  *
  * The reciprocal terms ("ewald", "pme") report U_recip, U_self, U_intra, U_background and
  * U_surface as their components (names below); "ewald-real" reports U_real.  The sum of
@@ -79,9 +95,9 @@ extern "C" {
 /* One parameter block for "ewald-real", "ewald" and "pme" (defaults from rl_ewald_params_default;
  * every derived value follows OpenMM 7.7, see above). */
 typedef struct {
-  const rl_species_ff *species; /* [nspecies] the sites' charges, per species of the system (the
-                                   species' nsites must match; dipoles and quadrupoles are
-                                   refused for now: dipolar Ewald comes later)                 */
+  const rl_species_ff *species; /* [nspecies] the sites' charges and point dipoles, per species of
+                                   the system (the species' nsites must match; quadrupoles are
+                                   refused, and dipoles by "pme")                              */
   int nspecies;
   double cutoff;           /* rc of the real-space sum (> 0, <= half the shortest edge); sets
                               alpha with the tolerance                                         */
@@ -134,7 +150,7 @@ typedef struct {
   int grid[3], order;      /* "pme"                                                            */
   int grid_derived;
   double eps_surface, coulomb_constant;
-  int nsites_charged;      /* N: sites with q != 0                                              */
+  int nsites_charged;      /* N: sites with q != 0 (the error estimates are for these)          */
   double sum_q2, net_charge;
   int nsites_dipolar;      /* sites with a point dipole (mu != 0)                               */
   double sum_mu2;          /* sum over them of mu^2                                             */
@@ -155,8 +171,9 @@ typedef struct {
  * real-space cut a relative error beyond 0.1, the largest tolerance); a grid (or kmax) too coarse
  * for the tolerance: exp(-k^2 / 4 alpha^2) > 10 delta at the shortest wave vector it leaves out
  * (the mesh's Nyquist vector pi K / L, or the shortest vector outside the Ewald set); a grid below
- * the spline order; an order outside 3..12; eps' below 1; no box; no charged site; dipoles or
- * quadrupoles on a site; a species table that does not match the system. */
+ * the spline order; an order outside 3..12; eps' below 1; no box; no charged or dipolar site;
+ * quadrupoles on a site, or point dipoles with RL_EWALD_PME; a species table that does not match
+ * the system. */
 int rl_ewald_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method method,
                      rl_ewald_info *info);
 
@@ -186,14 +203,16 @@ int rl_ewald_warnings(const void *state, rl_ff_warning *out, int max);
 /* Site-level results of a term, for tests and the accuracy scripts: the forces on every site
  * (fs [nsites][3], lab, overwritten), the term's energy components (energies[], as its
  * compute reports them) and the site virial W_site (before the molecular correction).  The
- * term's compute is these plus the reduction to bodies. */
+ * term's compute is these plus the reduction to bodies (and, with point dipoles, their torques
+ * m x E, which these do not return). */
 int rl_ewald_site_forces(void *state, const rl_system *sys, double (*fs)[3], double *energies,
                          double virial_site[9]);
 
 /* The forces on every site (fs [nsites][3], overwritten) of the intramolecular correction
  * U_intra, which the terms never apply (their net force and torque on each rigid molecule is
  * zero; test_ewald_sums.c shows it), and its energy at the current configuration (returned;
- * equal to the constant the terms report). */
+ * equal to the constant the terms report).  Charge-charge pairs only: for molecules with point
+ * dipoles the pairs with a dipole are left out (of forces and energy). */
 double rl_ewald_intra_site_forces(const void *state, const rl_system *sys, double (*fs)[3]);
 
 #ifdef __cplusplus
