@@ -80,6 +80,7 @@ N = 256
 CUTOFF, EPS_RF = 0.9, 78.3
 LJ = "plain"
 MODEL = "tip4p"
+DENSITY = 1.0          # g/cm3 (nvt_structure.py --coulomb pme sets 0.995)
 COULOMB = "rf"         # or "pme" (--coulomb)
 EWALD_TOL = 5e-4       # --ewald-tolerance, with --coulomb pme
 T_K = 298.0
@@ -95,7 +96,7 @@ def deck(prefix, steps, h, integrator="rl", start=None, box=None, equilibrate=No
     if box:
         sysl.append("box = %s" % " ".join(repr(b) for b in box))
     else:
-        sysl.append("density = 1 g/cm3")
+        sysl.append("density = %g g/cm3" % DENSITY)
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = %d" % seed]
     sysl.append("temperature = %g K" % T_K)
     run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h, "integrator = %s" % integrator]
@@ -437,7 +438,7 @@ def main():
         write_report(args.report, table, eq, steps, args, elapsed)
     meta = dict(generated_by="/usr/bin/python3 validate/nve_conservation.py " + " ".join(
                     a for a in sys.argv[1:] if not a.startswith("/")),
-                date=time.strftime("%Y-%m-%d %H:%M"), molecules=N, model=MODEL, density_g_cm3=1.0,
+                date=time.strftime("%Y-%m-%d %H:%M"), molecules=N, model=MODEL, density_g_cm3=DENSITY,
                 box_nm=ck["box"], cutoff_nm=CUTOFF, coulomb=COULOMB,
                 ewald_tolerance=EWALD_TOL if COULOMB == "pme" else None,
                 scheme="site" if COULOMB == "rf" else None,
