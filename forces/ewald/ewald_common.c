@@ -211,6 +211,13 @@ int ew_gather(ew_base *b, const rl_system *sys)
   return RL_OK;
 }
 
+void ew_dipole_virial(const ew_base *b, double W[9])
+{
+  for (int k = 0; k < b->nq; k++)
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) W[3 * r + c] -= b->md[k][r] * b->eq[k][c];
+}
+
 void ew_reciprocal_extras(ew_base *b, double e[5], double W[9])
 {
   const double kc = b->info.coulomb_constant, V = b->L[0] * b->L[1] * b->L[2], a = b->info.alpha;

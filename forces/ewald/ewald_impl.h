@@ -61,6 +61,10 @@ void ew_add_virial6(double W[9], const double w[6]);
 /* Positions of the charged sites (and the centres), and the lab dipoles, for the current
  * configuration; fq and eq zeroed. */
 int ew_gather(ew_base *b, const rl_system *sys);
+/* The reciprocal parts' extra site virial with point dipoles, W -= sum_a md_a (x) eq_a, eq holding
+ * the part's field alone: the dipoles stay fixed under the strain while k (or the mesh's
+ * gradient K/L) changes, so m.k changes (ewald_kspace.c). */
+void ew_dipole_virial(const ew_base *b, double W[9]);
 /* The reciprocal terms' constant and boundary parts: adds U_self, U_intra, U_background,
  * U_surface to e[1..4] (e[0] is U_recip), their forces to fq and their site virial to W. */
 void ew_reciprocal_extras(ew_base *b, double e[5], double W[9]);

@@ -233,9 +233,7 @@ static int ewald_part_dip(ewald_state *s, double *energy, double W[9])
       }
     }
   }
-  for (int k = 0; k < nq; k++)
-    for (int r = 0; r < 3; r++)
-      for (int c = 0; c < 3; c++) W[3 * r + c] -= b->md[k][r] * b->eq[k][c];
+  ew_dipole_virial(b, W);
   return RL_OK;
 }
 
@@ -355,7 +353,7 @@ static int ewald_compute(void *state, const rl_system *sys, rl_forces *out, doub
 
 const rl_term_type rl_term_ewald = {
     "ewald",
-    "reciprocal-space Ewald sum of point charges over k vectors (kmax per axis and a spherical limit), with the self "
+    "reciprocal-space Ewald sum of point charges and dipoles over k vectors (kmax per axis and a spherical limit), with the self "
     "term, the intramolecular exclusion correction, a neutralising background and the surface term (rotleap/ewald.h)",
     "P. P. Ewald, Ann. Phys. 369, 253 (1921); M. P. Allen & D. J. Tildesley, Computer Simulation of Liquids, 2nd ed., "
     "section 6.2 (2017); S. W. de Leeuw, J. W. Perram & E. R. Smith, Proc. R. Soc. Lond. A 373, 27 (1980)",

@@ -220,10 +220,6 @@ int ew_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method m
                           "and point dipoles only (quadrupoles are not supported)", who, s, name ? name : "", a);
         const double mu = f->dipole ? f->dipole[a] : 0.0;
         if (!isfinite(mu)) return rl_error(RL_EINVAL, "%s: species %d (%s), site %d: dipole %g is not finite", who, s, name ? name : "", a, mu);
-        if (mu != 0.0 && method == RL_EWALD_PME)
-          return rl_error(RL_EINVAL, "pme: species %d (%s), site %d carries a point dipole: the mesh sums point charges only "
-                          "(dipoles on the mesh are not built yet); use the classical Ewald sum (\"ewald\") for dipoles",
-                          s, name ? name : "", a);
         if (mu != 0.0) {
           nd += count;
           mu2 += (double)count * mu * mu;

@@ -1,5 +1,6 @@
 /* The real-space part of the Ewald sum, the term "ewald-real" (ewald.h): the reference that the
- * pair kernels' Ewald rows will be checked against.
+ * pair kernels' Ewald rows will be checked against.  With point dipoles a separate plain-C row
+ * (real_site_dip; ewald_dipole.h has the formulas) and a nine-component virial.
  *
  *   U_real = kc sum_{a<b} q_a q_b erfc(alpha r_ab) / r_ab   over charged site pairs of different
  *            bodies with r_ab < rc (minimum image; pairs within a body are excluded)
@@ -328,8 +329,9 @@ static int real_compute(void *state, const rl_system *sys, rl_forces *out, doubl
 
 const rl_term_type rl_term_ewald_real = {
     "ewald-real",
-    "real-space part of the Ewald sum of point charges: kc q q erfc(alpha r)/r between charged sites of different "
-    "bodies within the cutoff, minimum image (rotleap/ewald.h); the reference for the pair kernels' Ewald rows",
+    "real-space part of the Ewald sum of point charges and dipoles: kc q q erfc(alpha r)/r (and the B_1, B_2 terms of "
+    "dipoles) between sites of different bodies within the cutoff, minimum image (rotleap/ewald.h); the reference for "
+    "the pair kernels' Ewald rows",
     "P. P. Ewald, Ann. Phys. 369, 253 (1921); J. Kolafa & J. W. Perram, Mol. Simul. 9, 351 (1992) (error estimate)",
     1,
     {"ewald_real"},

@@ -10,6 +10,11 @@
  * spline-weighted gradient (analytical differentiation of the splines) gives the forces.  The
  * site virial is (1/2) sum_m G |F(Q)|^2 (delta - 2 (1 + pi^2 m^2 / alpha^2) m m^T / m^2) (eq. 2.11).
  *
+ * Point dipoles (ewald.h): a site spreads q theta + m . grad theta, grad = (K_c / L_c) d/du_c, whose
+ * transform stands in for (q + i m.k) exp(i k.r); the forces then need the splines' second
+ * derivatives (from the order p - 2 weights), the field on each dipole their first, and the site
+ * virial gains -sum m (x) E (grad = K/L changes under the strain, the dipoles do not).
+ *
  * Conventions follow OpenMM 7.7's reference PME (ReferencePME.cpp), so that its numbers are
  * reproduced to round-off: a charge at fractional position t (t - floor t, times K) with integer
  * part i and fraction w spreads onto mesh points i, ..., i + p - 1 (mod K) with the weights
@@ -39,6 +44,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define EW_MAX_SPLINE 16 /* above the largest order (12, ewald_params.c) */
+
 typedef struct {
   ew_base b; /* first */
   int K[3], P;
@@ -51,6 +58,7 @@ typedef struct {
   int *gi;              /* [nq][3][P] the mesh indices of each charge's stencil, wrapped         */
   double *theta;        /* [nq][3][P] spline weights                                            */
   double *dtheta;       /* [nq][3][P] their derivatives d/du                                    */
+  double *d2theta;      /* [nq][3][P] second derivatives (with point dipoles only, else NULL)   */
   double *plane;        /* [Kx][7] energy and virial (xx yy zz xy xz yz) per x plane           */
 } pme_state;
 
@@ -71,6 +79,7 @@ static void pme_free(void *state)
   free(s->gi);
   free(s->theta);
   free(s->dtheta);
+  free(s->d2theta);
   free(s->plane);
   free(s);
 }
@@ -155,22 +164,131 @@ static void pme_splines(pme_state *s, int k)
     int *g = s->gi + ((size_t)k * 3 + c) * P;
     for (int j = 0, m = ti % s->K[c]; j < P; j++, m = m + 1 < s->K[c] ? m + 1 : 0) g[j] = m;
     double *data = s->theta + ((size_t)k * 3 + c) * P, *ddata = s->dtheta + ((size_t)k * 3 + c) * P;
+    double w2[EW_MAX_SPLINE] = {1.0}; /* the weights of order P - 2 (1 for order 1), for d2theta */
     data[P - 1] = 0;
     data[1] = dr;
     data[0] = 1 - dr;
+    if (P == 4) memcpy(w2, data, sizeof(double) * 2);
     for (int j = 3; j < P; j++) {
       const double div = 1.0 / (j - 1.0);
       data[j - 1] = div * dr * data[j - 2];
       for (int l = 1; l < (j - 1); l++) data[j - l - 1] = div * ((dr + l) * data[j - l - 2] + (j - l - dr) * data[j - l - 1]);
       data[0] = div * (1 - dr) * data[0];
+      if (j == P - 2) memcpy(w2, data, sizeof(double) * (size_t)j);
     }
     ddata[0] = -data[0];
     for (int j = 1; j < P; j++) ddata[j] = data[j - 1] - data[j];
+    if (s->d2theta) { /* d/du twice: (D w)[j] = w[j - 1] - w[j], as for ddata */
+      double *d2 = s->d2theta + ((size_t)k * 3 + c) * P;
+      for (int j = 0; j < P; j++)
+        d2[j] = (j < P - 2 ? w2[j] : 0.0) - 2.0 * (j >= 1 && j - 1 < P - 2 ? w2[j - 1] : 0.0) + (j >= 2 ? w2[j - 2] : 0.0);
+    }
     const double div = 1.0 / (P - 1);
     data[P - 1] = div * dr * data[P - 2];
     for (int l = 1; l < (P - 1); l++) data[P - l - 1] = div * ((dr + l) * data[P - l - 2] + (P - l - dr) * data[P - l - 1]);
     data[0] = div * (1 - dr) * data[0];
   }
+}
+
+/* remove_net_force: fq holds the mesh part alone here; summed in site order */
+static int pme_net_force(pme_state *s)
+{
+  ew_base *b = &s->b;
+  const int nq = b->nq;
+  if (b->p.remove_net_force && nq > 0) {
+    double F[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < nq; k++)
+      for (int c = 0; c < 3; c++) F[c] += b->fq[k][c];
+    for (int c = 0; c < 3; c++) F[c] /= nq;
+    for (int k = 0; k < nq; k++)
+      for (int c = 0; c < 3; c++) b->fq[k][c] -= F[c];
+  }
+  return RL_OK;
+}
+
+/* With point dipoles: Q(j) = sum_a [q_a theta_a(j) + m_a . grad theta_a(j)], grad = (s_c d/du_c),
+ * s_c = K_c / L_c; this thread's x planes [x0, x1) from every site reaching them, in site order. */
+static void pme_spread_dip(pme_state *s, int x0, int x1)
+{
+  ew_base *b = &s->b;
+  const int P = s->P, Kz = s->K[2];
+  const size_t yz = (size_t)s->K[1] * Kz;
+  const double sc[3] = {s->K[0] / b->L[0], s->K[1] / b->L[1], s->K[2] / b->L[2]};
+  for (int k = 0; k < b->nq; k++) {
+    const int *gx = s->gi + (size_t)k * 3 * P, *gyi = gx + P, *gzi = gyi + P;
+    const double *tx = s->theta + (size_t)k * 3 * P, *ty = tx + P, *tz = ty + P;
+    const double *dx = s->dtheta + (size_t)k * 3 * P, *dy = dx + P, *dz = dy + P;
+    const double q = b->q[k], mx = b->md[k][0] * sc[0], my = b->md[k][1] * sc[1], mz = b->md[k][2] * sc[2];
+    for (int ix = 0; ix < P; ix++) {
+      const int xi = gx[ix];
+      if (xi < x0 || xi >= x1) continue;
+      double *gxp = s->grid + (size_t)xi * yz;
+      for (int iy = 0; iy < P; iy++) {
+        double *gy = gxp + (size_t)gyi[iy] * Kz;
+        const double a0 = (q * tx[ix] + mx * dx[ix]) * ty[iy] + my * tx[ix] * dy[iy], az = mz * tx[ix] * ty[iy];
+        for (int iz = 0; iz < P; iz++) gy[gzi[iz]] += a0 * tz[iz] + az * dz[iz];
+      }
+    }
+  }
+}
+
+/* With point dipoles, from the mesh potential phi: per site the sums P_c = sum phi d_c theta and
+ * P_cd = sum phi d_c d_d theta (d_c = d/du_c); then
+ *   dU/dr_d = q s_d P_d + sum_c m_c s_c s_d P_cd,   E_c = -s_c P_c,
+ * and the virial's extra term -sum m (x) E (the dipoles fixed under the strain, as in ewald_kspace.c). */
+static void pme_gather_dip(pme_state *s, double W[9])
+{
+  ew_base *b = &s->b;
+  const int T = b->threads, nq = b->nq, P = s->P, Kz = s->K[2];
+  (void)T; /* a build without OpenMP */
+  const size_t yz = (size_t)s->K[1] * Kz;
+  const double sc[3] = {s->K[0] / b->L[0], s->K[1] / b->L[1], s->K[2] / b->L[2]};
+#ifdef _OPENMP
+#pragma omp parallel num_threads(T) if (T > 1)
+#endif
+  {
+    int k0, k1;
+    rl_thread_range(nq, &k0, &k1);
+    for (int k = k0; k < k1; k++) {
+      const int *gx = s->gi + (size_t)k * 3 * P, *gyi = gx + P, *gzi = gyi + P;
+      const double *t[3] = {s->theta + (size_t)k * 3 * P, s->theta + (size_t)k * 3 * P + P, s->theta + (size_t)k * 3 * P + 2 * P};
+      const double *d[3] = {s->dtheta + (size_t)k * 3 * P, s->dtheta + (size_t)k * 3 * P + P, s->dtheta + (size_t)k * 3 * P + 2 * P};
+      const double *h[3] = {s->d2theta + (size_t)k * 3 * P, s->d2theta + (size_t)k * 3 * P + P, s->d2theta + (size_t)k * 3 * P + 2 * P};
+      double Pc[3] = {0, 0, 0}, Pcd[6] = {0, 0, 0, 0, 0, 0}; /* xx yy zz xy xz yz */
+      for (int ix = 0; ix < P; ix++) {
+        const double *gxp = s->grid + (size_t)gx[ix] * yz;
+        for (int iy = 0; iy < P; iy++) {
+          const double *gy = gxp + (size_t)gyi[iy] * Kz;
+          double p0 = 0, p1 = 0, p2 = 0; /* sums over z with theta, dtheta, d2theta */
+          for (int iz = 0; iz < P; iz++) {
+            const double g = gy[gzi[iz]];
+            p0 += t[2][iz] * g;
+            p1 += d[2][iz] * g;
+            p2 += h[2][iz] * g;
+          }
+          const double tx = t[0][ix], ty = t[1][iy], dx = d[0][ix], dy = d[1][iy];
+          Pc[0] += dx * ty * p0;
+          Pc[1] += tx * dy * p0;
+          Pc[2] += tx * ty * p1;
+          Pcd[0] += h[0][ix] * ty * p0;
+          Pcd[1] += tx * h[1][iy] * p0;
+          Pcd[2] += tx * ty * p2;
+          Pcd[3] += dx * dy * p0;
+          Pcd[4] += dx * ty * p1;
+          Pcd[5] += tx * dy * p1;
+        }
+      }
+      static const int pair[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+      const double q = b->q[k], *m = b->md[k];
+      for (int dd = 0; dd < 3; dd++) {
+        double g = q * Pc[dd];
+        for (int c = 0; c < 3; c++) g += m[c] * sc[c] * Pcd[pair[c][dd]];
+        b->fq[k][dd] -= g * sc[dd];
+        b->eq[k][dd] -= sc[dd] * Pc[dd];
+      }
+    }
+  }
+  ew_dipole_virial(b, W);
 }
 
 static int pme_part(ew_base *b, double *energy, double W[9])
@@ -193,6 +311,9 @@ static int pme_part(ew_base *b, double *energy, double W[9])
     int x0, x1;
     rl_thread_range(Kx, &x0, &x1);
     memset(s->grid + (size_t)x0 * yz, 0, sizeof(double) * yz * (size_t)(x1 - x0));
+    if (b->ndip) {
+      pme_spread_dip(s, x0, x1);
+    } else
     for (int k = 0; k < nq; k++) {
       const int *gx = s->gi + (size_t)k * 3 * P, *gyi = gx + P, *gzi = gyi + P;
       const double *tx = s->theta + (size_t)k * 3 * P, *ty = tx + P, *tz = ty + P, q = b->q[k];
@@ -252,6 +373,10 @@ static int pme_part(ew_base *b, double *energy, double W[9])
   ew_add_virial6(W, w);
   fftw_execute(s->bwd); /* the mesh potential phi = dU/dQ: U = (1/2) sum_j Q(j) phi(j) */
   const double sx = Kx / b->L[0], sy = Ky / b->L[1], sz = Kz / b->L[2];
+  if (b->ndip) {
+    pme_gather_dip(s, W);
+    return pme_net_force(s);
+  }
 #ifdef _OPENMP
 #pragma omp parallel num_threads(T) if (T > 1)
 #endif
@@ -284,15 +409,7 @@ static int pme_part(ew_base *b, double *energy, double W[9])
       b->fq[k][2] -= q * fz * sz;
     }
   }
-  if (b->p.remove_net_force && nq > 0) { /* fq holds the mesh part alone here; summed in site order */
-    double F[3] = {0.0, 0.0, 0.0};
-    for (int k = 0; k < nq; k++)
-      for (int c = 0; c < 3; c++) F[c] += b->fq[k][c];
-    for (int c = 0; c < 3; c++) F[c] /= nq;
-    for (int k = 0; k < nq; k++)
-      for (int c = 0; c < 3; c++) b->fq[k][c] -= F[c];
-  }
-  return RL_OK;
+  return pme_net_force(s);
 }
 
 static void *pme_alloc(const rl_system *sys, const void *params)
@@ -316,8 +433,9 @@ static void *pme_alloc(const rl_system *sys, const void *params)
   s->gi = malloc(sizeof(int) * nq * 3 * (size_t)s->P);
   s->theta = malloc(sizeof(double) * nq * 3 * (size_t)s->P);
   s->dtheta = malloc(sizeof(double) * nq * 3 * (size_t)s->P);
+  if (s->b.ndip) s->d2theta = malloc(sizeof(double) * nq * 3 * (size_t)s->P);
   s->plane = malloc(sizeof(double) * 7 * Kx);
-  ok &= s->G && s->grid && s->cgrid && s->gi && s->theta && s->dtheta && s->plane;
+  ok &= s->G && s->grid && s->cgrid && s->gi && s->theta && s->dtheta && s->plane && (!s->b.ndip || s->d2theta);
   if (ok) {
     s->fwd = fftw_plan_dft_r2c_3d(s->K[0], s->K[1], s->K[2], s->grid, s->cgrid, FFTW_ESTIMATE);
     s->bwd = fftw_plan_dft_c2r_3d(s->K[0], s->K[1], s->K[2], s->cgrid, s->grid, FFTW_ESTIMATE);
@@ -340,7 +458,7 @@ static int pme_compute(void *state, const rl_system *sys, rl_forces *out, double
 
 const rl_term_type rl_term_pme = {
     "pme",
-    "reciprocal-space Ewald sum of point charges by smooth particle-mesh Ewald (B-splines of selectable order, FFTW3), "
+    "reciprocal-space Ewald sum of point charges and dipoles by smooth particle-mesh Ewald (B-splines of selectable order, FFTW3), "
     "with the self term, the intramolecular exclusion correction, a neutralising background and the surface term "
     "(rotleap/ewald.h)",
     "U. Essmann, L. Perera, M. L. Berkowitz, T. Darden, H. Lee, L. G. Pedersen, J. Chem. Phys. 103, 8577 (1995)",

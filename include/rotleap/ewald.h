@@ -24,12 +24,13 @@
  *                images in a dielectric eps'; 0 for conducting (tin-foil) surroundings, the
  *                default (eps' = infinity)
  *
- * Point dipoles ("ewald-real" and "ewald"; "pme" refuses them): a site's dipole is the signed
+ * Point dipoles (all three terms): a site's dipole is the signed
  * scalar rl_species_ff.dipole[a] along its body's Z axis, m_a = mu_a e_z.  With B_0 = erfc(alpha r)/r
  * and B_l = [(2l - 1) B_{l-1} + (2 alpha^2)^l / (alpha sqrt(pi)) exp(-alpha^2 r^2)] / r^2 (B_1, B_2:
  * Allen & Tildesley's B and C; LAMMPS lj/cut/dipole/long), for r = r_a - r_b
  *   U_real       kc sum [q_a q_b B_0 + (q_a m_b.r - q_b m_a.r + m_a.m_b) B_1 - (m_a.r)(m_b.r) B_2]
- *   U_recip      the same sum with S(k) = sum_a (q_a + i m_a.k) exp(i k.r_a)
+ *   U_recip      the same sum with S(k) = sum_a (q_a + i m_a.k) exp(i k.r_a); on the mesh each
+ *                site spreads q theta + m.grad theta (the B-splines' derivatives)
  *   U_self       adds -kc 2 alpha^3 / (3 sqrt(pi)) sum_a mu_a^2
  *   U_intra      adds, for a molecule with several polar sites, the erf form of the pair terms
  *                above (constant: the dipoles are fixed in the body)
@@ -97,7 +98,7 @@ extern "C" {
 typedef struct {
   const rl_species_ff *species; /* [nspecies] the sites' charges and point dipoles, per species of
                                    the system (the species' nsites must match; quadrupoles are
-                                   refused, and dipoles by "pme")                              */
+                                   refused)                                                    */
   int nspecies;
   double cutoff;           /* rc of the real-space sum (> 0, <= half the shortest edge); sets
                               alpha with the tolerance                                         */
@@ -172,7 +173,7 @@ typedef struct {
  * for the tolerance: exp(-k^2 / 4 alpha^2) > 10 delta at the shortest wave vector it leaves out
  * (the mesh's Nyquist vector pi K / L, or the shortest vector outside the Ewald set); a grid below
  * the spline order; an order outside 3..12; eps' below 1; no box; no charged or dipolar site;
- * quadrupoles on a site, or point dipoles with RL_EWALD_PME; a species table that does not match
+ * quadrupoles on a site; a non-finite charge or dipole; a species table that does not match
  * the system. */
 int rl_ewald_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method method,
                      rl_ewald_info *info);

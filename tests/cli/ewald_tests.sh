@@ -4,7 +4,8 @@
 # energy by term from the terms, PME against Ewald, explicit parameters against derived ones,
 # 1 against 2 threads; the run and its summary print alpha, the grid and the estimated error;
 # checkpoint continuation bit for bit; scan; the dielectric constant's boundary; point dipoles
-# (Stockmayer) with coulomb = ewald: the terms, alpha independence, an NVE run.
+# (Stockmayer) with coulomb = ewald or pme: the terms, pme against ewald, alpha independence, an
+# NVE run.
 # usage: ewald_tests.sh ROTLEAP SRCDIR WORKDIR
 set -u
 rotleap=$1; src=$2; work=$3
@@ -44,8 +45,6 @@ bad epsrf_pme "interactions.eps_rf is only used with coulomb = rf (coulomb = pme
 bad boundary "interactions.ewald_boundary: '0.5' is not tinfoil, vacuum or a dielectric constant >= 1" 's/^coulomb = pme/&\newald_boundary = 0.5/'
 bad scheme "interactions.scheme = molecule does not go with coulomb = pme" 's/^coulomb = pme/&\nscheme = molecule/'
 bad cutoff_box "interactions.cutoff 0.7 is larger than half the shortest box edge" 's/^cutoff = .*/cutoff = 0.7 nm/'
-bad nocharge "interactions.coulomb = pme needs point charges: model stockmayer: species 0 (stockmayer), site 0 carries a point dipole" \
-  's/^dipole = .*/coulomb = pme/' "$sm"
 "$rotleap" energy "$src/examples/n2.ini" --set interactions.coulomb=ewald --set interactions.scheme=site >out.txt 2>err.txt; code=$?
 check "a quadrupole-only model (N2, no charges) is refused for Ewald, naming coulomb" \
   '[ $code -eq 2 ] && grep -q "^--set: interactions.coulomb = ewald needs point charges: model n2: .* carries a quadrupole" err.txt'
@@ -140,6 +139,16 @@ sed 's/^dipole = .*/coulomb = ewald/' "$sm" > sm_ewald.ini
 "$rotleap" energy sm_ewald.ini --json >sme.json 2>sme.err; code=$?
 check "Stockmayer, coulomb = ewald: the Ewald terms, and no dipolar energy left in the pair term" \
   '[ $code -eq 0 ] && grep -q "\"dipolar\": 0," sme.json && grep -q "\"terms\": \[\"pair\", \"ewald-real\", \"ewald\"\]" sme.json'
+sed 's/^dipole = .*/coulomb = pme/' "$sm" > sm_pme.ini
+"$rotleap" energy sm_pme.ini --json --set interactions.ewald_tolerance=1e-6 >smp.json 2>smp.err; code=$?
+"$rotleap" energy sm_ewald.ini --json --set interactions.ewald_tolerance=1e-6 >smk.json 2>/dev/null
+check "Stockmayer, coulomb = pme: the mesh version, within 1e-6 of the k-vector sum at tolerance 1e-6" \
+  '[ $code -eq 0 ] && grep -q "\"terms\": \[\"pair\", \"ewald-real\", \"pme\"\]" smp.json && python3 - smp.json smk.json <<PYEOF
+import json, sys
+a, b = (json.load(open(f))["energy"]["total"] for f in sys.argv[1:3])
+print("pme %.12g ewald %.12g" % (a, b))
+sys.exit(not abs(a - b) <= 1e-6 * abs(b))
+PYEOF'
 for a in 2.5 3.0; do
   "$rotleap" energy sm_ewald.ini --json --set interactions.ewald_alpha=$a --set interactions.ewald_kmax=$([ $a = 2.5 ] && echo 20 || echo 24) \
     >sme_$a.json 2>/dev/null

@@ -33,7 +33,11 @@ static void fd_one(const char *what, const rl_term_type *type, int ntop, int nio
   s.p.cutoff = 1.0;
   s.p.alpha = 3.0;
   s.p.eps_surface = 4.0;
-  for (int c = 0; c < 3; c++) s.p.kmax[c] = 9;
+  for (int c = 0; c < 3; c++) {
+    s.p.kmax[c] = 9;
+    s.p.grid[c] = 24 + 2 * c;
+  }
+  s.p.order = 6;
   rl_terms *t = ew_terms(&s, type, NULL);
   ew_result r;
   assert_int_equal(ew_eval(t, s.sys, &r), RL_OK);
@@ -81,10 +85,49 @@ static void fd(void **state)
   fd_one(c->what, c->type, c->ntop, c->nion);
 }
 
-static const fd_case fd_cases[4] = {{"ewald-real, Stockmayer", &rl_term_ewald_real, 0, 0},
+static const fd_case fd_cases[6] = {{"ewald-real, Stockmayer", &rl_term_ewald_real, 0, 0},
                                     {"ewald, Stockmayer (eps' 4)", &rl_term_ewald, 0, 0},
+                                    {"pme, Stockmayer (24 x 26 x 28, order 6, eps' 4)", &rl_term_pme, 0, 0},
                                     {"ewald-real, dipoles + tops + ions", &rl_term_ewald_real, 8, 4},
-                                    {"ewald, dipoles + tops + ions (eps' 4)", &rl_term_ewald, 8, 4}};
+                                    {"ewald, dipoles + tops + ions (eps' 4)", &rl_term_ewald, 8, 4},
+                                    {"pme, dipoles + tops + ions (eps' 4)", &rl_term_pme, 8, 4}};
+
+/* ------------------------------------------------------------------------- pme against ewald */
+static void pme_vs_ewald(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {2.4, 2.5, 2.6};
+  scene_dip(&s, L, 40, 10, 6, 13);
+  s.p.cutoff = 1.1;
+  s.p.alpha = 3.5;
+  s.p.eps_surface = 4.0;
+  s.p.order = 10;
+  for (int c = 0; c < 3; c++) {
+    s.p.kmax[c] = 14;
+    s.p.grid[c] = 64 + 4 * c;
+  }
+  ew_result r[2];
+  const rl_term_type *types[2] = {&rl_term_ewald, &rl_term_pme};
+  for (int j = 0; j < 2; j++) {
+    rl_terms *t = ew_terms(&s, types[j], NULL);
+    assert_int_equal(ew_eval(t, s.sys, &r[j]), RL_OK);
+    rl_terms_free(t);
+  }
+  printf("ewald %.15g, pme %.15g (recip %.15g, %.15g)\n", r[0].energy, r[1].energy, r[0].e[0], r[1].e[0]);
+  EW_CHECK_LE("pme (order 10, 64 x 68 x 72) against ewald (kmax 14), dipoles + tops + ions: energy, relative",
+              fabs(r[0].energy - r[1].energy) / fabs(r[0].energy), 1e-9);
+  EW_CHECK_LE("... forces, RMS relative", ew_rel_rms((const double(*)[3])r[1].f, (const double(*)[3])r[0].f, r[0].n), 1e-8);
+  EW_CHECK_LE("... torques, RMS relative", ew_rel_rms((const double(*)[3])r[1].k, (const double(*)[3])r[0].k, r[0].nrot), 1e-8);
+  double dW = 0, Wn = 0;
+  for (int j = 0; j < 9; j++) {
+    dW = fmax(dW, fabs(r[1].virial[j] - r[0].virial[j]));
+    Wn = fmax(Wn, fabs(r[0].virial[j]));
+  }
+  EW_CHECK_LE("... virial (all nine), largest difference relative to the largest", dW / Wn, 1e-8);
+  for (int j = 0; j < 2; j++) ew_result_free(&r[j]);
+  ew_scene_free(&s);
+}
 
 /* ------------------------------------------------------------------------------------ alpha */
 static void alpha(void **state)
@@ -124,8 +167,8 @@ static void threads(void **state)
   scene_dip(&s, L, 500, 60, 20, 3);
   s.p.cutoff = 0.9;
   s.p.eps_surface = 10.0;
-  const rl_term_type *types[2] = {&rl_term_ewald_real, &rl_term_ewald};
-  for (int k = 0; k < 2; k++) {
+  const rl_term_type *types[3] = {&rl_term_ewald_real, &rl_term_ewald, &rl_term_pme};
+  for (int k = 0; k < 3; k++) {
     ew_result r[3];
     for (int T = 1; T <= 3; T++) {
       s.p.threads = T;
@@ -199,7 +242,7 @@ static void surface(void **state)
   ew_scene_free(&s);
 }
 
-static void refuse(void **state)
+static void resolve(void **state)
 {
   (void)state;
   ew_scene s;
@@ -207,11 +250,14 @@ static void refuse(void **state)
   scene_dip(&s, L, 10, 0, 0, 1);
   s.p.cutoff = 1.0;
   rl_ewald_info in;
-  EW_CHECK_TRUE("pme refuses point dipoles, naming the method",
-                rl_ewald_resolve(s.sys, &s.p, RL_EWALD_PME, &in) == RL_EINVAL && strstr(rl_last_error(), "pme") &&
-                    strstr(rl_last_error(), "dipole"));
-  EW_CHECK_TRUE("ewald accepts them", rl_ewald_resolve(s.sys, &s.p, RL_EWALD_SUM, &in) == RL_OK && in.nsites_dipolar == 10 &&
-                                          fabs(in.sum_mu2 - 10 * 0.04 * 0.04) < 1e-15);
+  EW_CHECK_TRUE("ewald and pme take point dipoles alone: their count and sum of mu^2",
+                rl_ewald_resolve(s.sys, &s.p, RL_EWALD_SUM, &in) == RL_OK && in.nsites_dipolar == 10 && in.nsites_charged == 0 &&
+                    fabs(in.sum_mu2 - 10 * 0.04 * 0.04) < 1e-15 && rl_ewald_resolve(s.sys, &s.p, RL_EWALD_PME, &in) == RL_OK);
+  char line[512];
+  rl_ewald_describe(&in, RL_UNITS_REAL, line, sizeof line);
+  printf("%s\n", line);
+  EW_CHECK_TRUE("the description says that it has no error estimate for them",
+                strstr(line, "smooth PME of point dipoles: alpha") && strstr(line, "no error estimate for the dipoles"));
   ew_scene_free(&s);
 }
 
@@ -220,7 +266,9 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test_prestate(fd, (void *)&fd_cases[0]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[1]),
       cmocka_unit_test_prestate(fd, (void *)&fd_cases[2]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[3]),
-      cmocka_unit_test(alpha),                             cmocka_unit_test(threads),
-      cmocka_unit_test(surface),                           cmocka_unit_test(refuse)};
+      cmocka_unit_test_prestate(fd, (void *)&fd_cases[4]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[5]),
+      cmocka_unit_test(pme_vs_ewald),                      cmocka_unit_test(alpha),
+      cmocka_unit_test(threads),                           cmocka_unit_test(surface),
+      cmocka_unit_test(resolve)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -247,7 +247,7 @@ static void bad_input(void **state)
   ok &= refused(s.sys, &rl_term_pme, &p, "species 1 (tetra): 4 sites given, the system has 5");
   EW_CHECK_TRUE("a species table that does not match the system: refused", ok);
   ew_scene_free(&s);
-  /* dipoles, quadrupoles, no charges, no box */
+  /* a non-finite dipole, quadrupoles, no charges or dipoles, no box */
   rl_system *sys = rl_system_alloc(RL_UNITS_REAL);
   ff_test_species sp[3];
   ff_stockmayer(&sp[0], 0.05);
@@ -264,12 +264,14 @@ static void bad_input(void **state)
   p.cutoff = 0.9;
   ok = refused(sys, &rl_term_pme, &p, "the system has no periodic box");
   assert_int_equal(rl_system_set_box(sys, L), RL_OK);
-  ok &= refused(sys, &rl_term_pme, &p, "species 0 (stockmayer), site 0 carries a point dipole");
-  f3[0].dipole = NULL;
+  sp[0].dipole[0] = NAN; /* point dipoles are summed (test_ewald_dipole.c); a non-finite one is refused */
+  ok &= refused(sys, &rl_term_pme, &p, "species 0 (stockmayer), site 0: dipole nan is not finite");
+  sp[0].dipole[0] = 0.05;
   ok &= refused(sys, &rl_term_pme, &p, "species 1 (2cljq), site 2 carries a quadrupole");
+  f3[0].dipole = NULL;
   f3[1].quadrupole = NULL;
-  ok &= refused(sys, &rl_term_pme, &p, "no site carries a charge");
-  EW_CHECK_TRUE("no box, point dipoles, quadrupoles (a quadrupole-only model), no charges: refused", ok);
+  ok &= refused(sys, &rl_term_pme, &p, "no site carries a charge or a point dipole");
+  EW_CHECK_TRUE("no box, a non-finite dipole, quadrupoles (a quadrupole-only model), no charges or dipoles: refused", ok);
   rl_system_free(sys);
 }
 
