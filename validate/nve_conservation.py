@@ -323,7 +323,7 @@ def write_report(path, table, eq, steps, args, elapsed):
     elec = ("smooth PME from error tolerance %g (alpha, grid and order 5 derived as OpenMM does), tin-foil"
             % EWALD_TOL) if COULOMB == "pme" else "site-based reaction field, eps_rf %s" % EPS_RF
     cmd = "/usr/bin/python3 validate/nve_conservation.py " + " ".join(
-        a for a in sys.argv[1:] if not a.startswith("/"))
+        os.path.relpath(a, ROOT) if os.path.isabs(a) else a for a in sys.argv[1:])
     lines = ["# Energy conservation: %d %s, %s" % (N, MODEL.upper(), "PME" if COULOMB == "pme" else "reaction field"),
              "", "Regenerate: `%s` (%.0f s on %d jobs; %s, %s)." % (cmd, elapsed, args.jobs, cpu, time.strftime("%Y-%m-%d")),
              "", "System: %d %s at 1 g/cm3, %g K start (Bussi equilibration %d steps at %g fs from a relaxed lattice), "
