@@ -91,6 +91,8 @@ class Simulation:
         self._h = None
         self._running = False
         self._report = None
+        self._external = None
+        self._ext_raised = []
         tmp = None
         try:
             if text is not None:
@@ -116,8 +118,14 @@ class Simulation:
         self.timestep = lib.rlpy_timestep(h)
         self.energy_every = lib.rlpy_energy_every(h)
         self.thermo_every = lib.rlpy_thermo_every(h)
+        self.trajectory_every = lib.rlpy_trajectory_every(h)
+        self.checkpoint_every = lib.rlpy_checkpoint_every(h)
         self.deck_steps = lib.rlpy_deck_steps(h)
         self.units = "real" if lib.rlpy_real_units(h) else "lj"
+        self._energy_names()
+
+    def _energy_names(self):
+        h = self._h
         self.energy_names = [lib.rlpy_energy_name(h, j).decode() for j in range(lib.rlpy_nenergies(h))]
         self._nvalues = lib.rlpy_nvalues() + len(self.energy_names)
 
@@ -195,11 +203,25 @@ class Simulation:
     def run(self, steps=None, reporters=()):
         """`steps` more steps (default: up to the deck's run.steps) with the reporters called on
         their cadence (see Reporter), then the report of the last state to the step reporters
-        (last = True), as `rotleap run` writes its last thermo row.  A reporter that raises stops
-        the run with its exception; Ctrl-C stops it between two steps with KeyboardInterrupt."""
+        (last = True), as `rotleap run` writes its last thermo row, and finish(sim) of the
+        reporters that have one (a CheckpointReporter writes the last state's checkpoint).  A
+        reporter that raises stops the run with its exception; Ctrl-C stops it between two steps
+        with KeyboardInterrupt."""
         if steps is None:
             steps = max(self.deck_steps - self.current_step, 0)
+        reporters = list(reporters)
         self._run(steps, reporters, finish=True)
+        for r in reporters:
+            if callable(getattr(r, "finish", None)):
+                r.finish(self)
+
+    def checkpoint(self, path):
+        """Write the checkpoint of the current state to `path` with the library's writer, as
+        `rotleap run` writes PREFIX.chk (the same bytes for the same state, except that its run
+        record names no output streams); in a reporter, from a 'state' reporter only."""
+        h = self._handle()
+        if lib.rlpy_checkpoint(h, os.fsencode(path)):
+            _fail()
 
     def _run(self, steps, reporters, finish):
         h = self._idle()
@@ -207,14 +229,20 @@ class Simulation:
             raise TypeError("steps must be a whole number, not %r" % (steps,))
         if steps < 0:
             raise ValueError("steps = %d: a run takes 0 or more steps" % steps)
-        reps = list(reporters)
-        when = (ctypes.c_int * max(len(reps), 1))()
-        every = (ctypes.c_long * max(len(reps), 1))()
-        for i, r in enumerate(reps):
+        reps, cadences = [], []
+        for r in reporters:
             kind = getattr(r, "when", None)
             if kind not in ("step", "state") or not callable(getattr(r, "report", None)):
                 raise TypeError("reporter %r: a reporter has when = 'step' or 'state', every and report(sim, report)" % (r,))
             e = r.cadence(self) if hasattr(r, "cadence") else r.every
+            if e == 0 and hasattr(r, "cadence"):  # called at the end only (finish)
+                continue
+            reps.append(r)
+            cadences.append(e)
+        when = (ctypes.c_int * max(len(reps), 1))()
+        every = (ctypes.c_long * max(len(reps), 1))()
+        for i, (r, e) in enumerate(zip(reps, cadences)):
+            kind = r.when
             if isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e < 1:
                 raise ValueError("reporter %r: every = %r must be a whole number >= 1" % (r, e))
             if kind == "step" and e % self.energy_every:
@@ -247,12 +275,59 @@ class Simulation:
                               ctypes.byref(done))
         finally:
             self._running = False
+        self._raise_external()
         if raised:
             raise raised[0]
         if st == _native.INTERRUPTED:
             raise KeyboardInterrupt("rotleap: stopped at step %d" % self.current_step)
         if st:
             _fail(st)
+
+    # ------------------------------------------------------------------ an external force
+    def add_external_force(self, fn):
+        """Add a force term written in Python: fn(sim, forces, torques) adds its forces (n, 3)
+        and lab-frame torques (n_rotating, 3) to the arrays it is given (in place: they are the
+        library's accumulators) and returns its energy.  It is called once per force computation
+        (each step, and now: the forces are recomputed at the current state), from the thread
+        that steps, and reads the state from sim (positions, axes, orientations); its energy is
+        the component 'external' of the energies and of the potential, and it adds no virial.
+        Cost: one Python call per step (about 20 us) plus what fn does with numpy.  An exception
+        in fn stops the step it is in and is raised by step()/run(); the simulation is then at
+        the state of that unfinished step (rebuild or set the state before going on)."""
+        h = self._idle()
+        if not callable(fn):
+            raise TypeError("add_external_force: fn(sim, forces, torques) -> energy is needed, not %r" % (fn,))
+        n, nrot = self.count, self._nrot
+
+        def call(f, k, virial, energy, forces_only):
+            try:
+                F = np.ctypeslib.as_array(f, shape=(n, 3))
+                K = np.ctypeslib.as_array(k, shape=(nrot, 3)) if nrot else np.zeros((0, 3))
+                u = fn(self, F, K)
+                if isinstance(u, (bool, np.bool_)) or not isinstance(u, (int, float, np.integer, np.floating)):
+                    raise TypeError("the external force returned %r: its energy (a number) is needed" % (u,))
+                if not np.isfinite(u):
+                    raise ValueError("the external force returned the energy %r, not finite" % (u,))
+                energy[0] = float(u)
+                return 0
+            except BaseException as e:
+                self._ext_raised.append(e)
+                return 1
+
+        cb = _native.FORCE_CALLBACK(call)
+        if self._external is not None:
+            raise Error("the simulation has an external force already")
+        self._external = cb  # kept alive as long as the simulation
+        st = lib.rlpy_add_external(h, cb)
+        self._energy_names()
+        self._raise_external()
+        if st:
+            _fail(st)
+
+    def _raise_external(self):
+        if self._ext_raised:
+            e, self._ext_raised = self._ext_raised[0], []
+            raise e
 
     # ------------------------------------------------------------------ values
     def report(self):
