@@ -23,6 +23,7 @@ class Reporter:
             self.when = when
 
     def report(self, sim, report):
+        """Called at the reporter's steps with the simulation and a rotleap.Report."""
         raise NotImplementedError
 
     def __repr__(self):
@@ -37,6 +38,7 @@ class CallbackReporter(Reporter):
         self.fn = fn
 
     def report(self, sim, report):
+        """Calls fn(sim, report)."""
         self.fn(sim, report)
 
 
@@ -73,6 +75,7 @@ class ThermoReporter(Reporter):
                       "calE,t_trans_mid,t_rot_mid\n" % "".join("," + n for n in sim.energy_names))
 
     def report(self, sim, r):
+        """Accumulates calE and writes the row of r at the reporter's steps and at the last state."""
         if self._f is None:
             self._open(sim)
         if not r.last:  # the running statistics of the conserved quantity (Welford, as runrec.c)
@@ -94,6 +97,7 @@ class ThermoReporter(Reporter):
             self._f.flush()
 
     def close(self):
+        """Closes the file if the reporter opened it (a path)."""
         if self._f is not None and self._own:
             self._f.close()
         self._f = None
@@ -123,6 +127,7 @@ class TrajectoryReporter(Reporter):
         self._sim = None
 
     def cadence(self, sim):
+        """Opens the file when the first run starts; frames every `every` steps."""
         self.every = _every(self.every, sim.trajectory_every, "TrajectoryReporter")
         if self._t is None:
             if self.format is None:
@@ -141,11 +146,13 @@ class TrajectoryReporter(Reporter):
         return self.every
 
     def report(self, sim, r):
+        """Writes the frame of the state after r's step."""
         if lib.rlpy_traj_frame(sim._handle(), self._t):
             from .simulation import _fail
             _fail()
 
     def close(self):
+        """Finishes and closes the trajectory file."""
         if self._t is not None:
             t, self._t = self._t, None
             if lib.rlpy_traj_close(t):
@@ -176,9 +183,11 @@ class CheckpointReporter(Reporter):
         return self.every
 
     def report(self, sim, r):
+        """Writes the checkpoint of the state after r's step."""
         sim.checkpoint(self.path)
 
     def finish(self, sim):
+        """Writes the checkpoint of the last state (called by run() after its last step)."""
         sim.checkpoint(self.path)
 
 
