@@ -9,6 +9,7 @@ from ._native import lib as _lib
 from .simulation import Error, Report, Simulation
 from .reporters import CallbackReporter, CheckpointReporter, Reporter, ThermoReporter, TrajectoryReporter
 from .catalog import Model, catalog
+from .scan import ScanResult, scan
 
 __version__ = _lib.rlpy_version().decode()
-__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter", "Model", "catalog"]
+__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter", "Model", "catalog", "scan", "ScanResult"]

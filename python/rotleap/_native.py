@@ -37,6 +37,7 @@ def _load():
         "rlpy_site_trajectory": (ctypes.c_int, [P]),
         "rlpy_checkpoint": (ctypes.c_int, [P, ctypes.c_char_p]),
         "rlpy_add_external": (ctypes.c_int, [P, FORCE_CALLBACK]),
+        "rlpy_scan": (ctypes.c_int, [ctypes.c_int, ctypes.POINTER(ctypes.c_char_p)]),
         "rlpy_traj_open": (P, [P, ctypes.c_char_p, ctypes.c_int, ctypes.c_long, ctypes.c_char_p]),
         "rlpy_traj_frame": (ctypes.c_int, [P, P]),
         "rlpy_traj_close": (ctypes.c_int, [P]),

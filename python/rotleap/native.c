@@ -5,6 +5,7 @@
  * an rl status (RL_OK = 0) with the message in rlpy_error(); the library never prints. */
 #include "deck.h"
 #include "runrec.h"
+#include "scan.h"
 #include "scene.h"
 
 #include <errno.h>
@@ -496,6 +497,18 @@ RLPY_API int rlpy_add_external(rlpy_sim *p, rlpy_force_cb cb)
   int st = rl_terms_add(p->s.terms, &rlpy_external_term, &e, NULL);
   if (st) return st;
   return resume_here(p);
+}
+
+/* ------------------------------------------------------------------------------ scan */
+
+/* `rotleap scan` with its arguments (those after "scan"): 0, 1 (a failure) or 2 (bad usage or
+ * deck), its table on stdout and messages on stderr (flushed), its files under output.prefix. */
+RLPY_API int rlpy_scan(int argc, char **argv)
+{
+  const int st = rl_app_scan(argc, argv);
+  fflush(stdout);
+  fflush(stderr);
+  return st;
 }
 
 /* -------------------------------------------------------------------------- the catalogue */
