@@ -10,6 +10,7 @@ from .simulation import Error, Report, Simulation
 from .reporters import CallbackReporter, CheckpointReporter, Reporter, ThermoReporter, TrajectoryReporter
 from .catalog import Model, catalog
 from .scan import ScanResult, scan
+from .interop import from_openmm, to_mdtraj, to_openmm
 
 __version__ = _lib.rlpy_version().decode()
-__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter", "Model", "catalog", "scan", "ScanResult"]
+__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter", "Model", "catalog", "scan", "ScanResult", "to_mdtraj", "to_openmm", "from_openmm"]

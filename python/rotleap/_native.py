@@ -61,6 +61,8 @@ def _load():
         "rlpy_catalog_text": (ctypes.c_char_p, [ctypes.c_int, ctypes.c_int]),
         "rlpy_catalog_params": (ctypes.c_int, [ctypes.c_int, _dbl_p]),
         "rlpy_catalog_molecule": (ctypes.c_int, [ctypes.c_int, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
+        "rlpy_molecule": (ctypes.c_int, [P, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
+        "rlpy_interactions": (None, [P, _dbl_p]),
     }
     for name, (res, args) in sigs.items():
         f = getattr(lib, name)

@@ -541,25 +541,55 @@ RLPY_API int rlpy_catalog_params(int i, double *defaults)
   return m->nparams;
 }
 
-/* Model i built with its default parameters: mass, inertia[3], and per site (up to
- * RL_MOLECULE_MAX_SITES) names[8 each], body-frame positions [3], masses, sigma, epsilon,
- * charge, dipole and quadrupole (along body Z).  The number of sites, or -1 with a message. */
+/* A molecule's mass, inertia[3], and per site (up to RL_MOLECULE_MAX_SITES) names[8 each],
+ * body-frame positions [3], masses, sigma, epsilon, charge, dipole and quadrupole (along body
+ * Z); the number of sites. */
+static int molecule_out(const rl_molecule *m, double *mass, double *inertia, char *names, double *sites,
+                        double *site_mass, double *sigma, double *epsilon, double *charge, double *dipole,
+                        double *quadrupole)
+{
+  *mass = m->mass;
+  memcpy(inertia, m->inertia, sizeof m->inertia);
+  for (int s = 0; s < m->nsites; s++) {
+    memcpy(names + 8 * s, m->site_names[s], 8);
+    memcpy(sites + 3 * s, m->sites[s], sizeof m->sites[s]);
+    site_mass[s] = m->site_mass[s];
+    sigma[s] = m->sigma[s];
+    epsilon[s] = m->epsilon[s];
+    charge[s] = m->charge[s];
+    dipole[s] = m->dipole[s];
+    quadrupole[s] = m->quadrupole[s];
+  }
+  return m->nsites;
+}
+
+/* Model i built with its default parameters (molecule_out's arrays); -1 with a message. */
 RLPY_API int rlpy_catalog_molecule(int i, double *mass, double *inertia, char *names, double *sites, double *site_mass,
                                    double *sigma, double *epsilon, double *charge, double *dipole, double *quadrupole)
 {
   rl_molecule m;
   if (rl_model_build(rl_catalog_get(i), NULL, 0, &m)) return -1;
-  *mass = m.mass;
-  memcpy(inertia, m.inertia, sizeof m.inertia);
-  for (int s = 0; s < m.nsites; s++) {
-    memcpy(names + 8 * s, m.site_names[s], 8);
-    memcpy(sites + 3 * s, m.sites[s], sizeof m.sites[s]);
-    site_mass[s] = m.site_mass[s];
-    sigma[s] = m.sigma[s];
-    epsilon[s] = m.epsilon[s];
-    charge[s] = m.charge[s];
-    dipole[s] = m.dipole[s];
-    quadrupole[s] = m.quadrupole[s];
-  }
-  return m.nsites;
+  return molecule_out(&m, mass, inertia, names, sites, site_mass, sigma, epsilon, charge, dipole, quadrupole);
+}
+
+/* The simulation's molecule (the deck's model with its parameters), as rlpy_catalog_molecule. */
+RLPY_API int rlpy_molecule(const rlpy_sim *p, double *mass, double *inertia, char *names, double *sites,
+                           double *site_mass, double *sigma, double *epsilon, double *charge, double *dipole,
+                           double *quadrupole)
+{
+  return molecule_out(&p->s.mol, mass, inertia, names, sites, site_mass, sigma, epsilon, charge, dipole, quadrupole);
+}
+
+/* The deck's interactions: out[0] cutoff, 1 scheme (rl_cutoff_scheme), 2 LJ truncation
+ * (rl_lj_truncation), 3 dispersion correction, 4 eps_rf, 5 coulomb (rl_deck_coulomb), 6 Ewald
+ * tolerance, 7 alpha (0: derived), 8-10 PME grid (0: derived), 11 PME order, 12 eps' (inf:
+ * tin foil), 13-15 Ewald kmax (0: derived), 16 dipole method (rl_dipole_method). */
+RLPY_API void rlpy_interactions(const rlpy_sim *p, double *out)
+{
+  const rl_deck *d = &p->d;
+  const rl_ewald_params *e = &d->ewald;
+  const double v[] = {d->ff.cutoff, d->ff.scheme, d->ff.lj_truncation, d->ff.dispersion_correction, d->ff.eps_rf,
+                      d->coulomb, e->tolerance, e->alpha, e->grid[0], e->grid[1], e->grid[2], e->order,
+                      e->eps_surface, e->kmax[0], e->kmax[1], e->kmax[2], d->ff.dipole_method};
+  memcpy(out, v, sizeof v);
 }

@@ -407,6 +407,39 @@ class Simulation:
     forces = property(lambda s: s._get(_FORCE), doc="forces at the current state (n, 3)")
     torques = property(lambda s: s._get(_TORQUE), doc="lab-frame torques at the current state (n_rotating, 3)")
 
+    def molecule(self):
+        """The simulation's molecule (the deck's model with its parameters) as a dict of the
+        rotleap.Model fields mass, inertia, site_names, sites (body frame, (nsites, 3)),
+        site_mass, sigma, epsilon, charge, dipole, quadrupole."""
+        from .catalog import molecule
+        h = self._handle()
+        return molecule(lambda *a: lib.rlpy_molecule(h, *a))
+
+    def site_positions(self):
+        """Lab positions of every site (n, nsites, 3): the centre plus A^T times the body-frame
+        site (matrix bodies), or the centre plus the site's z times the axis (axis bodies)."""
+        m = self.molecule()
+        x = self.positions
+        if self.kind in ("dipole", "linear"):
+            return x[:, None, :] + m["sites"][None, :, 2, None] * self.axes[:, None, :]
+        if self.kind == "point":
+            return x[:, None, :] + np.zeros((1, len(m["sites"]), 3))
+        return x[:, None, :] + np.einsum("nji,sj->nsi", self.orientations, m["sites"])
+
+    def interactions(self):
+        """The deck's interaction settings: {cutoff, scheme ('site' or 'molecule'), lj
+        ('plain', 'shifted', 'shifted-force', 'switched'), dispersion_correction (bool), eps_rf,
+        coulomb ('rf', 'ewald', 'pme'), ewald_tolerance, ewald_alpha (0: derived), pme_grid
+        (0s: derived), pme_order, ewald_boundary (inf: tin foil), ewald_kmax, dipole ('rf', 'sf')}."""
+        v = np.zeros(17)
+        lib.rlpy_interactions(self._handle(), dptr(v))
+        return dict(cutoff=v[0], scheme=("site", "molecule")[int(v[1])],
+                    lj=("plain", "shifted", "shifted-force", "switched")[int(v[2])],
+                    dispersion_correction=bool(v[3]), eps_rf=v[4], coulomb=("rf", "ewald", "pme")[int(v[5])],
+                    ewald_tolerance=v[6], ewald_alpha=v[7], pme_grid=tuple(int(g) for g in v[8:11]),
+                    pme_order=int(v[11]), ewald_boundary=v[12], ewald_kmax=tuple(int(k) for k in v[13:16]),
+                    dipole=("rf", "sf")[int(v[16])])
+
     @property
     def fallbacks(self):
         """Guarded rotation solves that needed Newton since the production began."""
