@@ -313,3 +313,17 @@ def test_catalogue_and_from_model():
     assert np.array_equal(a.positions, b.positions) and np.array_equal(a.axes, b.axes)
     with pytest.raises(rotleap.Error, match="no-such-model"):
         rotleap.Simulation.from_model("no-such-model", 10, box=3, set=keys)
+
+
+def test_rotleap_run_continues_a_python_checkpoint(cli, tmp_path):
+    """A CheckpointReporter's file is a start `rotleap run` continues bit for bit: 150 steps from
+    Python, the rest by rotleap run from the checkpoint, equal the 300 steps of rotleap run."""
+    deck = example("stockmayer.ini")
+    run_cli(cli, deck, tmp_path, *sets_of(STOCKMAYER), "output.prefix=whole")
+    sim = rotleap.Simulation(deck, set=STOCKMAYER)
+    sim.run(150, reporters=[rotleap.CheckpointReporter(tmp_path / "py.chk")])
+    run_cli(cli, deck, tmp_path, *sets_of(STOCKMAYER), "system.start=py.chk", "output.prefix=cont")
+    _, whole, rec_w = checkpoint_parts(tmp_path / "whole.chk")
+    _, cont, rec_c = checkpoint_parts(tmp_path / "cont.chk")
+    assert cont == whole
+    assert rec_c["BOOK"] == rec_w["BOOK"]  # the averages over the whole run, the thermostat's account
