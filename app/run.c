@@ -899,7 +899,7 @@ static int report_averages(void *ctx, const rl_run_report *r)
   run_ctx *c = ctx;
   if (r->last) return RL_OK;
   const double pr = scene_pressure_out(c->d, r->pressure);
-  const int st = analysis_step(c->an, r->info, pr, r->forces, r->sys);
+  const int st = analysis_step(c->an, r->info, pr, r->forces, r->sys, r->box);
   if (st) return rl_error_wrap(st, "step %ld", r->step);
   running_add(&c->E, r->info->conserved);
   running_add(&c->U, r->info->potential);
@@ -1233,6 +1233,9 @@ int rl_app_run(const rl_deck *d)
   if (progress) fputc('\n', stderr);
   /* results, RDF and TCF files: each is written (atomically) whatever happened to the others */
   char io_failure[1024] = "";
+  rl_barostat_stats bstats;
+  const rl_stepop *bop = scene_barostat(d, c.in);
+  if (c.an && bop && !rl_barostat_stats_of(bop, &bstats)) analysis_set_barostat_stats(c.an, &bstats);
   if (c.an && c.first + c.done > 0 && analysis_write(c.an, d->prefix, st ? ".part" : NULL, d->sample_every * d->timestep)) {
     snprintf(io_failure, sizeof io_failure, "cannot write the results: %s", rl_last_error());
     fprintf(stderr, "rotleap run: %s\n", io_failure);

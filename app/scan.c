@@ -193,7 +193,7 @@ static int scan_step(void *ctx, const rl_run_report *rep)
     double *c = r->curve[r->ncurve++];
     c[0] = (double)k; c[1] = info->t; c[2] = a->done > 1 ? rl_series_rel_fluct(a->E) : 0.0;
   }
-  if (a->an) st = analysis_step(a->an, info, scene_pressure_out(a->d, rep->pressure), rep->forces, rep->sys);
+  if (a->an) st = analysis_step(a->an, info, scene_pressure_out(a->d, rep->pressure), rep->forces, rep->sys, rep->box);
   a->report_wall += now() - t0;
   return st;
 }

@@ -23,11 +23,33 @@ three_runs() {
   check "$name: all runs succeeded" "[ ! -s $name.err ] && [ -e $name-A.chk ] && [ -e $name-B.chk ]"
   check "$name: final checkpoints byte-identical (2N vs N + continuation + N)" "cmp -s $name-A.chk $name-B.chk"
   check "$name: thermo files byte-identical" "cmp -s $name-A.thermo.csv $name-B.thermo.csv"
+  check "$name: results files byte-identical (the analysis journal's box records replayed)" "cmp -s $name-A.results.txt $name-B.results.txt"
   check "$name: the box moved (volume column)" "awk -F, 'NR==2{v=\$(NF-4)} END{exit !(\$(NF-4) != v)}' $name-A.thermo.csv"
 }
 three_runs mc --set run.barostat=mc --set run.barostat_interval=3
 three_runs mc-aniso --set run.barostat=mc --set run.barostat_interval=2 --set run.barostat_coupling=anisotropic
 three_runs crescale --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.tau_p=0.5 --set run.compressibility=0.1
+# the results under a barostat: block averages of the box, enthalpy, kappa_T, the barostat's own numbers;
+# with every step in the thermo file and nothing discarded, the means are the thermo columns' means
+"$rotleap" run "$deck" "${npt[@]}" --set run.barostat=mc --set run.barostat_interval=2 --set run.steps=300 --set output.thermo_every=1 \
+  --set output.discard=0 --set output.prefix="$work/res-mc" >/dev/null 2>res.err
+"$rotleap" run "$deck" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.compressibility=0.1 \
+  --set run.steps=300 --set output.thermo_every=1 --set output.discard=0 --set output.prefix="$work/res-cr" >/dev/null 2>>res.err
+for b in mc cr; do
+  for key in volume density box_Lx box_Ly box_Lz enthalpy_per_molecule isothermal_compressibility; do
+    check "results ($b) has $key" "grep -q '^$key = [0-9]' res-$b.results.txt"
+  done
+  # thermo: the last row is the final state, not a step of the averages; P0 = 1, kT = 1.35, N = 125
+  read -r mV mrho mH kap < <(awk -F, 'NR>1{r[NR]=$0} END{n=0; for(i=2;i<NR;i++){split(r[i],c,","); V=c[NF-4]; n++; sv+=V; svv+=V*V; sr+=c[NF-3]; sh+=(c[3]+1.0*V)/125} m=sv/n; printf "%.10g %.10g %.10g %.10g\n", m, sr/n, sh/n, (svv/n-m*m)/(1.35*m)}' res-$b.thermo.csv)
+  check "results ($b): volume is the thermo mean $mV" "awk -v x=$mV '/^volume = /{exit !((\$3-x)^2 < (1e-7*x)^2)}' res-$b.results.txt"
+  check "results ($b): density is the thermo mean $mrho" "awk -v x=$mrho '/^density = /{exit !((\$3-x)^2 < (1e-7*x)^2)}' res-$b.results.txt"
+  check "results ($b): enthalpy is <total + P0 V>/N = $mH" "awk -v x=$mH '/^enthalpy_per_molecule = /{exit !((\$3-x)^2 < (1e-6*x)^2)}' res-$b.results.txt"
+  check "results ($b): kappa_T is <dV^2>/(kT <V>) = $kap" "awk -v x=$kap '/^isothermal_compressibility = /{exit !((\$3-x)^2 < (1e-4*x)^2)}' res-$b.results.txt"
+done
+check "results (mc): acceptance and trial step" "grep -q '^mc_acceptance = 0\.[0-9]* ([0-9]* of 150 trials' res-mc.results.txt && grep -q '^mc_trial_step = [0-9.e-]* sigma^3' res-mc.results.txt"
+check "results (c-rescale): effective energy drift" "grep -q '^crescale_effective_energy_drift = [-0-9.e]* +- [0-9.e-]* kT per molecule per tau' res-cr.results.txt"
+check "results (no barostat): no volume lines" "'$rotleap' run '$deck' --set output.prefix=$work/nve-res >/dev/null 2>&1 && ! grep -q '^volume\|^isothermal' nve-res.results.txt"
+check "results: no errors" "[ ! -s res.err ]"
 check "thermo header has volume, density, box edges" "head -1 mc-A.thermo.csv | grep -q ',volume,density,Lx,Ly,Lz$'"
 check "no barostat: no volume columns" "'$rotleap' run '$deck' --set output.prefix=$work/nve >/dev/null 2>&1 && ! head -1 nve.thermo.csv | grep -q volume"
 # a continuation whose deck has no barostat (or another) is another simulation
