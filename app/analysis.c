@@ -1334,7 +1334,7 @@ static void barostat_lines(FILE *f, const analysis *a, long i0, long per, double
             r.value, es, real ? "1/bar" : "sigma^3/epsilon", d->thermostat_temperature, real ? " K" : "", note);
   }
   if (d->barostat == 1 && a->have_stats) {
-    const int aniso = d->baro_aniso;
+    const int aniso = d->baro_aniso == 1;
     for (int k = 0; k < (aniso ? 3 : 1); k++) {
       const long at = a->stats.attempted[k], ac = a->stats.accepted[k];
       char name[48];

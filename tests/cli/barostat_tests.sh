@@ -50,6 +50,9 @@ check "results (mc): acceptance and trial step" "grep -q '^mc_acceptance = 0\.[0
 check "results (c-rescale): effective energy drift" "grep -q '^crescale_effective_energy_drift = [-0-9.e]* +- [0-9.e-]* kT per molecule per tau' res-cr.results.txt"
 check "results (no barostat): no volume lines" "'$rotleap' run '$deck' --set output.prefix=$work/nve-res >/dev/null 2>&1 && ! grep -q '^volume\|^isothermal' nve-res.results.txt"
 check "results: no errors" "[ ! -s res.err ]"
+three_runs crescale-semi --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.tau_p=0.5 --set run.compressibility=0.1 --set run.barostat_coupling=semiisotropic
+check "semi-isotropic: Lx = Ly on every row, Lz apart from them at the end" "awk -F, 'NR==1{for(i=1;i<=NF;i++) h[\$i]=i; next} {if (\$h[\"Lx\"] != \$h[\"Ly\"]) bad=1; lx=\$h[\"Lx\"]; lz=\$h[\"Lz\"]} END{exit bad || lx == lz}' crescale-semi-A.thermo.csv"
+check "semi-isotropic: the checkpoint's settings name the coupling" "grep -aq 'barostat_coupling = semiisotropic' crescale-semi-A.chk"
 check "thermo header has volume, density, box edges, pressure tensor" "head -1 mc-A.thermo.csv | grep -q ',volume,density,Lx,Ly,Lz,Pxx,Pyy,Pzz,Pxy,Pxz,Pyz$'"
 for b in mc cr; do
   check "pressure tensor ($b): its trace / 3 is the pressure column, every row; off-diagonals finite" "awk -F, 'NR==1{for(i=1;i<=NF;i++) h[\$i]=i; next} {p=\$h[\"pressure\"]; t=(\$h[\"Pxx\"]+\$h[\"Pyy\"]+\$h[\"Pzz\"])/3; if ((t-p)^2 > 1e-14*(1+p*p) || \$h[\"Pxy\"] !~ /^-?[0-9]/ || \$h[\"Pyz\"] !~ /^-?[0-9]/) bad=1} END{exit bad}' res-$b.thermo.csv"
@@ -72,6 +75,7 @@ bad compressibility "run.compressibility must be positive" "${npt[@]}" --set run
 bad tau_p "run.tau_p must be positive" "${npt[@]}" --set run.barostat=c-rescale --set run.tau_p=-1
 bad tau_p-mc "run.tau_p is only used with run.barostat = c-rescale" "${npt[@]}" --set run.barostat=mc --set run.tau_p=1
 bad aniso-crescale "anisotropic needs run.barostat = mc" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_coupling=anisotropic
+bad semi-mc "semiisotropic needs run.barostat = c-rescale" "${npt[@]}" --set run.barostat=mc --set run.barostat_coupling=semiisotropic
 bad interval "must be a multiple of output.energy_every" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_interval=3 --set output.energy_every=2 --set output.thermo_every=10
 bad pressure-unit "run.pressure: reduced (lj) units take no unit suffix" "${npt[@]}" --set run.barostat=mc --set run.pressure="1 bar"
 # collapse: an absurd pressure shrinks the box below twice the cutoff; the run stops naming the step
