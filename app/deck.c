@@ -79,7 +79,7 @@ static const key_def keys[NKEYS] = {
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop, the Ewald terms and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums; the Ewald terms' do not depend on it)"},
     [K_BARO] = {"run", "barostat", K_CHOICE, Q_NONE, "none", "none|mc|c-rescale", "constant pressure (NPT; needs run.ensemble = nvt-bussi or nvt-langevin and a periodic box): mc, the Monte Carlo barostat (OpenMM's: trial scalings of the molecular centres, molecules rigid); c-rescale, stochastic cell rescaling (Bernetti & Bussi 2020, GROMACS's C-rescale; isotropic or semiisotropic). docs/integrators.md, \"Barostats\""},
-    [K_PRESSURE] = {"run", "pressure", K_REAL, Q_PRESSURE, NULL, NULL, "target pressure of run.barostat (bar, atm, Pa, MPa; reduced for lj models); required with a barostat"},
+    [K_PRESSURE] = {"run", "pressure", K_REAL, Q_PRESSURE, NULL, NULL, "target pressure of run.barostat (bar, atm, Pa, MPa; reduced for lj models); required with a barostat; at most 1e5 bar (10 GPa; 1000 reduced) either way, beyond any rigid model (a bare 101325 is bar, not Pa)"},
     [K_BINTERVAL] = {"run", "barostat_interval", K_INT, Q_NONE, NULL, NULL, "steps between barostat moves: Monte Carlo trials (default 25, OpenMM's) or C-rescale couplings (default 10, GROMACS's nstpcouple; a multiple of output.energy_every)"},
     [K_TAUP] = {"run", "tau_p", K_REAL, Q_TIME, NULL, NULL, "c-rescale: coupling time of the volume; default 1 ps (real), 1000 h (lj)"},
     [K_COMPRESS] = {"run", "compressibility", K_REAL, Q_COMPRESSIBILITY, NULL, NULL, "c-rescale: isothermal compressibility it assumes (sets the volume's relaxation, not the ensemble); default 4.5e-5 1/bar (water's), 0.1 (lj)"},
@@ -864,6 +864,12 @@ static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
             "(run.ensemble = nvt-bussi or nvt-langevin): the barostat samples at run.temperature", val(r, K_BARO));
   if (!r->val[K_PRESSURE]) problem(r, r->line[K_BARO], "run.barostat = %s needs run.pressure", val(r, K_BARO));
   d->pressure = number(r, K_PRESSURE, u, 0, 0.0);
+  /* beyond 10 GPa (1e3 reduced) no rigid-molecule model applies: most likely a unit left out
+   * (101325 read as bar, not Pa) */
+  const double pmax = lj ? 1e3 : 1e5 * 0.0602214076;
+  if (r->val[K_PRESSURE] && !r->bad[K_PRESSURE] && !(fabs(d->pressure) <= pmax))
+    problem(r, r->line[K_PRESSURE], "run.pressure = %s is beyond %s: no rigid-molecule model holds there (a pressure in "
+            "Pa or atm needs its unit: \"101325 Pa\", \"1 atm\")", val(r, K_PRESSURE), lj ? "+-1000 (reduced)" : "+-1e5 bar (10 GPa)");
   d->baro_interval = integer(r, K_BINTERVAL, 1, mc ? 25 : 10);
   if (!mc && !r->bad[K_BINTERVAL] && d->energy_every > 0 && d->baro_interval % d->energy_every)
     problem(r, r->line[K_BINTERVAL] ? r->line[K_BINTERVAL] : r->line[K_ENERGY], "run.barostat_interval = %ld must be a "

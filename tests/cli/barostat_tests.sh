@@ -78,6 +78,10 @@ bad aniso-crescale "anisotropic needs run.barostat = mc" "${npt[@]}" --set run.b
 bad semi-mc "semiisotropic needs run.barostat = c-rescale" "${npt[@]}" --set run.barostat=mc --set run.barostat_coupling=semiisotropic
 bad interval "must be a multiple of output.energy_every" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_interval=3 --set output.energy_every=2 --set output.thermo_every=10
 bad pressure-unit "run.pressure: reduced (lj) units take no unit suffix" "${npt[@]}" --set run.barostat=mc --set run.pressure="1 bar"
+bad pressure-absurd-lj "run.pressure = 1e4 is beyond" "${npt[@]}" --set run.barostat=mc --set run.pressure=1e4
+bad pressure-absurd-negative "run.pressure = -2e3 is beyond" "${npt[@]}" --set run.barostat=c-rescale --set run.pressure=-2e3
+bad pressure-absurd-real "run.pressure = 101325 is beyond +-1e5 bar" --set run.ensemble=nvt-bussi --set run.barostat=mc --set run.pressure=101325 --set system.model=tip4p --set system.count=64 --set system.density=1 --set system.temperature=298 --set run.temperature=298 --set interactions.cutoff=0.5
+bad small-box "interactions.cutoff 2 is larger than half the shortest box edge" "${npt[@]}" --set system.count=27 --set run.barostat=mc
 # collapse: an absurd pressure shrinks the box below twice the cutoff; the run stops naming the step
 # and the cause, and keeps its last checkpoint
 "$rotleap" run "$deck" "${npt[@]}" --set interactions.cutoff=2.6 --set run.barostat=c-rescale --set run.pressure=30 --set run.barostat_interval=1 \
@@ -86,5 +90,13 @@ rc=$?
 check "collapse: the run stops (exit != 0)" "[ $rc -ne 0 ]"
 check "collapse: the message names the step and the cause" "grep -q 'would shrink the box edge' collapse.err && grep -q 'at step [0-9]' collapse.err && grep -q 'twice the cutoff' collapse.err"
 check "collapse: the last checkpoint is kept" "[ -e collapse.chk ] && grep -q 'collapse.chk (step 10) continues' collapse.err"
+# the same for the Monte Carlo barostat: a trial below twice the cutoff stops the run (not rejected:
+# that would bias the volume's law near the bound)
+"$rotleap" run "$deck" "${npt[@]}" --set interactions.cutoff=2.6 --set run.barostat=mc --set run.pressure=50 --set run.barostat_interval=1 \
+  --set run.steps=2000 --set output.checkpoint_every=5 --set output.prefix="$work/collapse-mc" >/dev/null 2>collapse-mc.err
+rc=$?
+check "collapse (mc): the run stops (exit != 0)" "[ $rc -ne 0 ]"
+check "collapse (mc): the message names the step and the cause" "grep -q 'Monte Carlo barostat would shrink the box edge' collapse-mc.err && grep -q 'at step [0-9]' collapse-mc.err && grep -q 'twice the cutoff' collapse-mc.err"
+check "collapse (mc): the last checkpoint is kept" "[ -e collapse-mc.chk ] && grep -q 'collapse-mc.chk (step [0-9]*) continues' collapse-mc.err"
 echo "barostat tests: $pass passed, $fail failed"
 [ $fail -eq 0 ]
