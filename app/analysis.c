@@ -272,11 +272,13 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   if (d->units == RL_UNITS_REAL) a->mass /= 602.214076; /* u/nm^3 -> g/cm^3, as the thermo file's density */
   ok = (a->M2 = rl_trace_alloc(0)) && ok;
   /* output.rdf: "O-O, H-H" */
-  /* under a barostat, the deck's box (the first run's start; a continuation's box differs): the
-   * RDFs, the unwrapping and the dielectric constant do not yet follow the volume */
+  /* under a barostat, the deck's box (the first run's start; a continuation's box differs) in the
+   * journal's header; each sample carries its own box, which the RDFs' normalisation and the
+   * unwrapping use; the dielectric constant does not yet follow the volume (the deck's) */
   if (d->barostat) memcpy(a->box, d->box, sizeof a->box);
   else rl_system_box(sys, a->box);
   double rmax = 0.5 * fmin(a->box[0], fmin(a->box[1], a->box[2]));
+  if (d->barostat) rmax = fmin(rmax, d->ff.cutoff); /* the box may shrink to twice the cutoff, not below */
   const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
   if (nrdf < 0) { analysis_free(a); return NULL; }
   for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, RDF_BINS);
@@ -293,7 +295,7 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->mark_every = 1;
   /* the largest record: a sample that still feeds the correlation functions */
   a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV + NB) +
-                  sizeof(double[4]));
+                  sizeof(double[4]) + sizeof(double[3]));
   a->hist = malloc(sizeof *a->hist * RDF_BINS);
   ok = ok && a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->mark_c && a->rec &&
        a->hist;
@@ -359,7 +361,8 @@ int analysis_set_tconf(analysis *a, const rl_terms *terms, const rl_forcefield *
 /* Bytes of the next sample record's payload (it feeds the correlation functions or not). */
 static size_t sample_bytes(const analysis *a)
 {
-  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0) + (a->tconf ? sizeof(double[4]) : 0);
+  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0) + (a->tconf ? sizeof(double[4]) : 0) +
+               (a->baro ? sizeof(double[3]) : 0);
   if (a->samples < a->tcf_cap) len += (size_t)(3 + (a->orient != ORIENT_NONE)) * sizeof(double[3]) * (size_t)a->n;
   return len;
 }
@@ -408,6 +411,12 @@ static int consume_sample(analysis *a, const unsigned char *p)
 {
   int st = RL_OK;
   mark_sample(a);
+  double box[3]; /* the sample's: under a barostat its own, first in the record */
+  memcpy(box, a->box, sizeof box);
+  if (a->baro) {
+    memcpy(box, p, sizeof box);
+    p += sizeof box;
+  }
   if (a->tconf) { /* the configurational temperature's sums come first */
     double x[4];
     memcpy(x, p, sizeof x);
@@ -423,7 +432,7 @@ static int consume_sample(analysis *a, const unsigned char *p)
     memcpy(&na, p + 8, 4);
     memcpy(a->hist, p + 16, 4 * RDF_BINS);
     p += 16 + 4 * RDF_BINS;
-    st = rl_rdf_add_counts(a->rdf[q], a->box, a->hist, pairs, na);
+    st = rl_rdf_add_counts(a->rdf[q], box, a->hist, pairs, na);
   }
   if (a->dipolar && !st) {
     double M[3];
@@ -446,7 +455,7 @@ static int consume_sample(analysis *a, const unsigned char *p)
   /* each centre is the image nearest its previous *unwrapped* position (rl_unwrap's contract):
    * nearest the previous raw position, a body would lose its image one sample after crossing */
   if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
-  else rl_unwrap(a->box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
+  else rl_unwrap(box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
   return rl_vec_series_add(a->pos, (const double(*)[3])a->unwrapped);
 }
 
@@ -531,6 +540,12 @@ int analysis_sample(analysis *a, const rl_system *sys)
   int st = journal_ok(a);
   if (st) return st;
   unsigned char *p = a->rec;
+  if (a->baro) {
+    double box[3];
+    rl_system_box(sys, box);
+    memcpy(p, box, sizeof box);
+    p += sizeof box;
+  }
   if (a->tconf) {
     rl_tconf_sums t = {0.0, 0.0, 0.0, 0.0};
     if (!a->ff && !a->tconf_na[0])

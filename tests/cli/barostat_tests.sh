@@ -53,6 +53,35 @@ check "results: no errors" "[ ! -s res.err ]"
 three_runs crescale-semi --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.tau_p=0.5 --set run.compressibility=0.1 --set run.barostat_coupling=semiisotropic
 check "semi-isotropic: Lx = Ly on every row, Lz apart from them at the end" "awk -F, 'NR==1{for(i=1;i<=NF;i++) h[\$i]=i; next} {if (\$h[\"Lx\"] != \$h[\"Ly\"]) bad=1; lx=\$h[\"Lx\"]; lz=\$h[\"Lz\"]} END{exit bad || lx == lz}' crescale-semi-A.thermo.csv"
 check "semi-isotropic: the checkpoint's settings name the coupling" "grep -aq 'barostat_coupling = semiisotropic' crescale-semi-A.chk"
+# RDFs under a barostat: to the cutoff at most (the box shrinks below the deck's at once here), each
+# sample normalised with its own volume (g -> 1 at the cutoff); a continuation gives the same file
+"$rotleap" run "$deck" "${npt[@]}" --set run.barostat=c-rescale --set run.compressibility=0.1 --set run.steps=600 \
+  --set output.sample_every=10 --set output.rdf=S-S --set output.checkpoint_every=300 --set output.prefix="$work/rdf-A" >/dev/null 2>rdf.err
+rc=$?
+"$rotleap" run "$deck" "${npt[@]}" --set run.barostat=c-rescale --set run.compressibility=0.1 --set run.steps=300 \
+  --set output.sample_every=10 --set output.rdf=S-S --set output.prefix="$work/rdf-B" >/dev/null 2>>rdf.err
+"$rotleap" run "$deck" "${npt[@]}" --set run.barostat=c-rescale --set run.compressibility=0.1 --set run.steps=600 \
+  --set output.sample_every=10 --set output.rdf=S-S --set system.start="$work/rdf-B.chk" --set output.prefix="$work/rdf-B" >/dev/null 2>>rdf.err
+check "rdf under a barostat: the run succeeds" "[ $rc -eq 0 ] && [ ! -s rdf.err ]"
+check "rdf under a barostat: to the cutoff (2), g near 1 there" "[ -s rdf-A.rdf.csv ] && tail -1 rdf-A.rdf.csv | awk -F, '{exit !(\$1 < 2.0 && \$1 > 1.9 && \$2 > 0.8 && \$2 < 1.25)}'"
+check "rdf under a barostat: a continuation gives the same rdf and results" "cmp -s rdf-A.rdf.csv rdf-B.rdf.csv && cmp -s rdf-A.results.txt rdf-B.results.txt"
+# rotleap scan with a barostat deck: the barostat runs in every run of the scan, and the table and CSV
+# give <rho> and <V> with their errors per step size
+"$rotleap" scan "$deck" "${npt[@]}" --set run.barostat=mc --set run.barostat_interval=2 --set output.sample_every=10 \
+  --timesteps 0.002,0.004 --steps 600 --no-plot --set output.prefix="$work/scan" >scan.out 2>scan.err
+rc=$?
+check "scan with a barostat exits 0" "[ $rc -eq 0 ]"
+check "scan table: NPT, the barostat, rho and V columns" "grep -q 'NPT (Bussi)' scan.out && grep -q '^# barostat: Monte Carlo at 1' scan.out && grep -q ' rho  *+-  *V  *+- ' scan.out"
+check "scan CSV: density and volume with errors, for both steps, the box moved from the start's 0.8" \
+  "/usr/bin/python3 -c \"
+import csv, sys
+rows = list(csv.DictReader(open('scan.scan.csv')))
+ok = len(rows) == 2 and all(r['status'] == 'ok' for r in rows)
+for r in rows:
+    rho, e, V = float(r['density']), float(r['density_err']), float(r['volume'])
+    ok = ok and 0.4 < rho < 0.78 and 0 < e < 0.1 and abs(V * rho / 125 - 1) < 0.05  # <V><1/V> >= 1: Jensen
+sys.exit(0 if ok else 1)\""
+check "scan without a barostat: no density columns" "'$rotleap' scan '$deck' --timesteps 0.002 --steps 20 --no-plot --set output.prefix=$work/scan0 >/dev/null 2>&1 && ! head -1 scan0.scan.csv | grep -q density"
 check "thermo header has volume, density, box edges, pressure tensor" "head -1 mc-A.thermo.csv | grep -q ',volume,density,Lx,Ly,Lz,Pxx,Pyy,Pzz,Pxy,Pxz,Pyz$'"
 for b in mc cr; do
   check "pressure tensor ($b): its trace / 3 is the pressure column, every row; off-diagonals finite" "awk -F, 'NR==1{for(i=1;i<=NF;i++) h[\$i]=i; next} {p=\$h[\"pressure\"]; t=(\$h[\"Pxx\"]+\$h[\"Pyy\"]+\$h[\"Pzz\"])/3; if ((t-p)^2 > 1e-14*(1+p*p) || \$h[\"Pxy\"] !~ /^-?[0-9]/ || \$h[\"Pyz\"] !~ /^-?[0-9]/) bad=1} END{exit bad}' res-$b.thermo.csv"
