@@ -21,8 +21,9 @@
 #define MAX_RDF RL_DECK_MAX_RDF
 #define RDF_BINS 200
 
-/* The values of a step record, after its time t. */
+/* The values of a step record, after its time t; under a barostat the NB values of the box after them. */
 enum { V_U, V_T, V_TT, V_TR, V_P, V_E, V_EC, V_K, V_F2, V_K2, NV };
+enum { B_V, B_RHO, B_LX, B_LY, B_LZ, B_H, NB }; /* volume, density, edges, enthalpy per molecule */
 
 struct analysis {
   const rl_deck *d;
@@ -66,6 +67,12 @@ struct analysis {
   const rl_forcefield *ff;      /* analysis_set_tconf: the force field the sums use                */
   char tconf_na[RL_FF_TEXT + 64]; /* why the sums cannot be taken (another term), or ""           */
   char tconf_note[3 * RL_FF_TEXT]; /* the force field's discontinuities (the estimator is biased) */
+  /* run.barostat: the box's series (B_*), the mass of the density and the barostat's counts */
+  int baro;
+  rl_trace *b[NB];
+  double mass;
+  int have_stats;
+  rl_barostat_stats stats;
 };
 
 /* The correlation functions and the MSD keep whole configurations (four vectors per body and
@@ -139,7 +146,8 @@ typedef struct {
   double rmax, box[3], timestep;
   int64_t energy_every, sample_every, tcf_cap;
   char model[64];
-  int32_t tconf; /* output.tconf; only in the header of a journal with it (so the others are as before) */
+  int32_t tconf; /* output.tconf; only in the header of a journal with it or with baro (so the others are as before) */
+  int32_t baro;  /* run.barostat; only in the header of a journal with it */
 } jheader;
 
 /* Copy k bytes between *x and buf + *off, in the direction `out` (1: x to buf). */
@@ -169,7 +177,8 @@ static size_t header_io(jheader *h, unsigned char *buf, int out)
   io(buf, &o, &h->sample_every, 8, out);
   io(buf, &o, &h->tcf_cap, 8, out);
   io(buf, &o, h->model, sizeof h->model, out);
-  if (out ? h->tconf : h->bytes > o) io(buf, &o, &h->tconf, 4, out);
+  if (out ? h->tconf || h->baro : h->bytes > o) io(buf, &o, &h->tconf, 4, out);
+  if (out ? h->baro : h->bytes > o) io(buf, &o, &h->baro, 4, out);
   return o;
 }
 
@@ -181,6 +190,7 @@ static void header_of(const analysis *a, jheader *h)
   h->version = JOURNAL_VERSION;
   h->bom = JOURNAL_BOM;
   h->tconf = a->tconf;
+  h->baro = a->baro;
   unsigned char scratch[JOURNAL_HEADER_MAX];
   h->bytes = (uint32_t)header_io(h, scratch, 1);
   h->n = a->n;
@@ -212,6 +222,8 @@ static int header_check(const jheader *got, const jheader *want, const char *pat
   if (got->version == want->version && got->tconf != want->tconf)
     return rl_error(RL_EINVAL, "%s was written with output.tconf = %s, this run has %s", path, got->tconf ? "yes" : "no",
                     want->tconf ? "yes" : "no");
+  if (got->version == want->version && got->baro != want->baro)
+    return rl_error(RL_EINVAL, "%s was written with run.barostat %d, this run has %d", path, got->baro, want->baro);
   if (got->version != want->version || got->bytes != want->bytes)
     return rl_error(RL_EINVAL, "%s is an analysis journal of version %u (%u header bytes); this rotleap reads "
                     "version %u (%u bytes)", path, got->version, got->bytes, want->version, want->bytes);
@@ -254,13 +266,19 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   for (int k = 0; k < 3; k++) ok = (a->M[k] = rl_trace_alloc(0)) && ok;
   a->tconf = d->tconf && d->sample_every > 0;
   for (int k = 0; k < 6 && a->tconf; k++) ok = (a->tc[k] = rl_trace_alloc(0)) && ok;
+  a->baro = d->barostat;
+  for (int k = 0; k < NB && a->baro; k++) ok = (a->b[k] = rl_trace_alloc(0)) && ok;
+  for (int i = 0; i < a->n && a->baro; i++) a->mass += rl_system_mass(sys, i);
+  if (d->units == RL_UNITS_REAL) a->mass /= 602.214076; /* u/nm^3 -> g/cm^3, as the thermo file's density */
   ok = (a->M2 = rl_trace_alloc(0)) && ok;
   /* output.rdf: "O-O, H-H" */
-  /* under a barostat, the deck's box (the first run's start; a continuation's box differs): the
-   * RDFs, the unwrapping and the dielectric constant do not yet follow the volume */
+  /* under a barostat, the deck's box (the first run's start; a continuation's box differs) in the
+   * journal's header; each sample carries its own box, which the RDFs' normalisation and the
+   * unwrapping use; the dielectric constant does not yet follow the volume (the deck's) */
   if (d->barostat) memcpy(a->box, d->box, sizeof a->box);
   else rl_system_box(sys, a->box);
   double rmax = 0.5 * fmin(a->box[0], fmin(a->box[1], a->box[2]));
+  if (d->barostat) rmax = fmin(rmax, d->ff.cutoff); /* the box may shrink to twice the cutoff, not below */
   const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
   if (nrdf < 0) { analysis_free(a); return NULL; }
   for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, RDF_BINS);
@@ -276,8 +294,8 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
   a->mark_c = calloc(RL_RDF_MARKS, sizeof *a->mark_c);
   a->mark_every = 1;
   /* the largest record: a sample that still feeds the correlation functions */
-  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV) +
-                  sizeof(double[4]));
+  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV + NB) +
+                  sizeof(double[4]) + sizeof(double[3]));
   a->hist = malloc(sizeof *a->hist * RDF_BINS);
   ok = ok && a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->mark_c && a->rec &&
        a->hist;
@@ -300,6 +318,7 @@ void analysis_free(analysis *a)
   for (int k = 0; k < NV; k++) rl_trace_free(a->v[k]);
   for (int k = 0; k < 3; k++) rl_trace_free(a->M[k]);
   for (int k = 0; k < 6; k++) rl_trace_free(a->tc[k]);
+  for (int k = 0; k < NB; k++) rl_trace_free(a->b[k]);
   rl_trace_free(a->M2);
   for (int k = 0; k < a->nrdf; k++) rl_rdf_free(a->rdf[k]);
   rl_vec_series_free(a->axis);
@@ -342,21 +361,26 @@ int analysis_set_tconf(analysis *a, const rl_terms *terms, const rl_forcefield *
 /* Bytes of the next sample record's payload (it feeds the correlation functions or not). */
 static size_t sample_bytes(const analysis *a)
 {
-  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0) + (a->tconf ? sizeof(double[4]) : 0);
+  size_t len = (size_t)a->nrdf * (16 + 4 * RDF_BINS) + (a->dipolar ? 24 : 0) + (a->tconf ? sizeof(double[4]) : 0) +
+               (a->baro ? sizeof(double[3]) : 0);
   if (a->samples < a->tcf_cap) len += (size_t)(3 + (a->orient != ORIENT_NONE)) * sizeof(double[3]) * (size_t)a->n;
   return len;
 }
 
+/* Bytes of a step record's payload: t, the NV values and, under a barostat, the NB of the box. */
+static size_t step_bytes(const analysis *a) { return 8 * (size_t)(1 + NV + (a->baro ? NB : 0)); }
+
 static int consume_step(analysis *a, const unsigned char *p)
 {
-  double x[1 + NV];
-  memcpy(x, p, sizeof x);
-  for (int k = 0; k < 1 + NV; k++)
+  double x[1 + NV + NB];
+  const int nx = (int)(step_bytes(a) / 8);
+  memcpy(x, p, step_bytes(a));
+  for (int k = 0; k < nx; k++)
     if (!isfinite(x[k])) return rl_error(RL_ENONFINITE, "analysis: a step record with a non-finite value (%d)", k);
   if (a->nstep == 0) a->t_first = x[0];
   a->t_last = x[0];
-  for (int k = 0; k < NV; k++) {
-    int st = rl_trace_add(a->v[k], x[1 + k]);
+  for (int k = 0; k < nx - 1; k++) {
+    int st = rl_trace_add(k < NV ? a->v[k] : a->b[k - NV], x[1 + k]);
     if (st) return st;
   }
   a->nstep++;
@@ -387,6 +411,12 @@ static int consume_sample(analysis *a, const unsigned char *p)
 {
   int st = RL_OK;
   mark_sample(a);
+  double box[3]; /* the sample's: under a barostat its own, first in the record */
+  memcpy(box, a->box, sizeof box);
+  if (a->baro) {
+    memcpy(box, p, sizeof box);
+    p += sizeof box;
+  }
   if (a->tconf) { /* the configurational temperature's sums come first */
     double x[4];
     memcpy(x, p, sizeof x);
@@ -402,7 +432,7 @@ static int consume_sample(analysis *a, const unsigned char *p)
     memcpy(&na, p + 8, 4);
     memcpy(a->hist, p + 16, 4 * RDF_BINS);
     p += 16 + 4 * RDF_BINS;
-    st = rl_rdf_add_counts(a->rdf[q], a->box, a->hist, pairs, na);
+    st = rl_rdf_add_counts(a->rdf[q], box, a->hist, pairs, na);
   }
   if (a->dipolar && !st) {
     double M[3];
@@ -425,7 +455,7 @@ static int consume_sample(analysis *a, const unsigned char *p)
   /* each centre is the image nearest its previous *unwrapped* position (rl_unwrap's contract):
    * nearest the previous raw position, a body would lose its image one sample after crossing */
   if (rl_vec_series_frames(a->pos) == 0) memcpy(a->unwrapped, a->buf, sizeof *a->buf * (size_t)a->n);
-  else rl_unwrap(a->box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
+  else rl_unwrap(box, (const double(*)[3])a->unwrapped, (const double(*)[3])a->buf, a->n, a->unwrapped);
   return rl_vec_series_add(a->pos, (const double(*)[3])a->unwrapped);
 }
 
@@ -458,7 +488,8 @@ static int feed(analysis *a, uint32_t tag, size_t len)
   return tag == TAG_STEP ? consume_step(a, a->rec) : consume_sample(a, a->rec);
 }
 
-int analysis_step(analysis *a, const rl_step_info *info, double pressure, const rl_forces *F, const rl_system *sys)
+int analysis_step(analysis *a, const rl_step_info *info, double pressure, const rl_forces *F, const rl_system *sys,
+                  const double *box)
 {
   int st = journal_ok(a);
   if (st) return st;
@@ -468,7 +499,7 @@ int analysis_step(analysis *a, const rl_step_info *info, double pressure, const 
     int r = rl_system_rot_index(sys, i);
     if (r >= 0) k2 += F->k[r][0] * F->k[r][0] + F->k[r][1] * F->k[r][1] + F->k[r][2] * F->k[r][2];
   }
-  double x[1 + NV];
+  double x[1 + NV + NB];
   x[0] = info->t;
   x[1 + V_U] = info->potential / a->n;
   x[1 + V_T] = info->temperature;
@@ -480,10 +511,21 @@ int analysis_step(analysis *a, const rl_step_info *info, double pressure, const 
   x[1 + V_K] = info->ke_trans + info->ke_rot;
   x[1 + V_F2] = f2 / a->n;
   x[1 + V_K2] = k2 / a->n;
-  for (int k = 0; k < 1 + NV; k++) /* a record is whole or not at all */
-    if (!isfinite(x[k])) return rl_error(RL_ENONFINITE, "analysis_step: a non-finite value at t = %g (%d)", info->t, k);
-  memcpy(a->rec, x, sizeof x);
-  return feed(a, TAG_STEP, sizeof x);
+  if (a->baro) { /* the box at t, and H = U + K + P0 V per molecule with the barostat's target P0 */
+    double L[3];
+    if (box) memcpy(L, box, sizeof L);
+    else rl_system_box(sys, L);
+    const double V = L[0] * L[1] * L[2];
+    x[1 + NV + B_V] = V;
+    x[1 + NV + B_RHO] = a->mass / V;
+    for (int k = 0; k < 3; k++) x[1 + NV + B_LX + k] = L[k];
+    x[1 + NV + B_H] = (info->total + a->d->pressure * V) / a->n;
+  }
+  const size_t len = step_bytes(a);
+  for (size_t k = 0; k < len / 8; k++) /* a record is whole or not at all */
+    if (!isfinite(x[k])) return rl_error(RL_ENONFINITE, "analysis_step: a non-finite value at t = %g (%zu)", info->t, k);
+  memcpy(a->rec, x, len);
+  return feed(a, TAG_STEP, len);
 }
 
 /* Append n x 3 doubles at p; returns p after them. */
@@ -498,6 +540,12 @@ int analysis_sample(analysis *a, const rl_system *sys)
   int st = journal_ok(a);
   if (st) return st;
   unsigned char *p = a->rec;
+  if (a->baro) {
+    double box[3];
+    rl_system_box(sys, box);
+    memcpy(p, box, sizeof box);
+    p += sizeof box;
+  }
   if (a->tconf) {
     rl_tconf_sums t = {0.0, 0.0, 0.0, 0.0};
     if (!a->ff && !a->tconf_na[0])
@@ -650,7 +698,7 @@ int analysis_replay(analysis *a, const char *path, long nbytes)
     memcpy(&tag, head, 4);
     memcpy(&len, head + 4, 4);
     memcpy(&seq, head + 8, 8);
-    const size_t want_len = tag == TAG_STEP ? 8 * (1 + NV) : tag == TAG_SAMPLE ? sample_bytes(a) : 0;
+    const size_t want_len = tag == TAG_STEP ? step_bytes(a) : tag == TAG_SAMPLE ? sample_bytes(a) : 0;
     if (!want_len || len != want_len || seq != a->seq) {
       st = rl_error(RL_EINVAL, "%s: the record at byte %ld is damaged or of another run (tag %08x, %u bytes, number "
                     "%" PRId64 "; expected record number %ld%s)", path, at, tag, len, seq, a->seq,
@@ -1214,6 +1262,119 @@ static void fluctuation_lines(FILE *f, const analysis *a, long i0, long per)
             d->thermostat == RL_THERMO_ISOKINETIC ? "isokinetic" : "canonical", c.dof, c.T, real ? " K" : "", note);
 }
 
+/* ---- under a barostat */
+
+void analysis_set_barostat_stats(analysis *a, const rl_barostat_stats *s)
+{
+  if (!a || !s) return;
+  a->stats = *s;
+  a->have_stats = 1;
+}
+
+typedef struct {
+  double kT, factor; /* k_B T0; kappa in the output's units per kappa in the system's */
+} kappa_ctx;
+
+/* kappa_T = <dV^2> / (k_B T0 <V>) from the moments of V */
+static double kappa_t(const rl_moments *m, const void *ctx)
+{
+  const kappa_ctx *c = ctx;
+  return m[0].n > 1 && m[0].mean > 0.0 ? c->factor * m[0].m2 / (double)m[0].n / (c->kT * m[0].mean) : NAN;
+}
+
+/* The least-squares slope of a trace's group means against their index from i0, with its
+ * standard error from the scatter about the line (NaN with fewer than 3 groups); the groups are
+ * about a twentieth of the samples (at least one stored block), long enough to be nearly
+ * independent in a run many correlation times long.  *len: the group's samples. */
+static double trace_slope(const rl_trace *t, long i0, double *err, long *len)
+{
+  const long n = rl_trace_count(t) - rl_trace_align(t, i0);
+  *len = n / 20 > 1 ? n / 20 : 1;
+  if (*len < rl_trace_block(t)) *len = rl_trace_block(t);
+  *len = (*len + rl_trace_block(t) - 1) / rl_trace_block(t) * rl_trace_block(t);
+  const long m = rl_trace_groups(t, i0, *len, NULL, 0);
+  *err = NAN;
+  if (m < 3) return NAN;
+  rl_moments *g = malloc(sizeof *g * (size_t)m);
+  if (!g) return NAN;
+  rl_trace_groups(t, i0, *len, g, m);
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (long i = 0; i < m; i++) {
+    sx += (double)i;
+    sy += g[i].mean;
+  }
+  const double mx = sx / (double)m, my = sy / (double)m;
+  for (long i = 0; i < m; i++) {
+    sxx += ((double)i - mx) * ((double)i - mx);
+    sxy += ((double)i - mx) * (g[i].mean - my);
+  }
+  const double b = sxy / sxx;
+  double rss = 0.0;
+  for (long i = 0; i < m; i++) {
+    const double r = g[i].mean - my - b * ((double)i - mx);
+    rss += r * r;
+  }
+  free(g);
+  *err = sqrt(rss / (double)(m - 2) / sxx);
+  return b;
+}
+
+/* Volume, density, box edges, enthalpy, kappa_T, the Monte Carlo acceptance and trial size or
+ * the C-rescale effective energy's drift, over the step records from i0. */
+static void barostat_lines(FILE *f, const analysis *a, long i0, long per, double dt_rec)
+{
+  const rl_deck *d = a->d;
+  const int real = d->units == RL_UNITS_REAL;
+  const units_text u = units_of(d->units);
+  const char *vol = real ? "nm^3" : "sigma^3", *len = real ? "nm" : "sigma", *rho = real ? "g/cm^3" : "m/sigma^3";
+  line_mean(f, "volume", a->b[B_V], i0, vol);
+  line_mean(f, "density", a->b[B_RHO], i0, rho);
+  line_mean(f, "box_Lx", a->b[B_LX], i0, len);
+  line_mean(f, "box_Ly", a->b[B_LY], i0, len);
+  line_mean(f, "box_Lz", a->b[B_LZ], i0, len);
+  char hu[64];
+  snprintf(hu, sizeof hu, "%s [H = U + K + P0 V per molecule, P0 = run.pressure]", u.E);
+  line_mean(f, "enthalpy_per_molecule", a->b[B_H], i0, hu);
+  const double kB = rl_units_kB(d->units);
+  /* kappa: volume/energy in the system's units; 1/bar: times the bar in kJ/mol/nm^3 (1e5 N_A 1e-27 / 1e3) */
+  const kappa_ctx kc = {kB * d->thermostat_temperature, real ? 0.0602214076 : 1.0};
+  jk_result r;
+  char es[32], note[200];
+  if (rl_trace_moments(a->b[B_V], i0).n < 2) fprintf(f, "isothermal_compressibility = n/a (fewer than two steps averaged)\n");
+  else {
+    rl_trace *tv = a->b[B_V];
+    jackknife(&tv, 1, i0, kappa_t, &kc, &r);
+    jk_text(&r, per, "steps", es, sizeof es, note, sizeof note);
+    fprintf(f, "isothermal_compressibility = %.6g%s %s [<dV^2>/(k_B T0 <V>), T0 = %g%s the thermostat's target; %s]\n",
+            r.value, es, real ? "1/bar" : "sigma^3/epsilon", d->thermostat_temperature, real ? " K" : "", note);
+  }
+  if (d->barostat == 1 && a->have_stats) {
+    const int aniso = d->baro_aniso == 1;
+    for (int k = 0; k < (aniso ? 3 : 1); k++) {
+      const long at = a->stats.attempted[k], ac = a->stats.accepted[k];
+      char name[48];
+      snprintf(name, sizeof name, aniso ? "mc_acceptance_L%c" : "mc_acceptance", "xyz"[k]);
+      if (at > 0) fprintf(f, "%s = %.4f (%ld of %ld trials accepted in the whole run)\n", name, (double)ac / (double)at, ac, at);
+      else fprintf(f, "%s = n/a (no trial)\n", name);
+      snprintf(name, sizeof name, aniso ? "mc_trial_step_L%c" : "mc_trial_step", "xyz"[k]);
+      fprintf(f, "%s = %.6g %s (the largest |dV| of a trial at the end, adapted to 25-75 %% acceptance)\n", name,
+              a->stats.trial[k], vol);
+    }
+  }
+  if (d->barostat == 2) {
+    long glen;
+    double err;
+    const double b = trace_slope(a->v[V_EC], i0, &err, &glen); /* per group of glen records */
+    const double scale = 1.0 / (a->n * kB * d->thermostat_temperature * (double)glen * dt_rec);
+    const char *tunit = real ? u.time : "tau";
+    if (isnan(b)) fprintf(f, "crescale_effective_energy_drift = n/a (too few steps averaged)\n");
+    else
+      fprintf(f, "crescale_effective_energy_drift = %.3g +- %.2g kT per molecule per %s [slope of the conserved column "
+                 "(the effective energy: total + the thermostat's and barostat's work) over means of %ld steps]\n",
+              b * scale, err * scale, tunit, glen * per);
+  }
+}
+
 int analysis_write(analysis *a, const char *prefix, const char *suffix, double dt_sample)
 {
   const rl_deck *d = a->d;
@@ -1239,6 +1400,7 @@ int analysis_write(analysis *a, const char *prefix, const char *suffix, double d
   line_mean(f, "temperature_translational", a->v[V_TT], w.i0, u.T);
   line_mean(f, "temperature_rotational", a->v[V_TR], w.i0, u.T);
   line_mean(f, "pressure", a->v[V_P], w.i0, u.P);
+  if (a->baro) barostat_lines(f, a, w.i0, per, w.dt_rec);
   line_mean(f, "mean_square_force", a->v[V_F2], w.i0, u.F2);
   line_mean(f, "mean_square_torque", a->v[V_K2], w.i0, u.K2);
   fluctuation_lines(f, a, w.i0, per);

@@ -26,10 +26,11 @@ typedef struct analysis analysis;
 analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
 void analysis_free(analysis *a);
 /* Every step with energies: on-step values at t (info: t, potential, temperatures, total,
- * conserved, kinetic energies), pressure at t, forces and torques at t.  RL_ENONFINITE (nothing
+ * conserved, kinetic energies), pressure at t, forces and torques at t, and the box edges at t
+ * (NULL: the system's; under a barostat the report's, which the step may since have changed).  RL_ENONFINITE (nothing
  * taken) for a non-finite value; a failed journal write names the journal and the reason. */
 int analysis_step(analysis *a, const rl_step_info *info, double pressure, const rl_forces *F,
-                  const rl_system *sys);
+                  const rl_system *sys, const double *box);
 /* output.tconf: the force field whose configurational temperature each sample takes (forcefield.h,
  * rl_config_temperature), before the first sample; the results say n/a where the scene has a
  * force term other than the pair term.  Does nothing without output.tconf. */
@@ -55,6 +56,9 @@ int analysis_journal_sync(analysis *a, long *nbytes);
  * failure the analysis is spoiled: free it. */
 int analysis_replay(analysis *a, const char *path, long nbytes);
 
+/* run.barostat: the barostat's counts and trial sizes of the whole run (rl_barostat_stats_of),
+ * reported by analysis_write (the Monte Carlo acceptance and trial step). */
+void analysis_set_barostat_stats(analysis *a, const rl_barostat_stats *s);
 /* PREFIX.results.txt, PREFIX.tcf.csv (with 4 samples or more) and PREFIX.rdf.csv (with an RDF
  * asked for and sampled), each with `suffix` appended to its name (NULL or "": none; ".part"
  * for the files of a failed run), each written atomically: a file that cannot be written keeps

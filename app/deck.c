@@ -78,12 +78,12 @@ static const key_def keys[NKEYS] = {
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
     [K_EQDT] = {"run", "equilibrate_timestep", K_REAL, Q_TIME, NULL, NULL, "time step of the relaxation; default timestep / 4"},
     [K_THREADS] = {"run", "threads", K_INT, Q_NONE, "0", NULL, "OpenMP threads of the pair loop, the Ewald terms and the integrator's per-body loops (at most 4096); 0: OMP_NUM_THREADS if set (at most 4096 too), else 1. Results are bit-for-bit reproducible for a fixed count and change at round-off with the count (the pair loop's sums; the Ewald terms' do not depend on it)"},
-    [K_BARO] = {"run", "barostat", K_CHOICE, Q_NONE, "none", "none|mc|c-rescale", "constant pressure (NPT; needs run.ensemble = nvt-bussi or nvt-langevin and a periodic box): mc, the Monte Carlo barostat (OpenMM's: trial scalings of the molecular centres, molecules rigid); c-rescale, stochastic cell rescaling (Bernetti & Bussi 2020, GROMACS's C-rescale; isotropic). docs/integrators.md, \"Barostats\""},
-    [K_PRESSURE] = {"run", "pressure", K_REAL, Q_PRESSURE, NULL, NULL, "target pressure of run.barostat (bar, atm, Pa, MPa; reduced for lj models); required with a barostat"},
+    [K_BARO] = {"run", "barostat", K_CHOICE, Q_NONE, "none", "none|mc|c-rescale", "constant pressure (NPT; needs run.ensemble = nvt-bussi or nvt-langevin and a periodic box): mc, the Monte Carlo barostat (OpenMM's: trial scalings of the molecular centres, molecules rigid); c-rescale, stochastic cell rescaling (Bernetti & Bussi 2020, GROMACS's C-rescale; isotropic or semiisotropic). docs/integrators.md, \"Barostats\""},
+    [K_PRESSURE] = {"run", "pressure", K_REAL, Q_PRESSURE, NULL, NULL, "target pressure of run.barostat (bar, atm, Pa, MPa; reduced for lj models); required with a barostat; at most 1e5 bar (10 GPa; 1000 reduced) either way, beyond any rigid model (a bare 101325 is bar, not Pa)"},
     [K_BINTERVAL] = {"run", "barostat_interval", K_INT, Q_NONE, NULL, NULL, "steps between barostat moves: Monte Carlo trials (default 25, OpenMM's) or C-rescale couplings (default 10, GROMACS's nstpcouple; a multiple of output.energy_every)"},
     [K_TAUP] = {"run", "tau_p", K_REAL, Q_TIME, NULL, NULL, "c-rescale: coupling time of the volume; default 1 ps (real), 1000 h (lj)"},
     [K_COMPRESS] = {"run", "compressibility", K_REAL, Q_COMPRESSIBILITY, NULL, NULL, "c-rescale: isothermal compressibility it assumes (sets the volume's relaxation, not the ensemble); default 4.5e-5 1/bar (water's), 0.1 (lj)"},
-    [K_BCOUPLING] = {"run", "barostat_coupling", K_CHOICE, Q_NONE, "isotropic", "isotropic|anisotropic", "isotropic: the box keeps its shape; anisotropic (mc only): one edge per trial, the three edges independent (OpenMM's MonteCarloAnisotropicBarostat)"},
+    [K_BCOUPLING] = {"run", "barostat_coupling", K_CHOICE, Q_NONE, "isotropic", "isotropic|anisotropic|semiisotropic", "isotropic: the box keeps its shape; anisotropic (mc only): one edge per trial, the three edges independent (OpenMM's MonteCarloAnisotropicBarostat); semiisotropic (c-rescale only): x and y scaled together, z alone (GROMACS's semiisotropic C-rescale; membranes, interfaces)"},
     [K_PREFIX] = {"output", "prefix", K_PATH, Q_NONE, NULL, NULL, "path prefix of every output file (PREFIX.thermo.csv, ...): a file name, in a directory if you like (out, results/run1), not a directory (results/ is refused); default: the deck's name without .ini. An output that would overwrite the deck or system.start (water.ini with start = water.pdb and a trajectory) is refused before anything is written"},
     [K_THERMO] = {"output", "thermo_every", K_INT, Q_NONE, "100", NULL, "steps between rows of PREFIX.thermo.csv"},
     [K_ENERGY] = {"output", "energy_every", K_INT, Q_NONE, "1", NULL, "steps between evaluations of the potential energy and virial (as GROMACS's nstcalcenergy): the thermo rows, the summary's averages and the energy checks use these steps, the others compute forces only (about 10 % faster for TIP4P; the trajectory is the same). thermo_every must be a multiple"},
@@ -864,6 +864,12 @@ static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
             "(run.ensemble = nvt-bussi or nvt-langevin): the barostat samples at run.temperature", val(r, K_BARO));
   if (!r->val[K_PRESSURE]) problem(r, r->line[K_BARO], "run.barostat = %s needs run.pressure", val(r, K_BARO));
   d->pressure = number(r, K_PRESSURE, u, 0, 0.0);
+  /* beyond 10 GPa (1e3 reduced) no rigid-molecule model applies: most likely a unit left out
+   * (101325 read as bar, not Pa) */
+  const double pmax = lj ? 1e3 : 1e5 * 0.0602214076;
+  if (r->val[K_PRESSURE] && !r->bad[K_PRESSURE] && !(fabs(d->pressure) <= pmax))
+    problem(r, r->line[K_PRESSURE], "run.pressure = %s is beyond %s: no rigid-molecule model holds there (a pressure in "
+            "Pa or atm needs its unit: \"101325 Pa\", \"1 atm\")", val(r, K_PRESSURE), lj ? "+-1000 (reduced)" : "+-1e5 bar (10 GPa)");
   d->baro_interval = integer(r, K_BINTERVAL, 1, mc ? 25 : 10);
   if (!mc && !r->bad[K_BINTERVAL] && d->energy_every > 0 && d->baro_interval % d->energy_every)
     problem(r, r->line[K_BINTERVAL] ? r->line[K_BINTERVAL] : r->line[K_ENERGY], "run.barostat_interval = %ld must be a "
@@ -875,7 +881,10 @@ static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
   if (r->val[K_COMPRESS] && mc) problem(r, r->line[K_COMPRESS], "run.compressibility is only used with run.barostat = c-rescale");
   else if (!r->bad[K_COMPRESS] && !(d->compressibility > 0)) problem(r, r->line[K_COMPRESS], "run.compressibility must be positive");
   d->baro_aniso = choice(r, K_BCOUPLING);
-  if (d->baro_aniso && !mc) problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = anisotropic needs run.barostat = mc (C-rescale is isotropic)");
+  if (d->baro_aniso == 1 && !mc)
+    problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = anisotropic needs run.barostat = mc (C-rescale is isotropic or semiisotropic)");
+  if (d->baro_aniso == 2 && mc)
+    problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = semiisotropic needs run.barostat = c-rescale (mc is isotropic or anisotropic)");
 }
 
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)

@@ -62,7 +62,7 @@ typedef struct {
   double pressure;          /* run.pressure, energy/volume (real: kJ mol^-1 nm^-3)       */
   long baro_interval;       /* steps between barostat moves                              */
   double tau_p, compressibility; /* C-rescale (compressibility: volume/energy)           */
-  int baro_aniso;           /* run.barostat_coupling = anisotropic                       */
+  int baro_aniso;           /* run.barostat_coupling: 0 isotropic, 1 anisotropic, 2 semiisotropic */
   long equilibrate_steps;
   double equilibrate_timestep;
   /* [output] */

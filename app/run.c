@@ -177,8 +177,8 @@ static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (S
 /* The thermo file's header: step, time, total, potential, the energy components of every force
  * term (terms.h: lj, coulomb, dipolar, quadrupolar, dispersion for the pair term), kinetic
  * energies, temperatures, pressure, the conserved quantity, calE and the mid-step temperatures;
- * under a barostat also the volume, the density (g/cm3; reduced: mass per volume) and the box
- * edges.  malloc'd. */
+ * under a barostat also the volume, the density (g/cm3; reduced: mass per volume), the box
+ * edges and the pressure tensor (thermo_row).  malloc'd. */
 static char *thermo_header(const rl_terms *t, int baro)
 {
   char *h = NULL;
@@ -188,16 +188,20 @@ static char *thermo_header(const rl_terms *t, int baro)
   fputs("step,time,total,potential", f);
   for (int j = 0; j < rl_terms_nenergies(t); j++) fprintf(f, ",%s", rl_terms_energy_name(t, j));
   fputs(",ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid", f);
-  fputs(baro ? ",volume,density,Lx,Ly,Lz\n" : "\n", f);
+  fputs(baro ? ",volume,density,Lx,Ly,Lz,Pxx,Pyy,Pzz,Pxy,Pxz,Pyz\n" : "\n", f);
   if (fclose(f)) { free(h); return NULL; }
   return h;
 }
 
 /* One row of PREFIX.thermo.csv (thermo_header's columns): the state at the start of step k with
  * its energy components comp (energy_components at that time); calE is the running relative
- * fluctuation of the conserved quantity (E). */
+ * fluctuation of the conserved quantity (E).  Under a barostat (box) the pressure tensor
+ * P_ab = (2 K_trans/3 delta_ab + W_ab)/V of the molecular virial W (row-major): its kinetic part
+ * is the isotropic one of the scalar pressure (the on-step velocities' tensor is not kept), so
+ * its trace/3 is the pressure column and its anisotropy the virial's; scaled by pscale (to bar). */
 static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_terms *t,
-                      const double *comp, double pr, const running *E, const double *box, double mass)
+                      const double *comp, double pr, const running *E, const double *box, double mass,
+                      const double *W, double pscale)
 {
   int bad = fprintf(f, "%ld,%.10g,%.10g,%.10g", k, info->t, info->total, info->potential) < 0;
   for (int j = 0; j < rl_terms_nenergies(t) && !bad; j++) bad = fprintf(f, ",%.10g", comp[j]) < 0;
@@ -208,6 +212,10 @@ static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *inf
   if (!bad && box) {
     const double V = box[0] * box[1] * box[2];
     bad = fprintf(f, ",%.10g,%.10g,%.10g,%.10g,%.10g", V, mass / V, box[0], box[1], box[2]) < 0;
+    const double kin = 2.0 * info->ke_trans / 3.0;
+    static const int ab[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+    for (int q = 0; q < 6 && !bad; q++)
+      bad = fprintf(f, ",%.10g", pscale * ((q < 3 ? kin : 0.0) + (W ? W[3 * ab[q][0] + ab[q][1]] : NAN)) / V) < 0;
   }
   if (!bad) bad = fputc('\n', f) == EOF;
   if (bad) return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
@@ -769,7 +777,7 @@ static int report_averages(void *ctx, const rl_run_report *r)
   run_ctx *c = ctx;
   if (r->last) return RL_OK;
   const double pr = scene_pressure_out(c->d, r->pressure);
-  const int st = analysis_step(c->an, r->info, pr, r->forces, r->sys);
+  const int st = analysis_step(c->an, r->info, pr, r->forces, r->sys, r->box);
   if (st) return rl_error_wrap(st, "step %ld", r->step);
   running_add(&c->E, r->info->conserved);
   running_add(&c->U, r->info->potential);
@@ -798,7 +806,8 @@ static int report_thermo(void *ctx, const rl_run_report *r)
   run_ctx *c = ctx;
   const int st = thermo_row(c->thermo, outputs_part(c->out, OUT_THERMO), r->step, r->info, r->terms, r->energies,
                             scene_pressure_out(c->d, r->pressure), &c->E, c->d->barostat ? r->box : NULL,
-                            scene_density_mass(c->d, c->s.sys));
+                            scene_density_mass(c->d, c->s.sys), r->forces ? r->forces->virial : NULL,
+                            scene_pressure_out(c->d, 1.0));
   return st && !r->last ? rl_error_wrap(st, "step %ld", r->step) : st;
 }
 
@@ -1103,6 +1112,9 @@ int rl_app_run(const rl_deck *d)
   if (progress) fputc('\n', stderr);
   /* results, RDF and TCF files: each is written (atomically) whatever happened to the others */
   char io_failure[1024] = "";
+  rl_barostat_stats bstats;
+  const rl_stepop *bop = scene_barostat(d, c.in);
+  if (c.an && bop && !rl_barostat_stats_of(bop, &bstats)) analysis_set_barostat_stats(c.an, &bstats);
   if (c.an && c.first + c.done > 0 && analysis_write(c.an, d->prefix, st ? ".part" : NULL, d->sample_every * d->timestep)) {
     snprintf(io_failure, sizeof io_failure, "cannot write the results: %s", rl_last_error());
     fprintf(stderr, "rotleap run: %s\n", io_failure);

@@ -432,7 +432,7 @@ char *runrec_physics(const rl_deck *d)
     char b1[40], b2[40], b3[40];
     ADD("run.barostat = %s\nrun.pressure = %s %s\nrun.barostat_interval = %ld\nrun.barostat_coupling = %s\n",
         d->barostat == 1 ? "mc" : "c-rescale", exact(b1, scene_pressure_out(d, d->pressure)), d->units == RL_UNITS_REAL ? "bar" : "reduced",
-        d->baro_interval, d->baro_aniso ? "anisotropic" : "isotropic");
+        d->baro_interval, d->baro_aniso == 1 ? "anisotropic" : d->baro_aniso == 2 ? "semiisotropic" : "isotropic");
     if (d->barostat == 2)
       ADD("run.tau_p = %s %s\nrun.compressibility = %s (system units)\n", exact(b2, d->tau_p), tu, exact(b3, d->compressibility));
   }

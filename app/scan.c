@@ -41,6 +41,8 @@ typedef struct {
   double calE, calU, drift, ortho, t_trans, t_rot, rdf_dist, wall_per_step, ns_day, iterations;
   double max_h_omega;
   double tconf_trans, tconf_rot; /* output.tconf: configurational temperatures (NaN: not taken) */
+  double V, V_err, rho, rho_err; /* run.barostat: the blocked means of the volume and density (NaN: none) */
+  int V_plateau;                 /* their blocking found a plateau (else the errors are lower bounds) */
   long fallbacks;
   rl_rdf *rdf;
   double (*curve)[3]; /* step, time, running calE */
@@ -163,6 +165,8 @@ typedef struct {
   double report_wall;       /* time spent in these reporters (not the step's cost)          */
   const rl_forcefield *tconf; /* output.tconf: the pair term whose sums each sample takes     */
   rl_tconf_sums tc;         /* their sums over the samples                                   */
+  rl_series *V, *rho;       /* run.barostat: the volume and density of every step (else NULL) */
+  double mass;              /* of the density                                                 */
 } scan_acc;
 
 /* Every step: the series of calE and calU, the sums of the drift fit and the temperatures, the
@@ -193,7 +197,11 @@ static int scan_step(void *ctx, const rl_run_report *rep)
     double *c = r->curve[r->ncurve++];
     c[0] = (double)k; c[1] = info->t; c[2] = a->done > 1 ? rl_series_rel_fluct(a->E) : 0.0;
   }
-  if (a->an) st = analysis_step(a->an, info, scene_pressure_out(a->d, rep->pressure), rep->forces, rep->sys);
+  if (a->an) st = analysis_step(a->an, info, scene_pressure_out(a->d, rep->pressure), rep->forces, rep->sys, rep->box);
+  if (!st && a->V) {
+    const double V = rep->box[0] * rep->box[1] * rep->box[2];
+    if (!(st = rl_series_add(a->V, V))) st = rl_series_add(a->rho, a->mass / V);
+  }
   a->report_wall += now() - t0;
   return st;
 }
@@ -248,7 +256,9 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   rl_system *sys = rl_system_clone(start);
   rl_terms *ff = sys ? scene_terms(d, &base->mol, sys) : NULL;
   rl_series *E = rl_series_alloc(), *U = rl_series_alloc();
-  r->rdf = sample ? rl_rdf_alloc(0.5 * Lmin, 200) : NULL;
+  rl_series *sV = d->barostat ? rl_series_alloc() : NULL, *srho = d->barostat ? rl_series_alloc() : NULL;
+  /* under a barostat the box may shrink to twice the cutoff (the barostat's bound): the RDF to the cutoff */
+  r->rdf = sample ? rl_rdf_alloc(d->barostat ? fmin(0.5 * Lmin, d->ff.cutoff) : 0.5 * Lmin, 200) : NULL;
   int cap = (int)(r->steps / thermo + 2 < 4096 ? r->steps / thermo + 2 : 4096); /* grows with the run */
   r->curve = malloc(sizeof *r->curve * (size_t)cap);
   rl_integrator *in = NULL;
@@ -261,7 +271,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   analysis *an = o->analysis && sys ? analysis_alloc(&dr, &base->mol, sys) : NULL;
   if (an) analysis_set_tconf(an, ff, scan_tconf_ff(d, ff));
   int st = !sys || !ff || (o->analysis && !an) ? RL_EINVAL : RL_OK; /* these say why */
-  if (!st && (!E || !U || !r->curve || (sample && !r->rdf)))
+  if (!st && (!E || !U || !r->curve || (sample && !r->rdf) || (d->barostat && (!sV || !srho))))
     st = rl_error(RL_ENOMEM, "out of memory for the run's accumulators (%d molecules)", n);
   rl_run *drv = NULL;
   if (!st) {
@@ -271,14 +281,16 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     p.method = rl_deck_integrators[r->integ].method;
     p.energy_every = 1;
     in = rl_integrator_alloc(sys, &p, rl_terms_provider(ff));
-    st = in ? rl_integrator_init(in) : RL_EINVAL;
+    st = in ? scene_add_barostat(d, in) : RL_EINVAL; /* the deck's, its interval in this run's steps */
+    if (!st) st = rl_integrator_init(in);
     rl_run_params rp = {.energy_every = 1, .h = r->h};
     scene_watch_params(d, 0, &rp.watch);
     rp.watch.names.timestep = "the time step";
     if (!st && !(drv = rl_run_alloc(sys, in, ff, &rp))) st = RL_ENOMEM;
   }
   scan_acc acc = {r, d, thermo, E, U, an, sys, site, sample, cap, 0, 0, 0, 0, 0, 0, 0, 0, 0.0,
-                  sample ? scan_tconf_ff(d, ff) : NULL, {0.0, 0.0, 0.0, 0.0}};
+                  sample ? scan_tconf_ff(d, ff) : NULL, {0.0, 0.0, 0.0, 0.0}, sV, srho,
+                  sys ? scene_density_mass(d, sys) : 0.0};
   r->max_h_omega = 0.0;
   r->tconf_trans = r->tconf_rot = NAN;
   const rl_reporter reps[2] = {{"scan", RL_REPORT_STEP, 1, scan_step, &acc},
@@ -321,6 +333,17 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
     r->wall_per_step = wall / done;
     r->ns_day = d->units == RL_UNITS_REAL ? r->h * 1e-3 * 86400.0 / r->wall_per_step : 0.0;
   }
+  r->V = r->V_err = r->rho = r->rho_err = NAN;
+  rl_block_result bv, br;
+  if (sV && !rl_series_block_average(sV, &bv) && !rl_series_block_average(srho, &br)) {
+    r->V = bv.mean;
+    r->V_err = bv.sem;
+    r->rho = br.mean;
+    r->rho_err = br.sem;
+    r->V_plateau = bv.converged && br.converged;
+  }
+  rl_series_free(sV);
+  rl_series_free(srho);
   r->ortho = sys ? scene_rigidity_error(sys) : NAN;
   r->fallbacks = in ? rl_integrator_fallbacks(in) : 0;
   int nmat = 0;
@@ -352,9 +375,15 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
   int real = d->units == RL_UNITS_REAL;
   double hs = real ? 1e3 : 1.0; /* print steps in fs */
   fprintf(f, "# rotleap scan of %s: %s, %d molecules, %s%s%s; shared start, %s\n", d->path, d->model->name, d->count,
-          d->thermostat == RL_THERMO_NONE ? "NVE" : "NVT (", d->thermostat == RL_THERMO_NONE ? "" : rl_thermostat_name(d->thermostat),
+          d->thermostat == RL_THERMO_NONE ? "NVE" : d->barostat ? "NPT (" : "NVT (",
+          d->thermostat == RL_THERMO_NONE ? "" : rl_thermostat_name(d->thermostat),
           d->thermostat == RL_THERMO_NONE ? "" : ")",
           o->time > 0 ? "equal simulated time" : "equal number of steps");
+  if (d->barostat)
+    fprintf(f, "# barostat: %s at %g %s, every %ld steps of each run; rho, V: blocked means over every step of the run "
+               "(from the shared start: no equilibration discarded) +- their standard error%s\n",
+            d->barostat == 1 ? "Monte Carlo" : "C-rescale", scene_pressure_out(d, d->pressure), real ? "bar" : "(reduced)",
+            d->baro_interval, real ? "; rho in g/cm^3, V in nm^3" : "");
   if (o->electrostatics[0]) fprintf(f, "# electrostatics: %s\n", o->electrostatics);
   fprintf(f, "# calE, calU: relative rms fluctuations of the conserved and potential energy; drift: of the conserved "
              "energy, %s per molecule per %s; ortho: max |A A^T - I| or ||rho|-1| at the end; rdf: int |g - g_ref| dr "
@@ -366,6 +395,7 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
   fprintf(f, "%-14s %7s %7s %10s %10s %8s %10s %8s %6s %8s %8s %6s ", "integrator", real ? "h(fs)" : "h", "steps", "calE",
           "calU", "E/U", "drift", "ortho", "fallb", "T_trans", "T_rot", "Tr/Tt");
   if (d->tconf) fprintf(f, "%8s %8s ", "Tc_trans", "Tc_rot");
+  if (d->barostat) fprintf(f, "%10s %9s %10s %9s ", "rho", "+-", "V", "+-");
   fprintf(f, "%8s %6s %9s %9s  %s\n", "rdf", "iter", "ms/step", real ? "ns/day" : "", "status");
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
@@ -377,6 +407,11 @@ static void print_table(FILE *f, const rl_deck *d, const scan_opts *o, const sca
     if (d->tconf) {
       char tt[32], tr[32];
       fprintf(f, "%8s %8s ", rdf_text(tt, sizeof tt, "%.2f", r->tconf_trans), rdf_text(tr, sizeof tr, "%.2f", r->tconf_rot));
+    }
+    if (d->barostat) {
+      char x[4][32];
+      fprintf(f, "%10s %9s %10s %9s ", rdf_text(x[0], sizeof x[0], "%.5g", r->rho), rdf_text(x[1], sizeof x[1], "%.2g", r->rho_err),
+              rdf_text(x[2], sizeof x[2], "%.6g", r->V), rdf_text(x[3], sizeof x[3], "%.2g", r->V_err));
     }
     fprintf(f, "%8s %6.2f %9.3f %9.3g  %s\n", rdf_text(rdf, sizeof rdf, "%.4f", r->rdf_dist), r->iterations,
             1e3 * r->wall_per_step, r->ns_day, r->ok ? "ok" : r->error);
@@ -435,19 +470,27 @@ static int write_table_csv(const rl_deck *d, const scan_opts *o, const scan_run 
   if (rl_atomic_open(&af, path)) return 1;
   fprintf(af.fp, "integrator,h_%s,steps,steps_done,calE,calU,calE_over_calU,drift_per_molecule_per_%s,ortho_error,fallbacks,"
                  "iterations_per_body_step,max_h_omega,t_trans,t_rot,t_rot_over_t_trans,tconf_trans,tconf_rot,rdf_distance_%s,"
-                 "wall_s_per_step,ns_per_day,meets_tolerance,status\n",
-          real ? "fs" : "reduced", real ? "ns" : "time", rdfname);
+                 "wall_s_per_step,ns_per_day,%smeets_tolerance,status\n",
+          real ? "fs" : "reduced", real ? "ns" : "time", rdfname,
+          !d->barostat ? "" : real ? "density_g_cm3,density_err,volume_nm3,volume_err,volume_plateau,"
+                                   : "density,density_err,volume,volume_err,volume_plateau,");
   for (int k = 0; k < nruns; k++) {
     const scan_run *r = &runs[k];
     int meets = r->ok && r->calU > 0 && r->calE <= o->tolerance * r->calU;
     char rdf[32], tt[32], tr[32];
-    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%s,%s,%s,%.6e,%.6g,%s,",
+    fprintf(af.fp, "%s,%.10g,%ld,%ld,%.6e,%.6e,%.6e,%.6e,%.3e,%ld,%.4g,%.4g,%.6g,%.6g,%.6g,%s,%s,%s,%.6e,%.6g,%s",
             rl_deck_integrators[r->integ].name, r->h * (real ? 1e3 : 1.0), r->steps, r->done, r->calE, r->calU,
             r->calU > 0 ? r->calE / r->calU : 0.0, r->drift, r->ortho, r->fallbacks, r->iterations, r->max_h_omega,
             r->t_trans, r->t_rot, r->t_trans > 0 ? r->t_rot / r->t_trans : 0.0,
             rdf_text(tt, sizeof tt, "%.6g", r->tconf_trans), rdf_text(tr, sizeof tr, "%.6g", r->tconf_rot),
-            rdf_text(rdf, sizeof rdf, "%.6e", r->rdf_dist), r->wall_per_step,
-            r->ns_day, meets ? "yes" : "no");
+            rdf_text(rdf, sizeof rdf, "%.6e", r->rdf_dist), r->wall_per_step, r->ns_day, "");
+    if (d->barostat) {
+      char x[4][32];
+      fprintf(af.fp, "%s,%s,%s,%s,%s,", rdf_text(x[0], sizeof x[0], "%.8g", r->rho), rdf_text(x[1], sizeof x[1], "%.3g", r->rho_err),
+              rdf_text(x[2], sizeof x[2], "%.8g", r->V), rdf_text(x[3], sizeof x[3], "%.3g", r->V_err),
+              isnan(r->V) ? "n/a" : r->V_plateau ? "yes" : "no");
+    }
+    fprintf(af.fp, "%s,", meets ? "yes" : "no");
     csv_text(af.fp, r->ok ? "ok" : r->error);
     fputc('\n', af.fp);
   }

@@ -294,7 +294,8 @@ int scene_add_barostat(const rl_deck *d, rl_integrator *in)
   if (!d->barostat) return RL_OK;
   const rl_barostat_params bp = {.P0 = d->pressure, .T0 = d->thermostat_temperature, .interval = d->baro_interval,
                                  .tau_p = d->tau_p, .compressibility = d->compressibility,
-                                 .coupling = d->baro_aniso ? RL_BARO_ANISOTROPIC : RL_BARO_ISOTROPIC,
+                                 .coupling = d->baro_aniso == 1 ? RL_BARO_ANISOTROPIC
+                                             : d->baro_aniso == 2 ? RL_BARO_SEMIISOTROPIC : RL_BARO_ISOTROPIC,
                                  .min_edge = 2.0 * d->ff.cutoff, .seed = d->thermostat_seed + SCENE_BARO_SEED};
   return rl_integrator_add_op(in, d->barostat == 1 ? &rl_stepop_mc_barostat : &rl_stepop_crescale, &bp);
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The kill-and-continue soak of issue 30's acceptance: for TIP4P (DCD + PDB) and Stockmayer
-# (extended XYZ), on one and two threads, 100 sequences each of one to three SIGKILLs (at random
+# (extended XYZ), on one and two threads, and Stockmayer under the Monte Carlo and the
+# semi-isotropic C-rescale barostat (issue 34), 100 sequences each of one to three SIGKILLs (at random
 # moments and at injected system calls: write, rename, fsync, ftruncate, openat, copy_file_range),
 # each continued from its checkpoint to the end, plus a kill at every system call of a
 # continuation's start (in place and of a completed run extended); checkpoint, thermo file,

@@ -183,10 +183,11 @@ const rl_stepop_type *rl_stepop_for_thermostat(rl_thermostat t);
 
 /* How a barostat changes the cell: every edge by one factor, one edge at a time (Monte Carlo:
  * OpenMM's MonteCarloAnisotropicBarostat), or x and y together and z alone (stochastic cell
- * rescaling, semi-isotropic: not yet). */
+ * rescaling, semi-isotropic, as GROMACS's C-rescale semiisotropic). */
 typedef enum {
   RL_BARO_ISOTROPIC = 0,
-  RL_BARO_ANISOTROPIC = 1
+  RL_BARO_ANISOTROPIC = 1,
+  RL_BARO_SEMIISOTROPIC = 2
 } rl_baro_coupling;
 
 /* The parameter block of the barostats (integrators/stepops/barostat.c).  Energies, volumes and

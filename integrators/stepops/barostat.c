@@ -18,8 +18,10 @@ typedef struct {
   double trial[3];              /* Monte Carlo: the trial size of dV, per edge (isotropic: [0])   */
   long attempted[3], accepted[3]; /* since the last adaptation                                   */
   long total_attempted[3], total_accepted[3];
-  int pending;                  /* C-rescale: a move of this step waits for the virial after it   */
+  int pending;                  /* C-rescale: a move of this step waits for the virial after it
+                                   (1 isotropic, 2 semi-isotropic)                                  */
   double trW0, lnmu;            /* its virial trace before and ln mu                              */
+  double W0[3], lnmu3[3];       /* semi-isotropic: the virial's diagonal before, ln mu per edge    */
   int n;                        /* bodies of the saved centres                                    */
   double (*r)[3];               /* Monte Carlo: the centres before a trial                        */
 } baro_state;
@@ -35,7 +37,7 @@ static int check(const void *par, const rl_system *sys, const rl_integrator_para
   if (b->interval < 1) return rl_error(RL_EINVAL, "the %s needs an interval >= 1 step, got %ld", T->label, b->interval);
   if (!(b->min_edge >= 0.0) || !isfinite(b->min_edge))
     return rl_error(RL_EINVAL, "the %s's smallest box edge %g must be >= 0", T->label, b->min_edge);
-  if (b->coupling != RL_BARO_ISOTROPIC && b->coupling != RL_BARO_ANISOTROPIC)
+  if (b->coupling != RL_BARO_ISOTROPIC && b->coupling != RL_BARO_ANISOTROPIC && b->coupling != RL_BARO_SEMIISOTROPIC)
     return rl_error(RL_EINVAL, "the %s: unknown coupling %d", T->label, (int)b->coupling);
   return RL_OK;
 }
@@ -44,6 +46,9 @@ static int mc_check(const void *par, const rl_system *sys, const rl_integrator_p
 {
   const rl_barostat_params *b = par;
   int st = check(par, sys, p, &rl_stepop_mc_barostat);
+  if (!st && b->coupling == RL_BARO_SEMIISOTROPIC)
+    st = rl_error(RL_EINVAL, "the %s is isotropic or anisotropic (semi-isotropic coupling: C-rescale)",
+                  rl_stepop_mc_barostat.label);
   if (!st && (!(b->trial >= 0.0) || !(b->trial < 1.0)))
     st = rl_error(RL_EINVAL, "the %s's first trial size %g must lie in [0, 1) (a fraction of V; 0: 0.01)",
                   rl_stepop_mc_barostat.label, b->trial);
@@ -60,8 +65,9 @@ static int cr_check(const void *par, const rl_system *sys, const rl_integrator_p
     return rl_error(RL_EINVAL, "the %s needs a positive coupling time tau_p, got %g", T->label, b->tau_p);
   if (!(b->compressibility > 0.0) || !isfinite(b->compressibility))
     return rl_error(RL_EINVAL, "the %s needs a positive compressibility, got %g", T->label, b->compressibility);
-  if (b->coupling != RL_BARO_ISOTROPIC)
-    return rl_error(RL_EINVAL, "the %s is isotropic only (anisotropic coupling: the Monte Carlo barostat)", T->label);
+  if (b->coupling == RL_BARO_ANISOTROPIC)
+    return rl_error(RL_EINVAL, "the %s is isotropic or semi-isotropic (anisotropic coupling: the Monte Carlo barostat)",
+                    T->label);
   const long ev = p->energy_every > 1 ? p->energy_every : 1;
   if (b->interval % ev)
     return rl_error(RL_EINVAL, "the %s acts every %ld steps, not a multiple of the energy cadence %ld: it needs "
@@ -250,6 +256,63 @@ static int mc_end(rl_stepop *op, rl_stepop_ctx *c)
 
 /* -------------------------------------------------------------- stochastic cell rescaling */
 
+/* Scale the centres by mu[k] and v(t+h/2) by 1/mu[k] per edge: the translational kinetic energy
+ * before (*K0) and after (*K1). */
+static void cr_scale(rl_system *s, const double mu[3], double *K0, double *K1)
+{
+  *K0 = *K1 = 0.0;
+  for (int q = 0; q < s->nspecies; q++) {
+    const rl_species *sp = &s->sp[q];
+    double k0 = 0.0, k1 = 0.0;
+    for (int i = sp->first; i < sp->first + sp->count; i++) {
+      double *r = s->r[i], *v = s->v[i];
+      k0 += v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+      for (int k = 0; k < 3; k++) {
+        r[k] *= mu[k];
+        v[k] /= mu[k];
+      }
+      k1 += v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    }
+    *K0 += 0.5 * sp->mass * k0;
+    *K1 += 0.5 * sp->mass * k1;
+  }
+}
+
+/* Semi-isotropic: a = ln(Lx Ly) and z = ln Lz, each with its own noise,
+ *   da = -(2x/3)(P0 - P_xy) + sqrt(2 kT (2x/3)/V) xi_1,  dz = -(x/3)(P0 - P_zz) + sqrt(2 kT (x/3)/V) xi_2,
+ * P_xy = (2K/3 + (W_xx + W_yy)/2)/V, P_zz = (2K/3 + W_zz)/V, x = kappa dt / tau_p: ln V = a + z then
+ * moves with the isotropic drift x (P - P0) and noise 2 kT x / V, so its law is the isotropic
+ * one; mu_x = mu_y = exp(da/2), mu_z = exp(dz). */
+static int cr_semi(rl_stepop *op, rl_stepop_ctx *c, const double L[3], double V, double kT, double x)
+{
+  const rl_barostat_params *bp = op->par;
+  baro_state *b = op->state;
+  rl_system *s = c->sys;
+  const double *W = c->forces->virial, kin = 2.0 * c->info->ke_trans / 3.0;
+  const double Pxy = (kin + 0.5 * (W[0] + W[4])) / V, Pzz = (kin + W[8]) / V;
+  const double xa = 2.0 * x / 3.0, xz = x / 3.0;
+  const double da = -xa * (bp->P0 - Pxy) + sqrt(2.0 * kT * xa / V) * gsl_ran_gaussian(b->rng, 1.0);
+  const double dz = -xz * (bp->P0 - Pzz) + sqrt(2.0 * kT * xz / V) * gsl_ran_gaussian(b->rng, 1.0);
+  const double mu[3] = {exp(0.5 * da), exp(0.5 * da), exp(dz)};
+  double Ln[3], K0, K1;
+  for (int k = 0; k < 3; k++) Ln[k] = L[k] * mu[k];
+  int st = check_edges(op, c, L, Ln);
+  if (st) return st;
+  cr_scale(s, mu, &K0, &K1);
+  if ((st = rl_system_set_box(s, Ln))) return st;
+  double dU = 0.0; /* to first order; completed to the trapezoid in cr_end */
+  for (int k = 0; k < 3; k++) {
+    b->W0[k] = W[4 * k];
+    b->lnmu3[k] = log(mu[k]);
+    dU -= W[4 * k] * b->lnmu3[k];
+  }
+  op->work -= (K1 - K0) + dU;
+  b->pending = 2;
+  b->total_attempted[0]++;
+  b->total_accepted[0]++;
+  return RL_OK;
+}
+
 static int cr_after_drift(rl_stepop *op, rl_stepop_ctx *c)
 {
   const rl_barostat_params *bp = op->par;
@@ -264,27 +327,14 @@ static int cr_after_drift(rl_stepop *op, rl_stepop_ctx *c)
   const double V = L[0] * L[1] * L[2], kT = s->kB * bp->T0, trW = F->virial[0] + F->virial[4] + F->virial[8];
   const double P = (2.0 * c->info->ke_trans + trW) / (3.0 * V);
   const double x = bp->compressibility * bp->interval * c->p->h / bp->tau_p;
+  if (bp->coupling == RL_BARO_SEMIISOTROPIC) return cr_semi(op, c, L, V, kT, x);
   const double deps = -x * (bp->P0 - P) + sqrt(2.0 * kT * x / V) * gsl_ran_gaussian(b->rng, 1.0);
   const double mu = exp(deps / 3.0);
   for (int k = 0; k < 3; k++) Ln[k] = L[k] * mu;
   int st = check_edges(op, c, L, Ln);
   if (st) return st;
-  double K0 = 0.0, K1 = 0.0; /* the translational kinetic energy of v(t+h/2), before and after */
-  for (int q = 0; q < s->nspecies; q++) {
-    const rl_species *sp = &s->sp[q];
-    double k0 = 0.0, k1 = 0.0;
-    for (int i = sp->first; i < sp->first + sp->count; i++) {
-      double *r = s->r[i], *v = s->v[i];
-      k0 += v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-      for (int k = 0; k < 3; k++) {
-        r[k] *= mu;
-        v[k] /= mu;
-      }
-      k1 += v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    }
-    K0 += 0.5 * sp->mass * k0;
-    K1 += 0.5 * sp->mass * k1;
-  }
+  double K0, K1; /* the translational kinetic energy of v(t+h/2), before and after */
+  cr_scale(s, (const double[3]){mu, mu, mu}, &K0, &K1);
   if ((st = rl_system_set_box(s, Ln))) return st;
   /* the energy the move changes: dK exactly, dU = -tr W ln mu to first order here, completed to
    * the trapezoid -(tr W + tr W') ln mu / 2 at the end of the step (cr_end), with W' the virial
@@ -302,11 +352,14 @@ static int cr_end(rl_stepop *op, rl_stepop_ctx *c)
 {
   baro_state *b = op->state;
   if (!b->pending) return RL_OK;
+  const int semi = b->pending == 2;
   b->pending = 0;
   int st;
   if (c->forces->forces_only && (st = rl_stepop_forces(c, 1))) return st;
   const double *W = c->forces->virial;
-  op->work += 0.5 * (W[0] + W[4] + W[8] - b->trW0) * b->lnmu;
+  if (semi)
+    for (int k = 0; k < 3; k++) op->work += 0.5 * (W[4 * k] - b->W0[k]) * b->lnmu3[k];
+  else op->work += 0.5 * (W[0] + W[4] + W[8] - b->trW0) * b->lnmu;
   return RL_OK;
 }
 
@@ -319,7 +372,7 @@ static const rl_stepop_param params[] = {
     {"tau_p", "time", "C-rescale: coupling time"},
     {"compressibility", "1/pressure", "C-rescale: isothermal compressibility"},
     {"trial", "", "Monte Carlo: first trial size, a fraction of V (0: 0.01)"},
-    {"coupling", "", "isotropic or anisotropic (Monte Carlo only)"},
+    {"coupling", "", "isotropic, anisotropic (Monte Carlo only) or semi-isotropic (C-rescale only)"},
     {"min_edge", "length", "smallest box edge a move may make (0: no check)"},
     {"seed", "", "GSL mt19937 seed"},
     {NULL, NULL, NULL}};

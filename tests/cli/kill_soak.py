@@ -3,8 +3,8 @@
 random moment or at an injected system call (strace -e inject=SYSCALL:signal=KILL:when=N) -- and
 continued each time from PREFIX.chk (or started again if it has none yet); the last attempt runs
 to the end.  Its checkpoint, thermo file, trajectory, PDB and results must be byte for byte those
-of a run never killed.  Four scenes: TIP4P (DCD + PDB) and Stockmayer (extended XYZ), one and two
-threads.
+of a run never killed.  Six scenes: TIP4P (DCD + PDB) and Stockmayer (extended XYZ), one and two
+threads, and Stockmayer under each barostat (Monte Carlo; semi-isotropic C-rescale).
 
   kill_soak.py ROTLEAP SRCDIR WORKDIR [--sequences N] [--seed S] [--starts] [--scenes a,b] [--short]
 
@@ -37,6 +37,8 @@ def scenes(src, short=False):
     common = ["--set", "output.checkpoint_every=40", "--set", "output.trajectory_every=10",
               "--set", "output.thermo_every=10", "--set", "output.progress=no"]
     n1, n2 = ("120", "200") if short else ("240", "400")
+    npt = ["--set", "system.count=125", "--set", "run.ensemble=nvt-bussi", "--set", "run.temperature=1.35",
+           "--set", "run.pressure=1.0", "--set", "run.timestep=0.004", "--set", "run.threads=1"]
     return {
         "tip4p-t1": (water, "dcd", common + ["--set", "run.steps=" + n1, "--set", "run.equilibrate=40", "--set", "run.threads=1"]),
         "tip4p-t2": (water, "dcd", common + ["--set", "run.steps=" + n1, "--set", "run.equilibrate=40", "--set", "run.threads=2"]),
@@ -45,6 +47,13 @@ def scenes(src, short=False):
         "stockmayer-t2": (stock, "xyz", common + ["--set", "run.steps=" + n2, "--set", "run.threads=2",
                                                   "--set", "run.ensemble=nvt-langevin", "--set", "run.temperature=1.35",
                                                   "--set", "run.tau=0.05"]),
+        # the barostats (issue 34): the box, the barostat's random stream, trial sizes and counts
+        # travel in the checkpoint; a kill anywhere must still continue bit for bit
+        "stockmayer-mc": (stock, "xyz", common + npt + ["--set", "run.steps=" + n2, "--set", "run.barostat=mc",
+                                                        "--set", "run.barostat_interval=2"]),
+        "stockmayer-cr": (stock, "xyz", common + npt + ["--set", "run.steps=" + n2, "--set", "run.barostat=c-rescale",
+                                                        "--set", "run.barostat_interval=2", "--set", "run.compressibility=0.1",
+                                                        "--set", "run.barostat_coupling=semiisotropic"]),
     }
 
 

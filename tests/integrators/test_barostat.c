@@ -155,23 +155,31 @@ static void mc_acceptance_by_hand(void **state)
 
 /* <V> of n non-interacting particles at P0 = 1, kT = 1 sampled by `type` over `steps` steps:
  * the mean and its standard error from 50 blocks. */
-static double ideal_gas_volume(const rl_stepop_type *type, int n, long steps, double *sem, double *acc)
+static double ideal_gas_volume(const rl_stepop_type *type, rl_baro_coupling cpl, int n, long steps, double *sem,
+                               double *acc)
 {
   rl_system *s = gas(n, 2.5, 3);
   rl_integrator *in = nvt(s, nothing, 0.05);
   rl_barostat_params bp = baro(1.0, 1, 17);
+  bp.coupling = cpl;
   bp.tau_p = 0.5;
   bp.compressibility = 1.0 / n; /* about the gas's, 1/P0 over (N+1)/N... order of magnitude */
   assert_int_equal(rl_integrator_add_op(in, type, &bp), RL_OK);
   assert_int_equal(rl_integrator_init(in), RL_OK);
   const long burn = steps / 20, nb = 50, per = (steps - burn) / nb;
-  double bsum = 0.0, bsum2 = 0.0;
+  double bsum = 0.0, bsum2 = 0.0, shape = 0.0;
   for (long k = 0; k < burn; k++) step_ok(in);
   for (long q = 0; q < nb; q++) {
     double m = 0.0;
     for (long k = 0; k < per; k++) {
       step_ok(in);
       m += rl_system_volume(s);
+      if (cpl == RL_BARO_SEMIISOTROPIC) { /* x and y scaled together, to the bit */
+        double L[3];
+        rl_system_box(s, L);
+        if (L[0] != L[1]) fail_msg("semi-isotropic: Lx %.17g != Ly %.17g", L[0], L[1]);
+        shape = fmax(shape, fabs(log(L[2] / L[0])));
+      }
     }
     m /= per;
     bsum += m;
@@ -182,6 +190,10 @@ static double ideal_gas_volume(const rl_stepop_type *type, int n, long steps, do
   rl_barostat_stats st;
   assert_int_equal(rl_barostat_stats_of(rl_integrator_op(in, 1), &st), RL_OK);
   *acc = (double)st.accepted[0] / (double)st.attempted[0];
+  if (cpl == RL_BARO_SEMIISOTROPIC) { /* z moves apart from x and y */
+    print_message("semi-isotropic: largest |ln(Lz/Lx)| %.3f\n", shape);
+    assert_true(shape > 0.1);
+  }
   rl_integrator_free(in);
   rl_system_free(s);
   return mean;
@@ -193,13 +205,27 @@ static void ideal_gas(void **state)
   const int n = 10;
   const double want = (n + 1) * 1.0 / 1.0; /* (N+1) kT / P0 */
   double sem, acc;
-  double V = ideal_gas_volume(&rl_stepop_mc_barostat, n, 200000, &sem, &acc);
+  double V = ideal_gas_volume(&rl_stepop_mc_barostat, RL_BARO_ISOTROPIC, n, 200000, &sem, &acc);
   print_message("MC ideal gas, N = %d: <V> = %.4f +- %.4f (want %.4f), acceptance %.3f\n", n, V, sem, want, acc);
   assert_true(fabs(V - want) < 4.0 * sem);
   assert_true(sem < 0.02 * want);
   assert_true(acc > 0.2 && acc < 0.9);
-  V = ideal_gas_volume(&rl_stepop_crescale, n, 200000, &sem, &acc);
+  V = ideal_gas_volume(&rl_stepop_crescale, RL_BARO_ISOTROPIC, n, 200000, &sem, &acc);
   print_message("C-rescale ideal gas, N = %d: <V> = %.4f +- %.4f (want %.4f)\n", n, V, sem, want);
+  assert_true(fabs(V - want) < 4.0 * sem);
+  assert_true(sem < 0.02 * want);
+}
+
+/* Semi-isotropic C-rescale: ln V moves as the isotropic one (the law V^N exp(-P0 V/kT) dV), Lx = Ly
+ * throughout, and Lz apart from them (the shape of an ideal gas is free). */
+static void ideal_gas_semi(void **state)
+{
+  (void)state;
+  const int n = 10;
+  const double want = (n + 1) * 1.0 / 1.0;
+  double sem, acc;
+  const double V = ideal_gas_volume(&rl_stepop_crescale, RL_BARO_SEMIISOTROPIC, n, 200000, &sem, &acc);
+  print_message("C-rescale semi-isotropic ideal gas, N = %d: <V> = %.4f +- %.4f (want %.4f)\n", n, V, sem, want);
   assert_true(fabs(V - want) < 4.0 * sem);
   assert_true(sem < 0.02 * want);
 }
@@ -221,7 +247,7 @@ typedef struct {
  * the barostat `type` at P0 (interval every steps); sys: a state to start from (cloned), or NULL
  * for a lattice. */
 static void liquid_make(liquid *q, const rl_system *from, double h, const rl_stepop_type *type, double P0,
-                        long every, unsigned long seed)
+                        long every, unsigned long seed, rl_baro_coupling cpl)
 {
   assert_int_equal(rl_model_build(rl_catalog_find("stockmayer"), NULL, 0, &q->mol), RL_OK);
   if (from) q->sys = rl_system_clone(from);
@@ -256,6 +282,7 @@ static void liquid_make(liquid *q, const rl_system *from, double h, const rl_ste
   bp.tau_p = 1.0;
   bp.compressibility = 0.05;
   bp.min_edge = 2.0 * RC;
+  bp.coupling = cpl;
   if (type) assert_int_equal(rl_integrator_add_op(q->in, type, &bp), RL_OK);
 }
 
@@ -268,10 +295,10 @@ static void liquid_free(liquid *q)
 
 /* The effective energy (total + the thermostat's and barostat's accounts) of C-rescale over a
  * time T at two steps: its drift per molecule and time unit must be small and fall with h. */
-static double crescale_drift(const rl_system *start, double h, double T, double *dV)
+static double crescale_drift(const rl_system *start, double h, double T, rl_baro_coupling cpl, double *dV)
 {
   liquid q;
-  liquid_make(&q, start, h, &rl_stepop_crescale, 1.0, 1, 21);
+  liquid_make(&q, start, h, &rl_stepop_crescale, 1.0, 1, 21, cpl);
   assert_int_equal(rl_integrator_init(q.in), RL_OK);
   const long n = lround(T / h);
   double V0 = rl_system_volume(q.sys), t0 = 0.0, c0 = 0.0, st = 0, stt = 0, sc = 0, stc = 0;
@@ -287,22 +314,25 @@ static double crescale_drift(const rl_system *start, double h, double T, double 
   return (n * stc - st * sc) / (n * stt - st * st) / NLIQ / 1.35; /* kT per molecule per time unit */
 }
 
-static void crescale_effective_energy(void **state)
+static void effective_energy(rl_baro_coupling cpl)
 {
-  (void)state;
   liquid q; /* an equilibrated start: 400 steps of NVT */
-  liquid_make(&q, NULL, 0.005, NULL, 0.0, 1, 1);
+  liquid_make(&q, NULL, 0.005, NULL, 0.0, 1, 1, RL_BARO_ISOTROPIC);
   assert_int_equal(rl_integrator_init(q.in), RL_OK);
   for (int k = 0; k < 400; k++) step_ok(q.in);
   assert_int_equal(rl_integrator_finish(q.in), RL_OK);
   double dV1, dV2;
-  const double d1 = crescale_drift(q.sys, 0.005, 10.0, &dV1), d2 = crescale_drift(q.sys, 0.0025, 10.0, &dV2);
-  print_message("C-rescale effective energy drift: %.3e (h = 0.005), %.3e (h = 0.0025) kT per molecule per time "
-                "unit; volume changed by %.3f, %.3f\n", d1, d2, dV1, dV2);
+  const double d1 = crescale_drift(q.sys, 0.005, 10.0, cpl, &dV1), d2 = crescale_drift(q.sys, 0.0025, 10.0, cpl, &dV2);
+  print_message("C-rescale (%s) effective energy drift: %.3e (h = 0.005), %.3e (h = 0.0025) kT per molecule per time "
+                "unit; volume changed by %.3f, %.3f\n", cpl == RL_BARO_SEMIISOTROPIC ? "semi-isotropic" : "isotropic",
+                d1, d2, dV1, dV2);
   CHECK_LE("|drift| at h = 0.0025 (kT/molecule/time)", fabs(d2), 2e-3);
   CHECK_LE("the box moved (|dV/V|)", 1e-3, fmax(fabs(dV1), fabs(dV2)));
   liquid_free(&q);
 }
+
+static void crescale_effective_energy(void **state) { (void)state; effective_energy(RL_BARO_ISOTROPIC); }
+static void crescale_semi_effective_energy(void **state) { (void)state; effective_energy(RL_BARO_SEMIISOTROPIC); }
 
 /* ------------------------------------------------------------------ continuation */
 
@@ -313,8 +343,8 @@ static void continuation(const rl_stepop_type *type, long every)
 {
   const long N = 60;
   liquid a, b, c;
-  liquid_make(&a, NULL, 0.004, type, 1.0, every, 33);
-  liquid_make(&b, NULL, 0.004, type, 1.0, every, 33);
+  liquid_make(&a, NULL, 0.004, type, 1.0, every, 33, RL_BARO_ISOTROPIC);
+  liquid_make(&b, NULL, 0.004, type, 1.0, every, 33, RL_BARO_ISOTROPIC);
   assert_int_equal(rl_integrator_init(a.in), RL_OK);
   assert_int_equal(rl_integrator_init(b.in), RL_OK);
   for (long k = 0; k < 2 * N; k++) step_ok(a.in);
@@ -330,7 +360,7 @@ static void continuation(const rl_stepop_type *type, long every)
   memcpy(rng, rl_integrator_rng_state(b.in), nr);
   const double work = rl_integrator_thermostat_work(b.in), t = rl_integrator_time(b.in);
   /* the continuation, in a new integrator on a copy of the state */
-  liquid_make(&c, b.sys, 0.004, type, 1.0, every, 99); /* another seed: the saved stream replaces it */
+  liquid_make(&c, b.sys, 0.004, type, 1.0, every, 99, RL_BARO_ISOTROPIC); /* another seed: the saved stream replaces it */
   assert_int_equal(rl_stepop_load(rl_integrator_op(c.in, 1), saved, size), RL_OK);
   memcpy(rl_integrator_rng_state(c.in), rng, nr);
   assert_int_equal(rl_integrator_resume(c.in, N, t), RL_OK);
@@ -388,7 +418,10 @@ static void refused(void **state)
   EXPECT_ERROR(rl_integrator_add_op(in, &rl_stepop_mc_barostat, &bp), RL_EINVAL, "positive temperature");
   bp = baro(1.0, 1, 1);
   bp.coupling = RL_BARO_ANISOTROPIC;
-  EXPECT_ERROR(rl_integrator_add_op(in, &rl_stepop_crescale, &bp), RL_EINVAL, "isotropic only");
+  EXPECT_ERROR(rl_integrator_add_op(in, &rl_stepop_crescale, &bp), RL_EINVAL, "isotropic or semi-isotropic");
+  bp = baro(1.0, 1, 1);
+  bp.coupling = RL_BARO_SEMIISOTROPIC;
+  EXPECT_ERROR(rl_integrator_add_op(in, &rl_stepop_mc_barostat, &bp), RL_EINVAL, "semi-isotropic coupling: C-rescale");
   rl_integrator_free(in);
   /* a non-periodic system */
   const double none[3] = {0.0, 0.0, 0.0};
@@ -416,6 +449,7 @@ static void refused(void **state)
 int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(mc_acceptance_by_hand), cmocka_unit_test(ideal_gas),
+                                     cmocka_unit_test(ideal_gas_semi), cmocka_unit_test(crescale_semi_effective_energy),
                                      cmocka_unit_test(crescale_effective_energy), cmocka_unit_test(continuation_mc),
                                      cmocka_unit_test(continuation_crescale), cmocka_unit_test(refused)};
   return cmocka_run_group_tests(tests, NULL, NULL);

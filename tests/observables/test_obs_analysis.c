@@ -82,7 +82,7 @@ static void step(fixture *fx, double U, double K, int g)
   const int n = rl_system_count(fx->sys), nrot = rl_system_nrot(fx->sys);
   double(*fo)[3] = calloc((size_t)n, sizeof *fo), (*to)[3] = calloc((size_t)(nrot > 0 ? nrot : 1), sizeof *to);
   rl_forces F = {fo, to, 0.0, {0}, 0};
-  assert_int_equal(analysis_step(fx->a, &info, 1.0, &F, fx->sys), RL_OK);
+  assert_int_equal(analysis_step(fx->a, &info, 1.0, &F, fx->sys, NULL), RL_OK);
   free(fo);
   free(to);
 }
@@ -470,7 +470,7 @@ static void feed(fixture *fx, long from, long to)
         to_[i][d] = gsl_ran_gaussian(rng, 3.0);
       }
     rl_forces F = {fo, to_, 0.0, {0}, 0};
-    assert_int_equal(analysis_step(fx->a, &info, gsl_ran_gaussian(rng, 1.0), &F, fx->sys), RL_OK);
+    assert_int_equal(analysis_step(fx->a, &info, gsl_ran_gaussian(rng, 1.0), &F, fx->sys, NULL), RL_OK);
     free(fo);
     free(to_);
     if ((k + 1) % 4) continue;
@@ -669,7 +669,7 @@ static void journal_refused(void **state)
     rl_step_info info;
     memset(&info, 0, sizeof info);
     rl_forces F = {NULL, NULL, 0.0, {0}, 0};
-    assert_int_not_equal(analysis_step(w.a, &info, 0.0, &F, w.sys), RL_OK); /* and every later record */
+    assert_int_not_equal(analysis_step(w.a, &info, 0.0, &F, w.sys, NULL), RL_OK); /* and every later record */
     fclose(full);
   }
   teardown(&w);
