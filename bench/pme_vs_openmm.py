@@ -44,10 +44,8 @@ def rotleap_run(ffbench, n, threads, steps, tol, dump=None, old=False):
 
 
 def openmm_context(n, L, pos, threads, tol):
-    system = rf.watermodels.build_system("tip4p-ew", n, (L, L, L), 0.9, 78.3, rigid=True)
+    system = rf.watermodels.build_system("tip4p-ew", n, (L, L, L), 0.9, 78.3, rigid=True, pme_tolerance=tol)
     nb = [f for f in system.getForces() if isinstance(f, mm.NonbondedForce)][0]
-    nb.setNonbondedMethod(mm.NonbondedForce.PME)
-    nb.setEwaldErrorTolerance(tol)
     integ = mm.VerletIntegrator(0.002)
     ctx = mm.Context(system, integ, mm.Platform.getPlatformByName("CPU"), {"Threads": str(threads)})
     ctx.setPositions(pos)
