@@ -97,10 +97,6 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
   rl_species_ff pair_sff = sff;
   double no_charge[RL_MOLECULE_MAX_SITES] = {0};
   const int ewald = d->coulomb != RL_DECK_COULOMB_RF;
-  if (ewald) { /* the charges and point dipoles are the Ewald terms': no reaction field in the pair term */
-    pair_sff.charge = no_charge;
-    pair_sff.dipole = NULL;
-  }
   rl_pair_params pp = {d->ff, &pair_sff, 1, d->model->geometric_mixing}; /* OPLS, EPM2: geometric mixing */
   pp.p.skin = scene_skin(d, mol);
   rl_ewald_params ep = d->ewald;
@@ -109,9 +105,27 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
   ep.cutoff = d->ff.cutoff;
   ep.threads = d->ff.threads;
   ep.remove_net_force = 1; /* the mesh's net force off: the total momentum stays zero, a continuation bit for bit */
+  const rl_term_type *recip = d->coulomb == RL_DECK_COULOMB_PME ? &rl_term_pme : &rl_term_ewald;
+  /* Ewald: the real space of charges in the pair term's kernels (its coulomb component, with the
+   * LJ in one pass; the deck allows the site cutoff only), with the alpha the reciprocal term
+   * resolves; the term "ewald-real" remains the reference, and does the real space of point
+   * dipoles (B and C functions), which the rows do not have yet.  With the molecule cutoff it
+   * would be the term too. */
+  const int real_in_pair = ewald && d->ff.scheme == RL_CUTOFF_SITE && !mol->has_dipole; /* rows: charges only */
+  rl_ewald_info ei;
+  if (real_in_pair && rl_ewald_resolve(sys, &ep, recip == &rl_term_pme ? RL_EWALD_PME : RL_EWALD_SUM, &ei)) return NULL;
+  if (real_in_pair) {
+    pp.p.coulomb = RL_COULOMB_EWALD_REAL;
+    pp.p.ewald_alpha = ei.alpha;
+    pp.p.intramolecular_rf = 0;
+  } else if (ewald) { /* the charges and point dipoles are the Ewald terms': no reaction field in the pair term */
+    pair_sff.charge = no_charge;
+    pair_sff.dipole = NULL;
+  }
   rl_terms *t = rl_terms_alloc(sys);
-  if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL) || (ewald && rl_terms_add(t, &rl_term_ewald_real, &ep, NULL)) ||
-      (ewald && rl_terms_add(t, d->coulomb == RL_DECK_COULOMB_PME ? &rl_term_pme : &rl_term_ewald, &ep, NULL))) {
+  if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL) ||
+      (ewald && !real_in_pair && rl_terms_add(t, &rl_term_ewald_real, &ep, NULL)) ||
+      (ewald && rl_terms_add(t, recip, &ep, NULL))) {
     rl_terms_free(t);
     return NULL;
   }

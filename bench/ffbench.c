@@ -16,6 +16,12 @@
  *       --mixed: the force field in mixed precision (rl_ff_params.precision).
  *       --skin auto: the Verlet skin `rotleap run` takes at the step --h (rl_ff_skin_for_step);
  *       --skin S: S (nm or sigma); default the force field's, 0.1 rc.
+ *       --pme TOL (MODEL tip4p-ew, TIP4P-Ew at 1 g/cm3): charges by smooth PME at OpenMM's
+ *       ewaldErrorTolerance TOL (alpha and grid as OpenMM chooses them, order 5): the real space
+ *       in the pair term's rows, LJ + erfc in one pass (rl_ff_params.coulomb), the term "pme" for
+ *       the mesh; recip_share = its share of the step.  --real-term: the real space by the term
+ *       "ewald-real" instead, the pair term without charges (what rotleap ran before the rows
+ *       had it); its time counts as the force field's, not recip_share.
  *   ffbench scaling MODEL THREADS [NMAX]
  *       Cost per step against N (256 .. NMAX = 65536, x2 each), auto and general kernels side by
  *       side (every size set up first, then 5 rounds visiting each in turn; best round kept),
@@ -28,6 +34,7 @@
  *       median ratio of the two.
  * Read ratios: the machine is shared. */
 #include <rotleap/catalog.h>
+#include <rotleap/ewald.h>
 #include <rotleap/forcefield.h>
 #include <rotleap/rotleap.h>
 
@@ -58,10 +65,12 @@ static double rss_bytes(void)
   return (double)res * (double)sysconf(_SC_PAGESIZE);
 }
 
-/* The force field wrapped: time spent in it. */
+/* The force field wrapped: time spent in it (t), and with --pme in the Ewald terms: the real
+ * space's term if it is one (rterms, counted in t) and the mesh (recip, trecip). */
 typedef struct {
   rl_forcefield *ff;
-  double t;
+  rl_terms *rterms, *recip;
+  double t, trecip, recip_share;
 } timed_ff;
 
 static int timed_compute(void *ctx, const rl_system *sys, rl_forces *out)
@@ -69,7 +78,13 @@ static int timed_compute(void *ctx, const rl_system *sys, rl_forces *out)
   timed_ff *w = ctx;
   double t0 = now();
   int st = rl_forcefield_compute(w->ff, sys, out);
-  w->t += now() - t0;
+  if (!st && w->rterms) st = rl_terms_compute(w->rterms, sys, out);
+  const double t1 = now();
+  w->t += t1 - t0;
+  if (!st && w->recip) {
+    st = rl_terms_compute(w->recip, sys, out);
+    w->trecip += now() - t1;
+  }
   return st;
 }
 
@@ -86,6 +101,10 @@ typedef struct {
 
 /* the force fields' precision (--mixed) */
 static rl_precision bench_precision = RL_PRECISION_DOUBLE;
+/* --pme TOL (0: reaction field) and --real-term */
+static double bench_pme = 0.0;
+static int bench_real_term = 0;
+static rl_ewald_info bench_ewald;
 
 static void die(const char *what)
 {
@@ -98,8 +117,9 @@ static void setup_skin(bench_sys *b, const char *model, int n, int threads,
                        rl_kernel_choice kernel, double skin)
 {
   memset(b, 0, sizeof *b);
-  b->tip4p = strcmp(model, "tip4p") == 0;
-  if (!b->tip4p && strcmp(model, "stockmayer") != 0) { fprintf(stderr, "ffbench: model tip4p|stockmayer\n"); exit(2); }
+  b->tip4p = strcmp(model, "tip4p") == 0 || strcmp(model, "tip4p-ew") == 0;
+  if (!b->tip4p && strcmp(model, "stockmayer") != 0) { fprintf(stderr, "ffbench: model tip4p|tip4p-ew|stockmayer\n"); exit(2); }
+  if ((bench_pme > 0.0) != (strcmp(model, "tip4p-ew") == 0)) { fprintf(stderr, "ffbench: --pme TOL with model tip4p-ew, and only there\n"); exit(2); }
   double rss0 = rss_bytes();
   const rl_model *md = rl_catalog_find(model);
   if (!md || rl_model_build(md, NULL, 0, &b->m)) die("model");
@@ -155,7 +175,33 @@ static void setup_skin(bench_sys *b, const char *model, int n, int threads,
     p.eps_rf = 1.0; /* plain truncation of the dipole terms, as lj/cut/dipole/cut */
   }
   rl_species_ff sf = rl_molecule_ff(&b->m);
-  b->ff = rl_forcefield_alloc(b->sys, &p, &sf, 1);
+  static rl_species_ff sf_ew; /* the Ewald terms keep a pointer */
+  double no_charge[RL_MOLECULE_MAX_SITES] = {0};
+  rl_species_ff sf_pair = sf;
+  if (bench_pme > 0.0) {
+    sf_ew = sf;
+    rl_ewald_params ep;
+    rl_ewald_params_default(&ep);
+    ep.species = &sf_ew;
+    ep.nspecies = 1;
+    ep.cutoff = p.cutoff;
+    ep.tolerance = bench_pme;
+    ep.coulomb_constant = p.coulomb_constant;
+    ep.threads = threads;
+    ep.remove_net_force = 1; /* as rotleap run */
+    if (rl_ewald_resolve(b->sys, &ep, RL_EWALD_PME, &bench_ewald)) die("ewald");
+    b->w.recip = rl_terms_alloc(b->sys);
+    if (!b->w.recip || rl_terms_add(b->w.recip, &rl_term_pme, &ep, NULL)) die("pme");
+    if (bench_real_term) {
+      sf_pair.charge = no_charge;
+      b->w.rterms = rl_terms_alloc(b->sys);
+      if (!b->w.rterms || rl_terms_add(b->w.rterms, &rl_term_ewald_real, &ep, NULL)) die("ewald-real");
+    } else {
+      p.coulomb = RL_COULOMB_EWALD_REAL;
+      p.ewald_alpha = bench_ewald.alpha;
+    }
+  }
+  b->ff = rl_forcefield_alloc(b->sys, &p, &sf_pair, 1);
   if (!b->ff) die("forcefield");
   b->w.ff = b->ff;
   rl_integrator_params ip;
@@ -218,17 +264,20 @@ static void teardown(bench_sys *b)
 {
   rl_integrator_free(b->in);
   rl_forcefield_free(b->ff);
+  rl_terms_free(b->w.rterms);
+  rl_terms_free(b->w.recip);
   rl_system_free(b->sys);
 }
 
 /* Timed steps: returns seconds per step, *share = force field time / step time. */
 static double timed(bench_sys *b, int steps, double *share)
 {
-  b->w.t = 0.0;
+  b->w.t = b->w.trecip = 0.0;
   double t0 = now();
   run(b, steps, NULL);
   double t = now() - t0;
   if (share) *share = b->w.t / t;
+  b->w.recip_share = b->w.trecip / t;
   return t / steps;
 }
 
@@ -239,7 +288,7 @@ static void dump(bench_sys *b, const char *path)
   int n = rl_system_count(b->sys), ns = rl_system_nsites(b->sys);
   double(*s)[3] = malloc(sizeof *s * (size_t)ns);
   rl_system_site_positions(b->sys, s);
-  fprintf(f, "%s %d %d %.17g\n", b->tip4p ? "tip4p" : "stockmayer", n, ns / n, b->L);
+  fprintf(f, "%s %d %d %.17g\n", b->tip4p ? b->m.name : "stockmayer", n, ns / n, b->L);
   for (int i = 0; i < n; i++) {
     double r[3], v[3], l[3], ax[3];
     rl_system_get_position(b->sys, i, r);
@@ -278,6 +327,8 @@ static int cmd_time(int argc, char **argv)
     else if (!strcmp(argv[k], "--relax") && k + 1 < argc) relax = atoi(argv[++k]); /* steps of 0.5 fs */
     else if (!strcmp(argv[k], "--mixed")) bench_precision = RL_PRECISION_MIXED;
     else if (!strcmp(argv[k], "--skin") && k + 1 < argc) skin_arg = argv[++k]; /* auto or nm */
+    else if (!strcmp(argv[k], "--pme") && k + 1 < argc) bench_pme = atof(argv[++k]);
+    else if (!strcmp(argv[k], "--real-term")) bench_real_term = 1;
     else { fprintf(stderr, "ffbench time: unknown argument %s\n", argv[k]); return 2; }
   }
   if (!(h > 0.0 && h < 1.0)) {
@@ -314,7 +365,11 @@ static int cmd_time(int argc, char **argv)
          model, n, rl_forcefield_threads(b.ff), rl_forcefield_kernel(b.ff), rl_forcefield_rows(b.ff),
          rl_forcefield_precision(b.ff),
          nve > 0 ? "none" : langevin ? "Langevin" : "Bussi", b.h, skin >= 0.0 ? skin : 0.1 * (b.tip4p ? 0.9 : 2.5), energy_every, 1e3 * t, share,
-         1.0 - share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
+         1.0 - share - b.w.recip_share, b.mem_per_molecule, rl_forcefield_rebuilds(b.ff), e.total / n);
+  if (bench_pme > 0.0)
+    printf("pme_tolerance=%g alpha=%.6f grid=%dx%dx%d order=%d real_space=%s recip_share=%.4f\n", bench_pme,
+           bench_ewald.alpha, bench_ewald.grid[0], bench_ewald.grid[1], bench_ewald.grid[2], bench_ewald.order,
+           bench_real_term ? "term" : "rows", b.w.recip_share);
   if (dumpfile) {
     /* the energy of exactly the dumped configuration */
     rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}, 0};

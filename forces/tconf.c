@@ -320,6 +320,9 @@ int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tcon
   const int n = rl_system_count(sys), nsites = rl_system_nsites(sys);
   if (n != ff->n || nsites != ff->nsites || rl_system_nspecies(sys) != ff->nspecies)
     return rl_error(RL_ESTATE, "rl_config_temperature: the system changed since the force field was made");
+  if (ff->p.coulomb != RL_COULOMB_RF)
+    return rl_error(RL_EINVAL, "rl_config_temperature: the pair term's Coulomb is the Ewald real space, whose "
+                               "Laplacian is not written here (reaction field only)");
   memset(out, 0, sizeof *out);
   double(*site)[3] = malloc(sizeof *site * (size_t)(nsites > 0 ? nsites : 1));
   double(*ctr)[3] = malloc(sizeof *ctr * (size_t)(n > 0 ? n : 1));

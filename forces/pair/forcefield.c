@@ -6,6 +6,7 @@
 #include "dipole.h"
 #include "quadrupole.h"
 #include "forcefield_impl.h"
+#include "coulomb_ewald.h"
 #include "../../core/threads.h"
 
 #include <math.h>
@@ -210,6 +211,18 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     rl_error(RL_EINVAL, "forcefield: eps_rf %g must be >= 1 (INFINITY allowed)", p->eps_rf);
     return NULL;
   }
+  if (p->coulomb != RL_COULOMB_RF && p->coulomb != RL_COULOMB_EWALD_REAL) {
+    rl_error(RL_EINVAL, "forcefield: unknown coulomb method %d (reaction field %d, Ewald real space %d)",
+             (int)p->coulomb, (int)RL_COULOMB_RF, (int)RL_COULOMB_EWALD_REAL);
+    return NULL;
+  }
+  if (p->coulomb == RL_COULOMB_EWALD_REAL &&
+      (!(p->ewald_alpha > 0.0) || !isfinite(p->ewald_alpha) || p->scheme != RL_CUTOFF_SITE || p->intramolecular_rf)) {
+    rl_error(RL_EINVAL, "forcefield: the Ewald real space (coulomb = ewald) needs ewald_alpha > 0 and finite (%g), "
+             "the site cutoff (scheme %s) and intramolecular_rf = 0 (%d)", p->ewald_alpha,
+             p->scheme == RL_CUTOFF_SITE ? "site" : "molecule", p->intramolecular_rf);
+    return NULL;
+  }
   if (p->dipole_method != RL_DIPOLE_RF && p->dipole_method != RL_DIPOLE_SF) {
     rl_error(RL_EINVAL, "forcefield: unknown dipole method %d", (int)p->dipole_method);
     return NULL;
@@ -384,6 +397,14 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     for (int b = a; b < ntypes; b++)
       lj_mix(ff, a, b, 0.5 * (ff->sig[a] + ff->sig[b]), sqrt(ff->eps[a] * ff->eps[b]));
   rl_rf_coef_init(&ff->rf, p->eps_rf, p->cutoff);
+  for (int a = 0; a < ntypes && p->coulomb == RL_COULOMB_EWALD_REAL; a++)
+    if (ff->mu[a] != 0.0) {
+      const int ka = ff->type_species[a], sa = ff->type_site[a];
+      rl_forcefield_free(ff);
+      rl_error(RL_EINVAL, "forcefield: species %d site %d carries a point dipole: the Ewald real space "
+               "(coulomb = ewald) is for charges only (dipolar Ewald is not there yet)", ka, sa);
+      return NULL;
+    }
   for (int i = 0; i < n; i++) {
     int k = rl_system_species_of(sys, i);
     ff->body_species[i] = k;
@@ -532,7 +553,9 @@ static inline void site_terms(const rl_forcefield *ff, int ta, int tb, const dou
   double qa = ff->q[ta], qb = ff->q[tb];
   if ((mask & 1u << TERM_COUL) && qa != 0.0 && qb != 0.0) {
     double fs;
-    *e[TERM_COUL] += rl_coulomb_rf_pair(&ff->rf, ff->kc * qa * qb, r2, &fs);
+    *e[TERM_COUL] += ff->p.coulomb == RL_COULOMB_EWALD_REAL
+                         ? rl_coulomb_ewald_pair(ff->p.ewald_alpha, ff->kc * qa * qb, r2, &fs)
+                         : rl_coulomb_rf_pair(&ff->rf, ff->kc * qa * qb, r2, &fs);
     for (int c = 0; c < 3; c++) f[c] += fs * r[c];
   }
   double ma = ff->mu[ta], mb = ff->mu[tb];
@@ -1018,6 +1041,12 @@ int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *
       fix = "lj = shifted-force or switched";
       break;
     case TERM_COUL:
+      if (p->coulomb == RL_COULOMB_EWALD_REAL) { /* kc q q erfc(alpha rc) / rc: as small as the tolerance asks */
+        ej = fj = 1;
+        snprintf(label, sizeof label, "Coulomb Ewald real space (alpha = %g, plain cutoff)", p->ewald_alpha);
+        fix = NULL;
+        break;
+      }
       fj = !inf;
       snprintf(label, sizeof label, "Coulomb reaction field (eps_rf = %g%s)", p->eps_rf, cut);
       fix = inf ? "" : "eps_rf = inf";
@@ -1037,7 +1066,9 @@ int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *
       break;
     }
     char remedy[96];
-    if (!fix)
+    if (!fix && t == TERM_COUL)
+      line(remedy, sizeof remedy, "a smaller interactions.ewald_tolerance makes it smaller");
+    else if (!fix)
       line(remedy, sizeof remedy, "no continuous form is offered (the jump falls as cutoff^-5)");
     else if (mol && (offcentre & 1u << t)) /* whole molecules enter: sites at r != rc */
       line(remedy, sizeof remedy, "interactions.scheme = site%s%s is continuous", *fix ? " with " : "", fix);

@@ -25,6 +25,10 @@ set(RL_PAIR_FAST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/kernels/avx2/dipole_lj_rf.c
   ${CMAKE_CURRENT_LIST_DIR}/kernels/avx2/dipole_lj_sf.c
   ${CMAKE_CURRENT_LIST_DIR}/kernels/avx2_mixed/tip4p_lj_rf.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/portable/sites_lj_ewald.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/portable/tip4p_lj_ewald.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/avx512/tip4p_lj_ewald.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/avx2/tip4p_lj_ewald.c
 )
 target_sources(rotleap PRIVATE ${RL_PAIR_FAST_SOURCES})
 # The specialised kernels: `omp simd` loops (honoured even without OpenMP threads), sqrt

@@ -4,6 +4,7 @@
 #include "fast.h"
 #include "kernels/batch.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,11 @@ static const row_sets tip4p_lj_rf = {&rl_rows_portable_tip4p_lj_rf,
                                      RL_REG(rl_rows_avx512_tip4p_lj_rf),
                                      RL_REG(rl_rows_avx2_tip4p_lj_rf),
                                      RL_REG(rl_rows_avx2_mixed_tip4p_lj_rf)};
+/* the Ewald real space: no mixed-precision rows (rl_ff_select turns the mixed precision off) */
+static const row_sets sites_lj_ewald = {&rl_rows_portable_sites_lj_ewald, NULL, NULL, NULL};
+static const row_sets tip4p_lj_ewald = {&rl_rows_portable_tip4p_lj_ewald,
+                                        RL_REG(rl_rows_avx512_tip4p_lj_ewald),
+                                        RL_REG(rl_rows_avx2_tip4p_lj_ewald), NULL};
 static const row_sets dipole_lj_rf = {&rl_rows_portable_dipole_lj_rf,
                                       RL_REG(rl_rows_avx512_dipole_lj_rf),
                                       RL_REG(rl_rows_avx2_dipole_lj_rf), NULL};
@@ -99,7 +105,8 @@ static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_spe
       if (T->what == T_LJ && a == b) ljsite = a;
       term_set(ff, o + a, o + b, T);
     }
-  take_rows(rows, &sites_lj_rf, vec, tmix, ff->p.lj_truncation);
+  const int ewald = ff->p.coulomb == RL_COULOMB_EWALD_REAL;
+  take_rows(rows, ewald ? &sites_lj_ewald : &sites_lj_rf, vec, tmix, ff->p.lj_truncation);
   /* TIP4P pattern: one LJ site (with itself only, no charge), three charges without LJ */
   if (ns == 4 && nlj == 1 && ljsite >= 0 && ncoul == 9 && nboth == 0) {
     K->kind = K_TIP4P;
@@ -118,7 +125,7 @@ static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_spe
         T->b = 1 + q;
         T->what = T_COUL;
       }
-    take_rows(rows, &tip4p_lj_rf, vec, tmix, ff->p.lj_truncation);
+    take_rows(rows, ewald ? &tip4p_lj_ewald : &tip4p_lj_rf, vec, tmix, ff->p.lj_truncation);
   }
 }
 
@@ -134,7 +141,8 @@ void rl_ff_kparams(const rl_forcefield *ff, rl_kparams *kp)
   const box_consts B = {{ff->box.L[0], ff->box.L[1], ff->box.L[2]},
                         {ff->box.invL[0], ff->box.invL[1], ff->box.invL[2]},
                         rc, rc * rc, ff->p.r_switch, md * md};
-  const rl_kelec E = {ff->kc, ff->rf.krf, ff->rf.crf, rc};
+  const double alpha = ff->p.coulomb == RL_COULOMB_EWALD_REAL ? ff->p.ewald_alpha : 0.0;
+  const rl_kelec E = {ff->kc, ff->rf.krf, ff->rf.crf, rc, alpha, 2.0 * alpha / sqrt(M_PI)};
   kp->B = B;
   kp->E = E;
 }
@@ -176,7 +184,8 @@ void rl_ff_select(const rl_forcefield *ff, rl_ff_fast *f)
                    !getenv("ROTLEAP_NO_AVX2");
   if (__builtin_cpu_supports("avx512f") && !getenv("ROTLEAP_NO_AVX512")) f->vec = VEC_512;
   else if (avx2) f->vec = VEC_256;
-  f->tmix = ff->p.precision == RL_PRECISION_MIXED && avx2; /* the AVX2 rows, on AVX-512 too */
+  /* the AVX2 rows, on AVX-512 too; reaction field only (no single-precision Ewald rows) */
+  f->tmix = ff->p.precision == RL_PRECISION_MIXED && avx2 && ff->p.coulomb == RL_COULOMB_RF;
 #endif
   for (int k = 0; k < ff->nspecies; k++) {
     classify(ff, k, f->vec, f->tmix, &f->sk[k], f->row[k]);

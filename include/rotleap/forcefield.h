@@ -55,6 +55,15 @@ typedef enum {
 } rl_dipole_method;
 
 typedef enum {
+  RL_COULOMB_RF = 0,        /* reaction field with eps_rf (OpenMM 7.7 CutoffPeriodic), the default */
+  RL_COULOMB_EWALD_REAL = 1 /* the real-space part of an Ewald sum, kc q_a q_b erfc(alpha r) / r
+                               with a plain cutoff (no shift), as the term "ewald-real" and OpenMM's
+                               PME and Ewald compute it (rotleap/ewald.h; the reciprocal part is a
+                               term of its own).  Needs alpha > 0, the site cutoff, no point
+                               dipoles and intramolecular_rf = 0                               */
+} rl_coulomb_method;
+
+typedef enum {
   RL_KERNEL_AUTO = 0,   /* specialised pair kernels where a species' site pattern allows (below),
                            threaded with OpenMP; the reference routine for every other pair     */
   RL_KERNEL_GENERAL = 1 /* the reference path only: one general site-site routine, serial       */
@@ -74,6 +83,8 @@ typedef enum {
  *                quadrupoles (TIP4P, TIP4P-Ew, TIP4P/2005): 1 LJ + 9 charge pairs, no site loop
  *   "charge-lj"  any other species with only LJ and charges on at most 8 sites (SPC/E, TIP3P,
  *                linear CO2, CH4, ...): every site pair, LJ and reaction field together
+ * ("tip4p" and "charge-lj" compute the charges' Ewald real space instead of the reaction field
+ * with coulomb = RL_COULOMB_EWALD_REAL, in the same pass, with a vectorised erfc)
  *   "stockmayer" one site at the centre with LJ and a point dipole, no charge (Stockmayer):
  *                LJ + dipole-dipole (RF or SF), no site loop
  * The results are those of the general routine up to round-off (tests/forces/
@@ -111,6 +122,10 @@ typedef struct {
   int threads;                    /* OpenMP threads for the pair loop; 0 (default):
                                      OMP_NUM_THREADS if set, else 1                            */
   rl_precision precision;         /* default RL_PRECISION_DOUBLE (see below)                    */
+  rl_coulomb_method coulomb;      /* the charges' electrostatics; default RL_COULOMB_RF         */
+  double ewald_alpha;             /* RL_COULOMB_EWALD_REAL: the splitting parameter alpha > 0
+                                     (1/length), e.g. rl_ewald_info's alpha of the reciprocal
+                                     term it goes with; ignored otherwise (default 0)            */
 } rl_ff_params;
 
 /* Mixed precision (p.precision = RL_PRECISION_MIXED), as GROMACS's default build and OpenMM's
@@ -120,7 +135,8 @@ typedef struct {
  * forces on each body, the energies and the virial stay double.  Forces, energies and virial
  * then agree with the double kernels to about 1e-6 relative (tests/forces/test_ff_fast.c
  * states the bounds it checks).  Other kernels, the reference path, and CPUs without AVX2 (or
- * with ROTLEAP_NO_AVX2 set) compute in double: rl_forcefield_precision says what is in use. */
+ * with ROTLEAP_NO_AVX2 set) compute in double, and so does the Ewald real space
+ * (RL_COULOMB_EWALD_REAL): rl_forcefield_precision says what is in use. */
 
 /* The Verlet skin `rotleap run` takes when none is given: 0.1 cutoff, and at large steps
  * 0.1 sqrt(x) cutoff with x = v h / (0.0015 cutoff), v = sqrt(3 kT / mass) the thermal speed, up
@@ -132,7 +148,8 @@ double rl_ff_skin_for_step(double cutoff, double kT, double mass, double h);
 /* Energies of the last compute, split by term.  Sum = total = the energy added to rl_forces. */
 typedef struct {
   double lj;          /* Lennard-Jones (truncated as chosen)                                  */
-  double coulomb;     /* reaction-field Coulomb between charges, intermolecular + intramolecular */
+  double coulomb;     /* Coulomb between charges (reaction field, intermolecular + intramolecular;
+                         or, with RL_COULOMB_EWALD_REAL, the Ewald real-space energy U_real)  */
   double coulomb_intra; /* intramolecular reaction-field part of `coulomb` (0 unless
                            intramolecular_rf = 1)                                             */
   double dipolar;     /* dipole-dipole and charge-dipole                                      */
@@ -317,7 +334,8 @@ typedef struct {
 
 /* The sums of the configuration of sys under the force field ff (the system it was made for;
  * its box is the force field's).  RL_OK; RL_ESTATE if sys no longer matches, RL_EINVAL for
- * overlapping sites, RL_ENOMEM. */
+ * overlapping sites or a force field whose Coulomb is the Ewald real space (RL_COULOMB_EWALD_REAL:
+ * its Laplacian is not written), RL_ENOMEM. */
 int rl_config_temperature(const rl_forcefield *ff, const rl_system *sys, rl_tconf_sums *out);
 /* 1 if every force of ff is continuous at the cutoff (the sums give an exact estimator), else 0. */
 int rl_tconf_exact(const rl_forcefield *ff);

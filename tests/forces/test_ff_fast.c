@@ -145,6 +145,7 @@ static void sweep(scene *s, rl_ff_params *p, const char *label, const char *kern
 {
   for (int scheme = 0; scheme < 2; scheme++)
     for (int tr = 0; tr < 4; tr++) {
+      if (scheme == RL_CUTOFF_MOLECULE && p->coulomb == RL_COULOMB_EWALD_REAL) continue; /* refused */
       p->scheme = (rl_cutoff_scheme)scheme;
       p->lj_truncation = (rl_lj_truncation)tr;
       p->r_switch = 0.8 * p->cutoff;
@@ -823,6 +824,14 @@ static void test_image_list(void **state)
  * energies and the virial, so the bound is 2e-5.  A "mixed" that computed in double would
  * differ by 1e-14: it must differ by more than 1e-9.  Without AVX2 the precision in use is
  * double, and so are the results. */
+/* The two water scenes of the mixed-precision and Ewald tests: 400 waters (box 0), 256 in a box
+ * with L < 2 rp (box 1). */
+static void two_waters(scene *s, gsl_rng *rng, rl_ff_params *p, int box)
+{
+  if (box) water_box(s, rng, p, 256, 0.9);
+  else neat_scene(s, rng, 1, p);
+}
+
 static void test_mixed_precision(void **state)
 {
   (void)state;
@@ -831,8 +840,7 @@ static void test_mixed_precision(void **state)
   for (int box = 0; box < 2; box++) {
     scene s;
     rl_ff_params p;
-    if (box) water_box(&s, rng, &p, 256, 0.9);
-    else neat_scene(&s, rng, 1, &p);
+    two_waters(&s, rng, &p, box);
     for (int scheme = 0; scheme < 2; scheme++)
       for (int tr = 0; tr < 4; tr++) {
         p.scheme = (rl_cutoff_scheme)scheme;
@@ -867,6 +875,86 @@ static void test_mixed_precision(void **state)
   gsl_rng_free(rng);
 }
 
+/* The Ewald real space (coulomb = RL_COULOMB_EWALD_REAL, kernels/elec/ewald.h): every row path of
+ * the TIP4P and charge-lj kernels against the reference routine, whose erfc and exp are the C
+ * library's, at alpha rc = 2.6 (tolerance 5e-4) and 4.9 (both pieces of the erfc polynomial), in
+ * a large box and one with L < 2 rp (the image list); 1 against 2 and 3 threads; the mixed
+ * precision falls back to double; what the Ewald real space refuses. */
+static void test_ewald(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 21);
+  for (int box = 0; box < 2; box++) {
+    scene s;
+    rl_ff_params p;
+    two_waters(&s, rng, &p, box);
+    p.coulomb = RL_COULOMB_EWALD_REAL;
+    for (int a = 0; a < 2; a++) {
+      p.ewald_alpha = (a ? 4.9 : 2.6) / p.cutoff;
+      for (int k = 0; k < NPATH; k++) {
+        char what[160];
+        snprintf(what, sizeof what, "ewald, alpha rc %.1f, tip4p (%s)%s", p.ewald_alpha * p.cutoff,
+                 box ? "256, L < 2 rp" : "400", path_label[k]);
+        set_path(k);
+        sweep(&s, &p, what, "tip4p");
+      }
+      set_path(0);
+    }
+    p.lj_truncation = RL_LJ_PLAIN;
+    threads_neat(&s, &p, box ? "ewald, tip4p (256)" : "ewald, tip4p (400)");
+    setenv("ROTLEAP_NO_AVX512", "1", 1);
+    threads_neat(&s, &p, box ? "ewald, tip4p (256), ROTLEAP_NO_AVX512" : "ewald, tip4p (400), ROTLEAP_NO_AVX512");
+    unsetenv("ROTLEAP_NO_AVX512");
+    p.precision = RL_PRECISION_MIXED;
+    rl_forcefield *fm = make(&s, &p, RL_KERNEL_AUTO, 1);
+    FF_CHECK_TRUE("ewald, precision mixed: the pair terms run in double",
+                  strcmp(rl_forcefield_precision(fm), "double") == 0);
+    rl_tconf_sums ts;
+    FF_CHECK_TRUE("ewald: rl_config_temperature (reaction field only) refuses",
+                  rl_config_temperature(fm, s.sys, &ts) == RL_EINVAL);
+    rl_forcefield_free(fm);
+    p.precision = RL_PRECISION_DOUBLE;
+    /* refused: the molecule cutoff, alpha <= 0, intramolecular_rf */
+    rl_ff_params q = p;
+    q.scheme = RL_CUTOFF_MOLECULE;
+    FF_CHECK_TRUE("ewald with the molecule cutoff is refused", !rl_forcefield_alloc(s.sys, &q, s.sff, s.nsp));
+    q = p;
+    q.ewald_alpha = 0.0;
+    FF_CHECK_TRUE("ewald with alpha 0 is refused", !rl_forcefield_alloc(s.sys, &q, s.sff, s.nsp));
+    q = p;
+    q.intramolecular_rf = 1;
+    FF_CHECK_TRUE("ewald with intramolecular_rf is refused", !rl_forcefield_alloc(s.sys, &q, s.sff, s.nsp));
+    rl_system_free(s.sys);
+  }
+  { /* charge-lj: CO2 */
+    scene s = {.nsp = 1};
+    ff_co2(&s.sp[0]);
+    int cnt[1] = {300};
+    scene_build(&s, rng, RL_UNITS_REAL, cnt, 12.0, 0.33, 0.0);
+    rl_ff_params p;
+    rl_ff_params_default(&p);
+    p.cutoff = 0.8;
+    p.coulomb = RL_COULOMB_EWALD_REAL;
+    for (int a = 0; a < 2; a++) {
+      p.ewald_alpha = (a ? 4.9 : 2.6) / p.cutoff;
+      sweep(&s, &p, a ? "ewald, alpha rc 4.9, linear co2 (300)" : "ewald, alpha rc 2.6, linear co2 (300)", "charge-lj");
+    }
+    rl_system_free(s.sys);
+  }
+  { /* point dipoles are refused */
+    scene s;
+    rl_ff_params p;
+    neat_scene(&s, rng, 0, &p);
+    p.coulomb = RL_COULOMB_EWALD_REAL;
+    p.ewald_alpha = 3.0;
+    FF_CHECK_TRUE("ewald with point dipoles is refused", !rl_forcefield_alloc(s.sys, &p, s.sff, s.nsp));
+    FF_CHECK_TRUE("  naming the dipole", strstr(rl_last_error(), "point dipole") != NULL);
+    rl_system_free(s.sys);
+  }
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -876,7 +964,7 @@ int main(void)
       cmocka_unit_test(test_forces_only), cmocka_unit_test(test_choice),
       cmocka_unit_test(test_overlap), cmocka_unit_test(test_site_order_and_small_box),
       cmocka_unit_test(test_small_box_mixture), cmocka_unit_test(test_image_list),
-      cmocka_unit_test(test_mixed_precision),
+      cmocka_unit_test(test_mixed_precision), cmocka_unit_test(test_ewald),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

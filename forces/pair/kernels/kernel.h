@@ -10,7 +10,8 @@
  *   kernels/<instruction set>/<pattern>_row.h      the row bodies, templates
  *   kernels/<instruction set>/<pattern>_<vdw>_<elec>.c   one row set: the template compiled
  *                                                   with one electrostatics
- *   kernels/elec/<elec>.h                          the electrostatics (rf.h, sf.h; elec.h)
+ *   kernels/elec/<elec>.h                          the electrostatics (rf.h, sf.h, ewald.h;
+ *                                                   elec.h)
  *   kernels/vdw_lj.h, batch.h, tip4p.h             what the rows share
  * with the instruction sets portable (omp simd, compiled per CPU with target clones), avx512,
  * avx2 (register rows) and avx2_mixed (AVX2, single precision), the patterns sites
@@ -93,6 +94,7 @@ typedef struct {
   double kc;        /* Coulomb constant (dipole terms; a charge pair's qq includes it)      */
   double krf, crf;  /* reaction field (elec/rf.h): rl_rf_coef's krf and crf                 */
   double rc;        /* cutoff (elec/sf.h, shifted-force dipoles)                            */
+  double alpha, c2a; /* Ewald real space (elec/ewald.h): alpha and 2 alpha / sqrt(pi)       */
 } rl_kelec;
 
 /* The parameter block of a compute, what a row reads besides the arrays. */
@@ -133,11 +135,13 @@ typedef struct {
 
 /* The row sets (kernels/<instruction set>/<pattern>_<vdw>_<elec>.c). */
 extern const rl_row_set rl_rows_portable_sites_lj_rf, rl_rows_portable_tip4p_lj_rf,
-    rl_rows_portable_dipole_lj_rf, rl_rows_portable_dipole_lj_sf;
+    rl_rows_portable_dipole_lj_rf, rl_rows_portable_dipole_lj_sf, rl_rows_portable_sites_lj_ewald,
+    rl_rows_portable_tip4p_lj_ewald;
 #if RL_X512
 extern const rl_row_set rl_rows_avx512_tip4p_lj_rf, rl_rows_avx512_dipole_lj_rf,
     rl_rows_avx512_dipole_lj_sf, rl_rows_avx2_tip4p_lj_rf, rl_rows_avx2_dipole_lj_rf,
-    rl_rows_avx2_dipole_lj_sf, rl_rows_avx2_mixed_tip4p_lj_rf;
+    rl_rows_avx2_dipole_lj_sf, rl_rows_avx2_mixed_tip4p_lj_rf, rl_rows_avx512_tip4p_lj_ewald,
+    rl_rows_avx2_tip4p_lj_ewald;
 #endif
 
 /* A row function with the kernels' arguments (every row file). */
