@@ -41,7 +41,7 @@ static int site(site_table *t, const char *name, double x, double y, double z, d
 static int finish(const rl_model *self, site_table *t, int force_general, rl_molecule *m)
 {
   rl_molecule_def d = {self->name, t->n, t->names, &t->pos[0][0], t->mass, t->sigma, t->eps,
-                       t->q, &t->dip[0][0], t->quad, {t->inertia[0], t->inertia[1], t->inertia[2]}};
+                       t->q, &t->dip[0][0], t->quad, {t->inertia[0], t->inertia[1], t->inertia[2]}, 0.0};
   return rl_molecule_build(&d, force_general, m);
 }
 
