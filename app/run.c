@@ -256,6 +256,18 @@ static char *physics_text(const rl_deck *d)
   static const char *const scheme[] = {"site", "molecule"}, *const lj[] = {"plain", "shifted", "shifted-force", "switched"},
                            *const dip[] = {"rf", "sf"};
   ADD("system.model = %s\n", d->model->name);
+  const rl_deck_molecule *um = rl_deck_user_molecule(d);
+  for (int a = 0; um && a < um->nsites; a++) { /* the deck's molecule: every site, in the system's units */
+    char q[10][40];
+    ADD("molecule.%s.site = %s %s %s %s mass %s charge %s sigma %s epsilon %s dipole %s %s %s quadrupole %s\n", um->name,
+        um->site_names[a], exact(q[0], um->pos[a][0]), exact(q[1], um->pos[a][1]), exact(q[2], um->pos[a][2]),
+        exact(q[3], um->mass[a]), exact(q[4], um->charge[a]), exact(q[5], um->sigma[a]), exact(q[6], um->epsilon[a]),
+        exact(q[7], um->dipole[a][0]), exact(q[8], um->dipole[a][1]), exact(q[9], um->dipole[a][2]), exact(r1, um->quadrupole[a]));
+  }
+  if (um)
+    ADD("molecule.%s = %s%s, inertia %s %s %s, symmetrize %s\n", um->name, um->model.units == RL_UNITS_LJ ? "lj" : "real",
+        um->model.geometric_mixing ? ", geometric mixing" : "", exact(r2, um->inertia[0]), exact(r3, um->inertia[1]),
+        exact(r4, um->inertia[2]), um->symmetrize ? "yes" : "no");
   for (int k = 0; k < d->model->nparams; k++)
     ADD("model.%s = %s %s\n", d->model->param_names[k], exact(r1, d->params[k]), d->model->param_units[k] ? d->model->param_units[k] : "");
   ADD("system.count = %d\n", d->count);
@@ -772,11 +784,14 @@ static int species_text(const run_ctx *c, char *buf, size_t cap)
                   d01, d12, d02, RL_INERTIA_RTOL);
     const double dd[3] = {d01, d12, d02};
     for (int k = 0; k < 3 && n > 0 && (size_t)n < cap; k++)
-      if (dd[k] > RL_INERTIA_RTOL && dd[k] < 1e-6) {
+      if (dd[k] > RL_INERTIA_RTOL && dd[k] <= RL_DECK_SYMMETRIZE_RTOL) {
         n += snprintf(buf + n, cap - (size_t)n, "warning = two principal moments of %s differ by %.3g relative, just above "
                       "the tolerance %g for calling them equal: it is integrated as %s, not by the faster path of a "
-                      "more symmetric top; if the difference is rounding in its coordinates, symmetrise the model\n",
-                      m->name, dd[k], RL_INERTIA_RTOL, rl_kind_name(kind));
+                      "more symmetric top; if the difference is rounding in its coordinates, %s%s%s\n",
+                      m->name, dd[k], RL_INERTIA_RTOL, rl_kind_name(kind),
+                      rl_deck_user_molecule(c->d) ? "add symmetrize = yes to [molecule " : "symmetrise the model",
+                      rl_deck_user_molecule(c->d) ? m->name : "", rl_deck_user_molecule(c->d) ? "] (moments within 1e-4 "
+                      "relative are then made equal)" : "");
         break;
       }
   } else if (n > 0 && (size_t)n < cap) n += snprintf(buf + n, cap - (size_t)n, "\n");
