@@ -4,11 +4,14 @@
 Run (from the repository root, after building; the driver is built with the tests):
     /usr/bin/python3 validate/ewald_openmm.py [--driver build/tests/forces/ewald/ewald_point] [--no-write]
 OpenMM 7.7 from Debian: apt-get install -y python3-simtk libopenmm-plugins python3-numpy.
-About 20 s on 2 cores.
+About 5 s on 2 cores.
 
 Configurations: the checked-in single-point checkpoints (validate/single_point.py) of TIP4P-Ew,
 SPC/E and TIP3P: `liquid` (216 molecules, 1.8626 nm cube, cutoff 0.9 nm) and `random-noncubic`
-(130 molecules, 1.55 x 1.60 x 1.70 nm, cutoff 0.75 nm).  On each, electrostatics only (every LJ
+(130 molecules, 1.55 x 1.60 x 1.70 nm, cutoff 0.75 nm); and liquid CO2 (EPM2, three charges on
+the molecular axis): `liquid` (256 molecules, 2.6036 nm cube at 1.06 g/cm3, cutoff 1.0 nm, grid
+32^3 for the explicit case), validate/data/sp_co2_liquid.chk.gz, the checkpoint of
+examples/co2.ini shortened to 1000 + 500 steps with seed 11 (velocities zeroed).  On each, electrostatics only (every LJ
 epsilon 0 in OpenMM; rotleap's "ewald-real" + reciprocal terms), every intramolecular pair excluded
 (OpenMM: exceptions with zero charge product; rotleap: pairs within a body are excluded and their
 reciprocal-space part subtracted), no dispersion correction, tin-foil boundary:
@@ -59,9 +62,28 @@ except ImportError:
 TOL_E, TOL_F, TOL_K = 1e-9, 1e-8, 1e-8
 ROOT = os.path.dirname(HERE)
 DATA = os.path.join(HERE, "data")
-MODELS = ["tip4p-ew", "spc-e", "tip3p"]
-CONFIGS = [dict(name="liquid", cutoff=0.9, grid=(24, 24, 24)),
-           dict(name="random-noncubic", cutoff=0.75, grid=(20, 21, 22))]
+MODELS = ["tip4p-ew", "spc-e", "tip3p", "co2"]
+WATER_CONFIGS = [dict(name="liquid", cutoff=0.9, grid=(24, 24, 24)),
+                 dict(name="random-noncubic", cutoff=0.75, grid=(20, 21, 22))]
+CONFIGS = {"co2": [dict(name="liquid", cutoff=1.0, grid=(32, 32, 32))]}
+# EPM2 CO2 (Harris & Yung, J. Phys. Chem. 99, 12021 (1995)): C-O 1.149 A, q_C +0.6512 e, q_O -0.3256 e;
+# written down here from the paper, not read from rotleap (as watermodels.py does for water).  The LJ
+# parameters are irrelevant (electrostatics only).  Sites in rotleap's order O1, C, O2.
+M_C, M_O = 12.011, 15.9994
+CO2_SITES = [("O1", M_O, -0.3256, 0.3033, 0.0), ("C", M_C, 0.6512, 0.2757, 0.0), ("O2", M_O, -0.3256, 0.3033, 0.0)]
+CO2_BOND = 0.1149
+
+
+def model_sites(model):
+    """[(name, mass, charge, sigma, eps)] in rotleap's site order."""
+    return CO2_SITES if model == "co2" else watermodels.site_params(model)
+
+
+def check_co2_geometry(ck):
+    """The checkpoint's CO2 is EPM2's geometry (to the 1e-12 nm that a rotleap body frame holds)."""
+    d = [s[2] for s in ck["species"][0]["sites"]]
+    if max(abs(d[0] + CO2_BOND), abs(d[1]), abs(d[2] - CO2_BOND)) > 1e-12:
+        sys.exit("CO2 checkpoint geometry %s is not EPM2's (C-O %g nm)" % (d, CO2_BOND))
 CASES = [dict(name="pme-explicit", method="pme", alpha=3.3),
          dict(name="pme-tolerance", method="pme", tolerance=5e-4),
          dict(name="ewald-tolerance", method="ewald", tolerance=5e-4),
@@ -70,7 +92,7 @@ CASES = [dict(name="pme-explicit", method="pme", alpha=3.3),
 
 def openmm_system(model, nmol, box, cutoff, case, grid):
     """Charges only, every intramolecular pair excluded, M a ThreeParticleAverageSite."""
-    sites = watermodels.site_params(model)
+    sites = model_sites(model)
     ns = len(sites)
     system = mm.System()
     system.setDefaultPeriodicBoxVectors(mm.Vec3(box[0], 0, 0), mm.Vec3(0, box[1], 0), mm.Vec3(0, 0, box[2]))
@@ -83,7 +105,7 @@ def openmm_system(model, nmol, box, cutoff, case, grid):
         nb.setEwaldErrorTolerance(case["tolerance"])
     else:
         nb.setPMEParameters(case["alpha"], *grid)
-    w = watermodels.vsite_weights(model) if watermodels.four_site(model) else None
+    w = watermodels.vsite_weights(model) if model != "co2" and watermodels.four_site(model) else None
     for m in range(nmol):
         base = m * ns
         for name, mass, q, sig, eps in sites:
@@ -109,7 +131,7 @@ def openmm_eval(model, ck, cutoff, case, grid):
     f = np.array(st.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
     x = np.array(st.getPositions(asNumpy=True).value_in_unit(unit.nanometer))
     ns = len(ck["species"][0]["sites"])
-    masses = np.array([s[1] for s in watermodels.site_params(model)])
+    masses = np.array([s[1] for s in model_sites(model)])
     F = np.zeros((nmol, 3))
     K = np.zeros((nmol, 3))
     for i in range(nmol):
@@ -152,12 +174,14 @@ def main():
     print("OpenMM %s Reference; tolerances: energy %.0e relative, forces and torques %.0e RMS relative"
           % (mm.version.version, TOL_E, TOL_F))
     for model in MODELS:
-        for cfg in CONFIGS:
+        for cfg in CONFIGS.get(model, WATER_CONFIGS):
             chkgz = "sp_%s_%s.chk.gz" % (model, cfg["name"])
             chk = os.path.join(work, chkgz[:-3])
             with gzip.open(os.path.join(DATA, chkgz)) as g, open(chk, "wb") as f:
                 f.write(g.read())
             ck = rlcheckpoint.read(chk)
+            if model == "co2":
+                check_co2_geometry(ck)
             for case in CASES:
                 ref = openmm_eval(model, ck, cfg["cutoff"], case, cfg["grid"])
                 cmd = [args.driver] + driver_args(case, cfg, model, chk)

@@ -45,6 +45,13 @@ per ns (whole system and per molecule) and relative to |<E>|.  A run that blows 
 stops with its error; OpenMM: non-finite energy, an exception, or a jump of more than 10 kT per
 molecule between samples, rotleap's own criterion) is recorded as such, with the step.
 
+With --coulomb pme (issue 33, acceptance 4) the system is 256 TIP4P-Ew with smooth PME instead:
+alpha, grid and order 5 from the error tolerance --ewald-tolerance (5e-4, OpenMM's default) in
+both codes (they derive the same ones: validate/ewald_openmm.py), tin-foil boundary, the same
+0.9 nm cutoff, plain LJ and no dispersion correction; OpenMM's NonbondedForce PME (CPU platform:
+its PME in single precision).  rotleap takes the mesh's net force off (the run does: the
+leapfrog keeps the total momentum at zero), OpenMM does not; both are the usual practice.
+
 Writes (unless --no-write) validate/data/nve_conservation.json (everything the report needs) and
 validate/data/nve_conservation.csv (E, U and the running calE every 50 steps of every run).
 """
@@ -72,6 +79,10 @@ DATA = os.path.join(HERE, "data")
 N = 256
 CUTOFF, EPS_RF = 0.9, 78.3
 LJ = "plain"
+MODEL = "tip4p"
+DENSITY = 1.0          # g/cm3 (nvt_structure.py --coulomb pme sets 0.995)
+COULOMB = "rf"         # or "pme" (--coulomb)
+EWALD_TOL = 5e-4       # --ewald-tolerance, with --coulomb pme
 T_K = 298.0
 KB = 0.00831446261815324  # kJ/mol/K (exact, SI 2019)
 H_EQ = 0.002  # ps
@@ -81,11 +92,11 @@ SCHEMES = ("rl", "rl-quaternion", "openmm")
 
 
 def deck(prefix, steps, h, integrator="rl", start=None, box=None, equilibrate=None, seed=2026):
-    sysl = ["[system]", "model = tip4p", "count = %d" % N]
+    sysl = ["[system]", "model = %s" % MODEL, "count = %d" % N]
     if box:
         sysl.append("box = %s" % " ".join(repr(b) for b in box))
     else:
-        sysl.append("density = 1 g/cm3")
+        sysl.append("density = %g g/cm3" % DENSITY)
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = %d" % seed]
     sysl.append("temperature = %g K" % T_K)
     run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h, "integrator = %s" % integrator]
@@ -94,9 +105,12 @@ def deck(prefix, steps, h, integrator="rl", start=None, box=None, equilibrate=No
                 "equilibrate = %d" % equilibrate, "equilibrate_timestep = 0.5 fs"]
     else:
         run.append("ensemble = nve")
+    if COULOMB == "pme":
+        elec = ["coulomb = pme", "ewald_tolerance = %r" % EWALD_TOL]
+    else:
+        elec = ["scheme = site", "eps_rf = %s" % ("inf" if math.isinf(EPS_RF) else repr(EPS_RF))]
     return "\n".join(sysl + [
-        "[interactions]", "cutoff = %r nm" % CUTOFF, "scheme = site", "lj = %s" % LJ,
-        "dispersion_correction = no", "eps_rf = %s" % ("inf" if math.isinf(EPS_RF) else repr(EPS_RF))] + run + [
+        "[interactions]", "cutoff = %r nm" % CUTOFF, "lj = %s" % LJ, "dispersion_correction = no"] + elec + run + [
         "[output]", "prefix = %s" % prefix, "progress = no", "sample_every = 0", ""])
 
 
@@ -210,7 +224,8 @@ def openmm_worker(start_json, h_ps, steps, every, platform, out_json):
         w = np.linalg.solve(Ilab, lh[i])
         for a in range(4):
             vel[4 * i + a] = vh[i] + np.cross(w, pos[4 * i + a] - r[i])
-    system = watermodels.build_system("tip4p", N, ck["box"], CUTOFF, EPS_RF, rigid=True)
+    system = watermodels.build_system(st["model"], N, ck["box"], CUTOFF, st["eps_rf"], rigid=True,
+                                      pme_tolerance=st["pme_tolerance"])
     integ = mm.VerletIntegrator(h_ps)
     integ.setConstraintTolerance(1e-10)
     props = {"Threads": "1"} if platform == "CPU" else {}
@@ -293,9 +308,44 @@ def metrics(run, h_fs, steps):
                 drift_per_molecule_per_ns=slope / N, drift_rel_per_ns=slope / abs(Em),
                 calE_detrended=math.sqrt(sum(x * x for x in resid) / len(resid)) / abs(Em),
                 E_end_minus_start_per_molecule=(E[-1] - E[0]) / N,
-                calE_every_step=float(run["summary"]["calE"]) if "calE" in run["summary"] else None,
-                calU_every_step=float(run["summary"]["calU"]) if "calU" in run["summary"] else None,
+                calE_every_step=float(run["summary"]["calE"].split()[0]) if "calE" in run["summary"] else None,
+                calU_every_step=float(run["summary"]["calU"].split()[0]) if "calU" in run["summary"] else None,
                 running=running)
+
+
+def write_report(path, table, eq, steps, args, elapsed):
+    """The printed table as a Markdown page, with the system, the command and the machine."""
+    cpu = "unknown CPU"
+    try:
+        cpu = next(ln.split(":", 1)[1].strip() for ln in open("/proc/cpuinfo") if ln.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    elec = ("smooth PME from error tolerance %g (alpha, grid and order 5 derived as OpenMM does), tin-foil"
+            % EWALD_TOL) if COULOMB == "pme" else "site-based reaction field, eps_rf %s" % EPS_RF
+    cmd = "/usr/bin/python3 validate/nve_conservation.py " + " ".join(
+        os.path.relpath(a, ROOT) if os.path.isabs(a) else a for a in sys.argv[1:])
+    lines = ["# Energy conservation: %d %s, %s" % (N, MODEL.upper(), "PME" if COULOMB == "pme" else "reaction field"),
+             "", "Regenerate: `%s` (%.0f s on %d jobs; %s, %s)." % (cmd, elapsed, args.jobs, cpu, time.strftime("%Y-%m-%d")),
+             "", "System: %d %s at 1 g/cm3, %g K start (Bussi equilibration %d steps at %g fs from a relaxed lattice), "
+             "cutoff %g nm, %s, plain LJ, no dispersion correction. NVE %d steps at each h from one shared "
+             "phase point (the docstring of validate/nve_conservation.py says how the start is built for each h and for "
+             "OpenMM). rl: rotleap's revised angular-momentum leapfrog; rl-quaternion: its quaternion baseline; openmm: "
+             "OpenMM %s VerletIntegrator + SETTLE (constraint tolerance 1e-10), CPU platform. calE = sd(E)/|<E>| and "
+             "calU = sd(U)/|<U>| from samples every %d steps; drift = least-squares slope of E(t); E(0) the total energy "
+             "at step 0 (kJ/mol). 'paper' is Omelyan's calE for TIP4P with reaction field (his Fig. 1), for scale only."
+             % (N, MODEL.upper(), T_K, eq["steps"], eq["h_fs"], CUTOFF, elec, steps, _openmm_version(), args.sample),
+             "", "```", *table, "```", ""]
+    with open(path + ".tmp", "w") as f:
+        f.write("\n".join(lines))
+    os.replace(path + ".tmp", path)
+
+
+def _openmm_version():
+    try:
+        import openmm as mm
+    except ImportError:
+        from simtk import openmm as mm
+    return mm.version.version
 
 
 def main():
@@ -319,9 +369,16 @@ def main():
                     "with --lj shifted-force the potential is then continuous with its first derivative)")
     ap.add_argument("--lj", default="plain", help="rotleap LJ truncation (OpenMM runs need plain)")
     ap.add_argument("--tag", default="", help="write data/nve_conservation<TAG>.json/.csv")
+    ap.add_argument("--coulomb", default="rf", choices=("rf", "pme"),
+                    help="rf: 256 TIP4P with reaction field (default); pme: 256 TIP4P-Ew with smooth PME")
+    ap.add_argument("--ewald-tolerance", type=float, default=5e-4, help="with --coulomb pme: the error "
+                    "tolerance from which both codes derive alpha and the grid (default 5e-4)")
+    ap.add_argument("--report", help="also write the table as a Markdown report to this file")
     args = ap.parse_args()
-    global EPS_RF, LJ
+    global EPS_RF, LJ, MODEL, COULOMB, EWALD_TOL
     EPS_RF, LJ = float(args.eps_rf), args.lj
+    COULOMB, EWALD_TOL = args.coulomb, args.ewald_tolerance
+    MODEL = "tip4p-ew" if COULOMB == "pme" else "tip4p"
     schemes = args.schemes.split(",")
     if "openmm" in schemes and LJ != "plain":
         sys.exit("OpenMM's NonbondedForce has no %s LJ: drop openmm from --schemes" % LJ)
@@ -333,7 +390,8 @@ def main():
     work = tempfile.mkdtemp(prefix="rotleap-nvecons-")
     ck, v, l, F, K, eq = shared_start(rotleap, work, eq_steps)
     with open(os.path.join(work, "start.json"), "w") as f:
-        json.dump(dict(chk=os.path.join(work, "equil.chk"), v=v, l=l, F=F, K=K), f)
+        json.dump(dict(chk=os.path.join(work, "equil.chk"), v=v, l=l, F=F, K=K, model=MODEL,
+                       eps_rf=EPS_RF, pme_tolerance=EWALD_TOL if COULOMB == "pme" else None), f)
     print("equilibrated %d + %d steps in %.0f s: %s; U(t) = %.6f kJ/mol"
           % (eq["relax_steps"], eq_steps, eq["wall_s"], eq["summary"].get("temperature"), eq["U_start"]),
           flush=True)
@@ -362,23 +420,29 @@ def main():
                                    for j, row in enumerate(r["rows"]) if row[0] < steps],
                             fallbacks=r["summary"].get("fallbacks")))
     elapsed = time.time() - t0
-    print("\n%-13s %4s %10s %10s %8s %8s %11s %12s %9s %s" % (
-        "scheme", "h", "calE %", "paper %", "calU %", "E/U %", "drift/ns", "drift/N/ns", "E(0)", "wall"))
+    table = ["%-13s %4s %10s %10s %8s %8s %11s %12s %9s %s" % (
+        "scheme", "h", "calE %", "paper %", "calU %", "E/U %", "drift/ns", "drift/N/ns", "E(0)", "wall")]
     for res in results:
         m = res["metrics"]
         if "calE" not in m:
-            print("%-13s %4g  no data: %s" % (res["scheme"], res["h_fs"], res["error"]))
+            table.append("%-13s %4g  no data: %s" % (res["scheme"], res["h_fs"], res["error"]))
             continue
-        print("%-13s %4g %10.5f %10s %8.3f %8.2f %+11.3f %+12.5f %9.2f %4.0f s%s" % (
+        table.append("%-13s %4g %10.5f %10s %8.3f %8.2f %+11.3f %+12.5f %9.2f %4.0f s%s" % (
             res["scheme"], res["h_fs"], 100 * m["calE"], PAPER_CALE.get(int(res["h_fs"]), ""),
             100 * m["calU"], 100 * m["ratio"], m["drift_kJmol_per_ns"], m["drift_per_molecule_per_ns"],
             m["E0"], res["wall_s"], "" if res["ok"] else "  STOPPED at step %d: %s" % (
                 res["steps_done"], res["error"])))
+    print("\n" + "\n".join(table))
     print("total %.0f s" % elapsed)
+    if args.report:
+        write_report(args.report, table, eq, steps, args, elapsed)
     meta = dict(generated_by="/usr/bin/python3 validate/nve_conservation.py " + " ".join(
                     a for a in sys.argv[1:] if not a.startswith("/")),
-                date=time.strftime("%Y-%m-%d %H:%M"), molecules=N, model="tip4p", density_g_cm3=1.0,
-                box_nm=ck["box"], cutoff_nm=CUTOFF, scheme="site", eps_rf=EPS_RF if math.isfinite(EPS_RF) else "inf", lj=LJ,
+                date=time.strftime("%Y-%m-%d %H:%M"), molecules=N, model=MODEL, density_g_cm3=DENSITY,
+                box_nm=ck["box"], cutoff_nm=CUTOFF, coulomb=COULOMB,
+                ewald_tolerance=EWALD_TOL if COULOMB == "pme" else None,
+                scheme="site" if COULOMB == "rf" else None,
+                eps_rf=(EPS_RF if math.isfinite(EPS_RF) else "inf") if COULOMB == "rf" else None, lj=LJ,
                 dispersion_correction=False, temperature_K=T_K, steps=steps, sample_every=args.sample,
                 openmm_platform=args.platform, equilibration=eq, wall_s=elapsed, jobs=args.jobs,
                 paper_calE_percent=PAPER_CALE, paper_calU_percent=PAPER_CALU)
@@ -388,9 +452,9 @@ def main():
             json.dump(dict(meta=meta, runs=[{k: val for k, val in res.items() if k != "curve"}
                                             for res in results]), f, indent=1)
         with open(os.path.join(DATA, "nve_conservation%s.csv" % args.tag), "w") as f:
-            f.write("# validate/nve_conservation.py %s: 256 TIP4P NVE; every 50th step; calE_running "
+            f.write("# validate/nve_conservation.py %s: 256 %s (%s) NVE; every 50th step; calE_running "
                     "= sd(E)/|<E>| over the samples (every %d steps) from step 0 to this step\n"
-                    % (meta["date"], args.sample))
+                    % (meta["date"], MODEL.upper(), "PME" if COULOMB == "pme" else "reaction field", args.sample))
             f.write("scheme,h_fs,step,time_ps,total,potential,calE_running\n")
             for res in results:
                 for s, e, u, c in res["curve"]:

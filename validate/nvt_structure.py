@@ -48,6 +48,14 @@ each observable is computed in each block independently, error = sd over blocks 
                           (P1: 1-4 ps, P2: 0.5-2.5 ps)
 Comparison: z = (x - x_OpenMM) / sqrt(err_x^2 + err_OpenMM^2); |z| <= 3 is the tolerance.
 
+With --coulomb pme (issue 33, acceptance 5) the system is TIP4P-Ew at 0.995 g/cm3 with smooth PME
+in both codes (alpha and the grid from error tolerance 5e-4, tin-foil; OpenMM's NonbondedForce PME),
+the same cutoff, plain LJ, no dispersion correction; the shared start is made with those settings
+(nve_conservation.py's --coulomb pme); it writes validate/data/nvt_structure_pme.json and, with --md,
+the table as a Markdown page.  E.g. (about 25 min on 2 shared cores):
+    /usr/bin/python3 validate/nvt_structure.py --rotleap build/rotleap --coulomb pme --steps-fs 2,5 \
+        --isokinetic-fs "" --md validate/nvt_structure_pme.md
+
 Writes (unless --no-write) validate/data/nvt_structure.json; validate/run_all renders the plots and
 the part-3 section of REPORT.md from it (functions plots() and report_lines() below).
 """
@@ -110,12 +118,14 @@ def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=(), inte
     elif ensemble == "nvt-langevin":
         run.append("tau = %g ps" % TAU_LANGEVIN)
     run += list(extra)
-    sysl = ["[system]", "model = tip4p", "count = %d" % N, "box = %s" % " ".join(repr(b) for b in box)]
+    sysl = ["[system]", "model = %s" % nc.MODEL, "count = %d" % N, "box = %s" % " ".join(repr(b) for b in box)]
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = 1"]
     sysl.append("temperature = %g K" % T_K)
+    elec = ["coulomb = pme", "ewald_tolerance = %r" % nc.EWALD_TOL] if nc.COULOMB == "pme" else \
+        ["scheme = site", "eps_rf = %r" % EPS_RF]
     return "\n".join(sysl + [
-        "[interactions]", "cutoff = %r nm" % CUTOFF, "scheme = site", "lj = plain",
-        "dispersion_correction = no", "eps_rf = %r" % EPS_RF] + list(interactions) + run + [
+        "[interactions]", "cutoff = %r nm" % CUTOFF, "lj = plain", "dispersion_correction = no"] + elec +
+        list(interactions) + run + [
         "[output]", "prefix = %s" % prefix, "progress = no", "thermo_every = %d" % max(every, 1),
         "trajectory_every = %d" % every, "sample_every = %d" % every, ""])
 
@@ -196,7 +206,8 @@ def openmm_worker(start_json, steps, every, prefix, pdb, integrator="nose-hoover
         w = np.linalg.solve(A[i].T @ np.diag(J) @ A[i], l[i])
         for a in range(4):
             vel[4 * i + a] = v[i] + np.cross(w, pos[4 * i + a] - r[i])
-    system = watermodels.build_system("tip4p", N, ck["box"], CUTOFF, EPS_RF, rigid=True)
+    system = watermodels.build_system(st.get("model", "tip4p"), N, ck["box"], CUTOFF, EPS_RF, rigid=True,
+                                      pme_tolerance=st.get("pme_tolerance"))
     system.addForce(mm.CMMotionRemover(100))
     if integrator == "nose-hoover":
         integ = mm.NoseHooverIntegrator(T_K, friction, h_ps)
@@ -478,7 +489,14 @@ def main():
     ap.add_argument("--keep", action="store_true", help="keep the work directory (trajectories)")
     ap.add_argument("--reanalyse", metavar="WORKDIR", help="skip the simulations: analyse those of an earlier "
                     "--keep run (the same --quick/--prod-ps/--eq-ps)")
+    ap.add_argument("--coulomb", default="rf", choices=("rf", "pme"),
+                    help="rf: TIP4P, reaction field (default); pme: TIP4P-Ew at 0.995 g/cm3, smooth PME (tolerance 5e-4)")
+    ap.add_argument("--md", help="also write the table as a Markdown page to this file")
     args = ap.parse_args()
+    out_json = OUT_JSON
+    if args.coulomb == "pme":
+        nc.MODEL, nc.COULOMB, nc.DENSITY = "tip4p-ew", "pme", 0.995
+        out_json = os.path.join(DATA, "nvt_structure_pme.json")
     prod = args.prod_ps or (10.0 if args.quick else 60.0)
     eq = args.eq_ps if args.eq_ps is not None else (1.0 if args.quick else 4.0)
     nblocks = args.blocks or (5 if args.quick else 6)
@@ -494,7 +512,8 @@ def main():
         work = tempfile.mkdtemp(prefix="rotleap-nvt-")
         ck, v, l, F, K, eqinfo = nc.shared_start(rotleap, work, 500 if args.quick else 2500)
         with open(os.path.join(work, "start.json"), "w") as f:
-            json.dump(dict(chk=os.path.join(work, "equil.chk"), v=v, l=l, F=F, K=K), f)
+            json.dump(dict(chk=os.path.join(work, "equil.chk"), v=v, l=l, F=F, K=K, model=nc.MODEL,
+                           pme_tolerance=nc.EWALD_TOL if nc.COULOMB == "pme" else None), f)
         print("shared start: %d + %d steps in %.0f s: %s; U(t) = %.6f kJ/mol"
               % (eqinfo["relax_steps"], eqinfo["steps"], eqinfo["wall_s"], eqinfo["summary"].get("temperature"),
                  eqinfo["U_start"]), flush=True)
@@ -564,13 +583,15 @@ def main():
     out = dict(meta=meta, runs=[dict({k: r[k] for k in keep if k in r},
                                      fallbacks=r["summary"].get("fallbacks"),
                                      summary_T=r["summary"].get("temperature")) for r in runs])
-    print_table(out)
+    table = print_table(out)
     print("total %.0f s" % elapsed)
     if not args.no_write:
         os.makedirs(DATA, exist_ok=True)
-        with open(OUT_JSON, "w") as f:
+        with open(out_json, "w") as f:
             json.dump(out, f, indent=0, allow_nan=True)
-        print("wrote", os.path.relpath(OUT_JSON, ROOT))
+        print("wrote", os.path.relpath(out_json, ROOT))
+    if args.md:
+        write_md(args.md, out, table, elapsed)
     if args.keep or args.reanalyse:
         print("work directory:", work)
     else:
@@ -604,20 +625,52 @@ def largest(data):
 
 
 def print_table(data):
-    hdr = "%-30s %7s %7s %7s %s" % ("run", "T", "T_tr", "T_rot", "  ".join("%-18s" % lab for _, lab, *_ in OBS))
-    print(hdr)
+    """Print the table of every run (z against OpenMM in brackets) and return its lines."""
+    lines = ["%-30s %7s %7s %7s %s" % ("run", "T", "T_tr", "T_rot", "  ".join("%-18s" % lab for _, lab, *_ in OBS))]
     for r in data["runs"]:
         a = r["analysis"]
         if not a.get("ok"):
-            print("%-30s %s %s" % (r["label"], r["error"], a.get("error", "")))
+            lines.append("%-30s %s %s" % (r["label"], r["error"], a.get("error", "")))
             continue
         s = a["scalars"]
-        print("%-30s %7.1f %7.1f %7.1f %s" % (r["label"], s["T"][0], s["Tt"][0], s["Tr"][0], "  ".join(
+        lines.append("%-30s %7.1f %7.1f %7.1f %s" % (r["label"], s["T"][0], s["Tt"][0], s["Tr"][0], "  ".join(
             "%-18s" % ((pm(s[k], f)) + (" (%+.1f)" % r["z"][k] if r.get("z") else "")) for k, _, _, f in OBS)))
+        rc = r.get("rdf_cmp") or {}
+        if rc:
+            lines.append("%-30s RDF distance to OpenMM's (RMS over %g-%g nm): %s" % ("", RDF_CMP[0], RDF_CMP[1], "; ".join(
+                "%s %.4f ± %.4f (noise floor %.4f, chi2/bin %.2f)" % (k, v["rms"], v["err"], v["floor"], v["chi2"])
+                for k, v in sorted(rc.items()))))
     b = largest(data)
     if b:
-        print("largest deviation: %s at %s, z = %+.2f" % (dict((k, lab) for k, lab, *_ in OBS)[b[2]], b[1]["label"],
-                                                        b[1]["z"][b[2]]))
+        lines.append("largest deviation: %s at %s, z = %+.2f" % (dict((k, lab) for k, lab, *_ in OBS)[b[2]],
+                                                               b[1]["label"], b[1]["z"][b[2]]))
+    print("\n".join(lines))
+    return lines
+
+
+def write_md(path, data, table, elapsed):
+    """The table as a Markdown page with the command, the system and the machine."""
+    m = data["meta"]
+    cpu = "unknown CPU"
+    try:
+        cpu = next(ln.split(":", 1)[1].strip() for ln in open("/proc/cpuinfo") if ln.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    elec = "smooth PME (error tolerance %g: alpha, grid and order 5 derived as OpenMM does; tin-foil)" % nc.EWALD_TOL \
+        if nc.COULOMB == "pme" else "site-based reaction field, eps_rf %g" % EPS_RF
+    lines = ["# NVT structure and dynamics: %d %s, %s, against OpenMM" % (N, nc.MODEL.upper(), elec.split(" (")[0]),
+             "", "Regenerate: `%s` (%.0f s on %d jobs, %s, %s). Do not edit: rerun the script."
+             % (m["generated_by"], elapsed, m["jobs"], cpu, m["date"]),
+             "", "System: %d %s, box %.5f nm, %g K, cutoff %g nm, %s, plain LJ, no dispersion correction. rotleap with "
+             "Bussi (tau %g ps) at each h against OpenMM %s Nose-Hoover (chain 3, %g/ps) + SETTLE at 2 fs, CPU platform, "
+             "from one shared start; %g ps equilibration + %g ps production each, %d blocks for the errors; z in "
+             "brackets = (x - x_OpenMM) / combined error, |z| <= %g passes. Method: the docstring of "
+             "validate/nvt_structure.py." % (N, nc.MODEL.upper(), m["box_nm"][0], T_K, CUTOFF, elec, TAU_BUSSI,
+                                             m["openmm"], NH_FREQ, m["eq_ps"], m["prod_ps"], m["blocks"], Z_TOL),
+             "", "```", *table, "```", ""]
+    with open(path + ".tmp", "w") as f:
+        f.write("\n".join(lines))
+    os.replace(path + ".tmp", path)
 
 
 COLORS = {"openmm": "k"}

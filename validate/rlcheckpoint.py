@@ -84,12 +84,27 @@ def read(path):
     return parse(load_bytes(path))
 
 
+KIND_POINT, KIND_DIPOLE, KIND_LINEAR = 0, 1, 2  # rl_kind (system.h); 3, 4, 5 carry a matrix A
+
+
 def site_positions(ck):
-    """Lab positions of every site, bodies in order, sites in species order: r + A^T d."""
-    out, body = [], 0
+    """Lab positions of every site, bodies in order, sites in species order: r + A^T d for bodies
+    with a rotation matrix (indexed among those bodies, as the checkpoint stores them), r + d_z rho
+    for a linear molecule or point dipole (which carry only the axis rho = body Z, indexed among
+    those), r + d for a point body."""
+    out, body, imat, iaxis = [], 0, 0, 0
     for sp in ck["species"]:
         for _ in range(sp["count"]):
-            r, A = ck["r"][body], ck["A"][body]
+            r = ck["r"][body]
+            if sp["kind"] == KIND_POINT:
+                A = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+            elif sp["kind"] in (KIND_DIPOLE, KIND_LINEAR):
+                rho = ck["rho"][iaxis]
+                iaxis += 1
+                A = [[0, 0, 0], [0, 0, 0], rho]  # sites of an axis body lie on body Z
+            else:
+                A = ck["A"][imat]
+                imat += 1
             for d in sp["sites"]:
                 out.append([r[i] + A[0][i] * d[0] + A[1][i] * d[1] + A[2][i] * d[2]
                             for i in range(3)])

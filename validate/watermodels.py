@@ -78,10 +78,13 @@ def check_geometry(model, d):
     return max(dev)
 
 
-def build_system(model, nmol, box, cutoff, eps_rf, rigid=False):
+def build_system(model, nmol, box, cutoff, eps_rf, rigid=False, pme_tolerance=None):
     """OpenMM System: NonbondedForce CutoffPeriodic (reaction field) with every intramolecular
     pair excluded, plain LJ (no switch, no dispersion correction), M as a ThreeParticleAverageSite.
-    rigid=True adds O-H, O-H, H-H distance constraints (OpenMM recognises them as SETTLE)."""
+    rigid=True adds O-H, O-H, H-H distance constraints (OpenMM recognises them as SETTLE).
+    pme_tolerance: smooth PME instead of reaction field, alpha and grid from that
+    ewaldErrorTolerance (eps_rf is then ignored); rotleap's coulomb = pme with ewald_tolerance
+    derives the same ones (validate/ewald_openmm.py checks it)."""
     p = MODELS[model]
     sites = site_params(model)
     ns = len(sites)
@@ -89,9 +92,13 @@ def build_system(model, nmol, box, cutoff, eps_rf, rigid=False):
     system.setDefaultPeriodicBoxVectors(mm.Vec3(box[0], 0, 0), mm.Vec3(0, box[1], 0),
                                         mm.Vec3(0, 0, box[2]))
     nb = mm.NonbondedForce()
-    nb.setNonbondedMethod(mm.NonbondedForce.CutoffPeriodic)
     nb.setCutoffDistance(cutoff)
-    nb.setReactionFieldDielectric(eps_rf)
+    if pme_tolerance is None:
+        nb.setNonbondedMethod(mm.NonbondedForce.CutoffPeriodic)
+        nb.setReactionFieldDielectric(eps_rf)
+    else:
+        nb.setNonbondedMethod(mm.NonbondedForce.PME)
+        nb.setEwaldErrorTolerance(pme_tolerance)
     nb.setUseDispersionCorrection(False)
     nb.setUseSwitchingFunction(False)
     w = vsite_weights(model) if four_site(model) else None
