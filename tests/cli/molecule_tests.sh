@@ -54,6 +54,16 @@ check "a hydrogen moved by 1e-17 nm (one ulp) gives another checkpoint (the DCD 
 "$rotleap" run inline.ini --set output.prefix=i >/dev/null 2>&1
 check "... the same in the deck itself" 'cmp -s c.dcd i.dcd && same_chk c.chk i.chk'
 
+# a continuation with other charges in the molecule file is another simulation: refused, naming the site
+sed 's/charge 0.52/charge 0.53/; s/charge -1.04/charge -1.06/' water.mol > water3.mol
+
+"$rotleap" run user.ini --set system.molecules=water3.mol --set output.prefix=u --set system.start=u.chk --set run.steps=60 >out.txt 2>err.txt; code=$?
+check "a continuation whose molecule has other charges is refused, naming each site that changed" \
+  '[ $code -ne 0 ] && grep -q "another simulation than this deck asks for (molecule.water.site.H1: 0.07569503272636612 0 0.058588227661829494 mass 1.008 charge 0.52 .*-> .*charge 0.53.*molecule.water.site.M: .*charge -1.04" err.txt'
+"$rotleap" run user.ini --set output.prefix=u --set system.start=u.chk --set run.steps=60 >out.txt 2>err.txt; code=$?
+"$rotleap" run cat.ini --set output.prefix=c --set system.start=c.chk --set run.steps=60 >/dev/null 2>&1
+check "... the same molecule continues, as the catalogue model does" '[ $code -eq 0 ] && cmp -s c.dcd u.dcd && same_chk c.chk u.chk'
+
 # --- acceptance 1: Stockmayer ---------------------------------------------------------------
 sm="$src/tests/cli/stockmayer_short.ini"
 { cat "$sm"; echo "checkpoint_every = 100"; echo "trajectory_every = 50"; } > sc.ini
