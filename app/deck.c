@@ -1027,7 +1027,7 @@ static int site_value(const char *num, const char *unit, site_qty q, rl_units u,
   numeric(num, &att);
   const char *un = *att ? att : unit ? unit : "";
   if (q == SQ_LENGTH || q == SQ_ENERGY) {
-    char buf[96];
+    char buf[DECK_LINE_MAX + 32]; /* a token of a line: never cut */
     snprintf(buf, sizeof buf, "%.*s%s%s", (int)(att - num), num, *un ? " " : "", un);
     return rl_parse_quantity(buf, q == SQ_LENGTH ? Q_LENGTH : Q_ENERGY, u, 0, out, err, n);
   }
