@@ -216,106 +216,6 @@ static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *inf
 
 /* ------------------------------------------------------------ the settings of a simulation */
 
-/* The shortest decimal form of x that reads back as x. */
-static const char *exact(char buf[40], double x)
-{
-  for (int p = 15; p <= 17; p++) {
-    snprintf(buf, 40, "%.*g", p, x);
-    if (strtod(buf, NULL) == x || isnan(x)) break;
-  }
-  return buf;
-}
-
-/* The settings that define the simulation a checkpoint continues, one "key = value" line each
- * (values in the system's units): a continuation whose deck gives other values runs another
- * simulation, and under the same output.prefix its averages and files would mix the two.  Not
- * here: what changes only the speed or the round-off (threads, kernel, precision, skin), the
- * bookkeeping (steps, thermo, checkpoints, progress) and run.seed (another seed continues with a
- * new random stream, and says so). */
-static char *physics_text(const rl_deck *d)
-{
-  size_t cap = 4096, n = 0;
-  char *s = malloc(cap);
-  if (!s) return NULL;
-  s[0] = '\0';
-#define ADD(...)                                                                                                   \
-  do {                                                                                                             \
-    int w_ = snprintf(s + n, cap - n, __VA_ARGS__);                                                                \
-    if (w_ < 0) break;                                                                                             \
-    if ((size_t)w_ >= cap - n) {                                                                                   \
-      char *t_ = realloc(s, cap = 2 * cap + (size_t)w_);                                                           \
-      if (!t_) { free(s); return NULL; }                                                                           \
-      s = t_;                                                                                                      \
-      snprintf(s + n, cap - n, __VA_ARGS__);                                                                       \
-    }                                                                                                              \
-    n += (size_t)w_;                                                                                               \
-  } while (0)
-  char r1[40], r2[40], r3[40], r4[40], r5[40], r6[40], r7[40];
-  const char *L = rl_dim_unit(Q_LENGTH, d->units), *tu = rl_dim_unit(Q_TIME, d->units),
-             *Tu = rl_dim_unit(Q_TEMPERATURE, d->units);
-  static const char *const scheme[] = {"site", "molecule"}, *const lj[] = {"plain", "shifted", "shifted-force", "switched"},
-                           *const dip[] = {"rf", "sf"};
-  ADD("system.model = %s\n", d->model->name);
-  const rl_deck_molecule *um = rl_deck_user_molecule(d);
-  for (int a = 0; um && a < um->nsites; a++) { /* the deck's molecule: every site (a key each), in the system's units */
-    char q[10][40];
-    ADD("molecule.%s.site.%s = %s %s %s mass %s charge %s sigma %s epsilon %s dipole %s %s %s quadrupole %s\n", um->name,
-        um->site_names[a], exact(q[0], um->pos[a][0]), exact(q[1], um->pos[a][1]), exact(q[2], um->pos[a][2]),
-        exact(q[3], um->mass[a]), exact(q[4], um->charge[a]), exact(q[5], um->sigma[a]), exact(q[6], um->epsilon[a]),
-        exact(q[7], um->dipole[a][0]), exact(q[8], um->dipole[a][1]), exact(q[9], um->dipole[a][2]), exact(r1, um->quadrupole[a]));
-  }
-  if (um)
-    ADD("molecule.%s = %s%s, inertia %s %s %s, symmetrize %s\n", um->name, um->model.units == RL_UNITS_LJ ? "lj" : "real",
-        um->model.geometric_mixing ? ", geometric mixing" : "", exact(r2, um->inertia[0]), exact(r3, um->inertia[1]),
-        exact(r4, um->inertia[2]), um->symmetrize ? "yes" : "no");
-  for (int k = 0; k < d->model->nparams; k++)
-    ADD("model.%s = %s %s\n", d->model->param_names[k], exact(r1, d->params[k]), d->model->param_units[k] ? d->model->param_units[k] : "");
-  ADD("system.count = %d\n", d->count);
-  ADD("system.force_general = %s\n", d->force_general ? "yes" : "no");
-  ADD("interactions.cutoff = %s %s\n", exact(r2, d->ff.cutoff), L);
-  ADD("interactions.scheme = %s\n", scheme[d->ff.scheme]);
-  ADD("interactions.lj = %s\n", lj[d->ff.lj_truncation]);
-  if (d->ff.lj_truncation == RL_LJ_SWITCHED) ADD("interactions.switch = %s %s\n", exact(r3, d->ff.r_switch), L);
-  ADD("interactions.dispersion_correction = %s\n", d->ff.dispersion_correction ? "yes" : "no");
-  if (d->coulomb == RL_DECK_COULOMB_RF) ADD("interactions.eps_rf = %s\n", exact(r4, d->ff.eps_rf));
-  else { /* the Ewald choice as given (derived values follow from it and the box) */
-    const rl_ewald_params *e = &d->ewald;
-    ADD("interactions.coulomb = %s\n", d->coulomb == RL_DECK_COULOMB_PME ? "pme" : "ewald");
-    ADD("interactions.ewald_tolerance = %s\n", exact(r4, e->tolerance));
-    if (e->alpha > 0) ADD("interactions.ewald_alpha = %s %s\n", exact(r3, e->alpha), rl_dim_unit(Q_INVLENGTH, d->units));
-    if (d->coulomb == RL_DECK_COULOMB_PME) {
-      if (e->grid[0] > 0) ADD("interactions.pme_grid = %d %d %d\n", e->grid[0], e->grid[1], e->grid[2]);
-      ADD("interactions.pme_order = %d\n", e->order);
-    } else {
-      if (e->kmax[0] > 0) ADD("interactions.ewald_kmax = %d %d %d\n", e->kmax[0], e->kmax[1], e->kmax[2]);
-      if (e->kmax_sq > 0) ADD("interactions.ewald_kmax2 = %s\n", exact(r3, e->kmax_sq));
-    }
-    ADD("interactions.ewald_boundary = %s\n", isinf(e->eps_surface) ? "tinfoil" : exact(r3, e->eps_surface));
-  }
-  ADD("interactions.dipole = %s\n", dip[d->ff.dipole_method]);
-  ADD("run.timestep = %s %s\n", exact(r5, d->timestep), tu);
-  ADD("run.integrator = %s\n", rl_rot_method_name(d->method));
-    static const char *const ensemble[] = {"nve", "nvt-isokinetic", "nvt-bussi", "nvt-langevin"};
-  ADD("run.ensemble = %s\n", ensemble[d->thermostat]);
-  if (d->thermostat != RL_THERMO_NONE) ADD("run.temperature = %s %s\n", exact(r6, d->thermostat_temperature), Tu);
-  if (d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN) ADD("run.tau = %s %s\n", exact(r7, d->tau), tu);
-  if (d->thermostat == RL_THERMO_BUSSI) ADD("run.thermostat_groups = %s\n", rl_thermo_groups_name(d->thermostat_groups));
-  if (d->barostat) {
-    char b1[40], b2[40], b3[40];
-    ADD("run.barostat = %s\nrun.pressure = %s %s\nrun.barostat_interval = %ld\nrun.barostat_coupling = %s\n",
-        d->barostat == 1 ? "mc" : "c-rescale", exact(b1, scene_pressure_out(d, d->pressure)), pressure_unit(d),
-        d->baro_interval, d->baro_aniso ? "anisotropic" : "isotropic");
-    if (d->barostat == 2)
-      ADD("run.tau_p = %s %s\nrun.compressibility = %s (system units)\n", exact(b2, d->tau_p), tu, exact(b3, d->compressibility));
-  }
-  ADD("output.energy_every = %ld\n", d->energy_every);
-  ADD("output.trajectory_every = %ld\n", d->trajectory_every);
-  ADD("output.sample_every = %ld\n", d->sample_every);
-  ADD("output.rdf = %s\n", d->rdf);
-#undef ADD
-  return s;
-}
-
 /* The lines of `old` (len bytes) that `now` gives otherwise, as "key: X -> Y; ..." in msg; their
  * number.  outputs_only: the output.* lines only (the sampling of the files), else the others. */
 static int is_output_key(const char *line) { return !strncmp(line, "output.", 7); }
@@ -413,27 +313,6 @@ typedef struct {
   char heats_term[64];   /* ... the first such term                                          */
 } run_ctx;
 
-/* Every operator's account and own state into r's OPST list (buffers opst[] the caller frees),
- * when one of them keeps a state (a barostat): none otherwise, as before. */
-static int save_ops(rl_integrator *in, run_record *r, void **opst)
-{
-  int any = 0;
-  for (int k = 0; k < rl_integrator_nops(in); k++) any |= rl_stepop_save(rl_integrator_op(in, k), NULL) > 0;
-  for (int k = 0; any && k < rl_integrator_nops(in) && r->nops < RUNREC_MAX_OPS; k++) {
-    const rl_stepop *op = rl_integrator_op(in, k);
-    const size_t size = rl_stepop_save(op, NULL);
-    if (size && !(opst[r->nops] = malloc(size))) return rl_error(RL_ENOMEM, "out of memory");
-    if (size) rl_stepop_save(op, opst[r->nops]);
-    r->ops[r->nops].name = op->type->name;
-    r->ops[r->nops].name_len = strlen(op->type->name);
-    r->ops[r->nops].bytes = opst[r->nops];
-    r->ops[r->nops].size = size;
-    r->ops[r->nops].work = op->work;
-    r->nops++;
-  }
-  return RL_OK;
-}
-
 /* The accounts and states of a checkpoint's OPST back into in's operators of the same names: all
  * of them when the checkpoint has the section (one without the state of an operator that keeps
  * one is not this run's); nothing when neither has one. */
@@ -465,13 +344,10 @@ static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double tim
   run_record r;
   memset(&r, 0, sizeof r);
   r.version = 5;
-  r.thermo_work = rl_integrator_thermostat_work(in);
   r.E = c->E; r.U = c->U; r.T = c->T; r.Tt = c->Tt; r.Tr = c->Tr; r.P = c->P;
   r.done = relax_step >= 0 ? 0 : step;
   r.thermostat = relax_step >= 0 ? RL_THERMO_BUSSI : d->thermostat;
   r.seed = relax_step >= 0 ? d->seed + 2 : d->thermostat_seed;
-  r.rng = rl_integrator_rng_state(in);
-  r.rng_size = rl_integrator_rng_size(in);
   r.physics = c->physics;
   r.physics_len = strlen(c->physics);
   int st = RL_OK;
@@ -481,31 +357,13 @@ static int write_checkpoint(run_ctx *c, rl_integrator *in, long step, double tim
   r.watch = c->watch;
   r.relax_step = relax_step;
   r.relax_time = relax_time;
-  const int n = rl_system_count(c->s.sys);
-  double(*origin)[3] = n > 0 ? malloc(sizeof *origin * (size_t)n) : NULL;
-  if (!st && n > 0 && !origin) st = rl_error(RL_ENOMEM, "out of memory");
-  if (!st && origin && rl_forcefield_list_origin(c->s.ff, origin)) {
-    r.list_count = n;
-    r.list = (const double(*)[3])origin;
-  }
-  void *opst[RUNREC_MAX_OPS] = {NULL};
-  if (!st) st = save_ops(in, &r, opst);
-  unsigned char *blob = NULL;
-  size_t size = 0;
-  if (!st) st = runrec_encode(&r, &blob, &size);
-  for (int k = 0; k < RUNREC_MAX_OPS; k++) free(opst[k]);
   if (!st && !c->same_prefix && !c->moved_prev && access(c->chk_path, F_OK) == 0) {
     if (rename(c->chk_path, c->chk_prev) != 0)
       st = rl_error(RL_EINVAL, "cannot keep the earlier %s as %s: %s", c->chk_path, c->chk_prev, strerror(errno));
     else c->moved_prev = 1;
   }
-  if (!st) {
-    rl_checkpoint_meta meta = {time, relax_step >= 0 ? 0 : step, {0, 0, 0}, blob, size}; /* the box: the system's */
-    st = rl_checkpoint_write(c->chk_path, c->s.sys, &meta);
-    if (!st) c->last_chk = relax_step >= 0 ? 0 : step;
-  }
-  free(blob);
-  free(origin);
+  if (!st) st = runrec_write_checkpoint(c->chk_path, c->s.sys, c->s.ff, in, &r, relax_step >= 0 ? 0 : step, time);
+  if (!st) c->last_chk = relax_step >= 0 ? 0 : step;
   return st;
 }
 
@@ -973,7 +831,7 @@ static int report_progress(void *ctx, const rl_run_report *r)
 }
 
 /* The continuation a checkpoint start asks for.  The run record must describe the simulation
- * this deck asks for (physics_text); if it does not, a run under another prefix starts a new
+ * this deck asks for (runrec_physics); if it does not, a run under another prefix starts a new
  * run from the checkpoint's state, and one under the checkpoint's own prefix is refused (its
  * averages and files would mix two simulations).  Sets *cont (continue the record) or turns
  * the start into a plain starting state. */
@@ -1113,7 +971,7 @@ int rl_app_run(const rl_deck *d)
   c.chk_path = outputs_name(d->prefix, ".chk");
   c.chk_prev = outputs_name(d->prefix, ".chk.prev");
   c.summary_path = outputs_name(d->prefix, ".summary.txt");
-  c.physics = physics_text(d);
+  c.physics = runrec_physics(d);
   { /* which trajectory: a DCD of the sites (+ PDB) or an extended XYZ of centres and axes */
     rl_molecule m;
     c.site = !rl_model_build(d->model, d->params, d->force_general, &m) && rl_deck_site_model(&m);

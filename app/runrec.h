@@ -66,4 +66,13 @@ int runrec_encode(const run_record *r, unsigned char **buf, size_t *size);
  * the file (path) and the field for anything malformed or out of range. */
 int runrec_decode(const void *blob, size_t size, int nbodies, const char *path, run_record *r);
 
+/* The settings that define the simulation of a deck (the PHYS section), malloc'd; NULL on out of
+ * memory. */
+char *runrec_physics(const rl_deck *d);
+/* Write the checkpoint of sys at `step`, `time` with the run record r, whose thermostat account,
+ * random state, list origin and operator states are taken here from `in` and `ff`.  RL_OK or a
+ * status with a message naming path. */
+int runrec_write_checkpoint(const char *path, const rl_system *sys, const rl_forcefield *ff, rl_integrator *in,
+                            run_record *r, long step, double time);
+
 #endif

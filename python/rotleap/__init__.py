@@ -7,8 +7,10 @@
 docs/python.md describes the interface."""
 from ._native import lib as _lib
 from .simulation import Error, Report, Simulation
-from .reporters import CallbackReporter, Reporter, ThermoReporter
+from .reporters import CallbackReporter, CheckpointReporter, Reporter, ThermoReporter, TrajectoryReporter
 from .catalog import Model, catalog
+from .scan import ScanResult, scan
+from .interop import from_openmm, to_mdtraj, to_openmm
 
 __version__ = _lib.rlpy_version().decode()
-__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "Model", "catalog"]
+__all__ = ["Error", "Report", "Simulation", "Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter", "Model", "catalog", "scan", "ScanResult", "to_mdtraj", "to_openmm", "from_openmm"]

@@ -8,6 +8,8 @@ import os
 
 _dbl_p = ctypes.POINTER(ctypes.c_double)
 CALLBACK = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int)
+# the external force: f, k, virial, energy, forces_only
+FORCE_CALLBACK = ctypes.CFUNCTYPE(ctypes.c_int, _dbl_p, _dbl_p, _dbl_p, _dbl_p, ctypes.c_int)
 
 INTERRUPTED = -2       # rlpy_run: SIGINT between two steps
 REPORTER_RAISED = -3   # rlpy_run: a Python reporter raised
@@ -30,6 +32,15 @@ def _load():
         "rlpy_deck_steps": (ctypes.c_long, [P]),
         "rlpy_energy_every": (ctypes.c_long, [P]),
         "rlpy_thermo_every": (ctypes.c_long, [P]),
+        "rlpy_trajectory_every": (ctypes.c_long, [P]),
+        "rlpy_checkpoint_every": (ctypes.c_long, [P]),
+        "rlpy_site_trajectory": (ctypes.c_int, [P]),
+        "rlpy_checkpoint": (ctypes.c_int, [P, ctypes.c_char_p]),
+        "rlpy_add_external": (ctypes.c_int, [P, FORCE_CALLBACK]),
+        "rlpy_scan": (ctypes.c_int, [ctypes.c_int, ctypes.POINTER(ctypes.c_char_p)]),
+        "rlpy_traj_open": (P, [P, ctypes.c_char_p, ctypes.c_int, ctypes.c_long, ctypes.c_char_p]),
+        "rlpy_traj_frame": (ctypes.c_int, [P, P]),
+        "rlpy_traj_close": (ctypes.c_int, [P]),
         "rlpy_real_units": (ctypes.c_int, [P]),
         "rlpy_model": (ctypes.c_char_p, [P]),
         "rlpy_fallbacks": (ctypes.c_long, [P]),
@@ -50,6 +61,8 @@ def _load():
         "rlpy_catalog_text": (ctypes.c_char_p, [ctypes.c_int, ctypes.c_int]),
         "rlpy_catalog_params": (ctypes.c_int, [ctypes.c_int, _dbl_p]),
         "rlpy_catalog_molecule": (ctypes.c_int, [ctypes.c_int, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
+        "rlpy_molecule": (ctypes.c_int, [P, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
+        "rlpy_interactions": (None, [P, _dbl_p]),
     }
     for name, (res, args) in sigs.items():
         f = getattr(lib, name)

@@ -43,18 +43,25 @@ def _model(i):
     defaults = np.zeros(4)
     npar = lib.rlpy_catalog_params(i, dptr(defaults))
     params = {text(10 + k): (float(defaults[k]), text(20 + k)) for k in range(npar)}
+    m = molecule(lambda *a: lib.rlpy_catalog_molecule(i, *a))
+    return Model(text(0), text(1), text(2), text(3), text(4), params, **m)
+
+
+def molecule(call):
+    """The molecule native's call(mass, inertia, names, sites, site_mass, sigma, epsilon,
+    charge, dipole, quadrupole) fills: {field of Model: value}."""
     mass, inertia = np.zeros(1), np.zeros(3)
     names = ctypes.create_string_buffer(8 * MAX_SITES)
     arrays = [np.zeros((MAX_SITES, 3))] + [np.zeros(MAX_SITES) for _ in range(6)]
-    n = lib.rlpy_catalog_molecule(i, dptr(mass), dptr(inertia), names, *[dptr(a) for a in arrays])
+    n = call(dptr(mass), dptr(inertia), names, *[dptr(a) for a in arrays])
     if n < 0:
         from .simulation import Error
         raise Error(error_text())
     raw = names.raw
     site_names = tuple(raw[8 * s:8 * s + 8].split(b"\0")[0].decode() for s in range(n))
     sites, site_mass, sigma, epsilon, charge, dipole, quad = (a[:n].copy() for a in arrays)
-    return Model(text(0), text(1), text(2), text(3), text(4), params, float(mass[0]), inertia, site_names, sites,
-                 site_mass, sigma, epsilon, charge, dipole, quad)
+    return dict(mass=float(mass[0]), inertia=inertia, site_names=site_names, sites=sites, site_mass=site_mass,
+                sigma=sigma, epsilon=epsilon, charge=charge, dipole=dipole, quadrupole=quad)
 
 
 def catalog():

@@ -4,8 +4,11 @@
  * doubles, double arrays the caller owns, and one callback.  Every call that can fail returns
  * an rl status (RL_OK = 0) with the message in rlpy_error(); the library never prints. */
 #include "deck.h"
+#include "runrec.h"
+#include "scan.h"
 #include "scene.h"
 
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -31,6 +34,10 @@ typedef struct {
   const rl_run_report *cur;/* the report a Python reporter is reading                  */
   rlpy_callback cb;
   int cb_status;
+  rl_run *drv;             /* the run driver of a run in progress (NULL between runs)   */
+  running avg[6];          /* the checkpoint's averages, as rotleap run keeps them: the
+                              conserved energy, potential, T, T_trans, T_rot, pressure  */
+  char *physics;           /* the deck's settings that define the simulation (PHYS)     */
 } rlpy_sim;
 
 typedef struct {
@@ -48,6 +55,7 @@ RLPY_API void rlpy_close(rlpy_sim *p)
   if (!p) return;
   rl_integrator_free(p->in);
   scene_free(&p->s);
+  free(p->physics);
   free(p);
 }
 
@@ -90,6 +98,11 @@ RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
   }
   p->step = p->s.restart ? p->s.step0 : 0;
   rl_watch_init(&p->watch);
+  if (!(p->physics = runrec_physics(&p->d))) {
+    rl_error(RL_ENOMEM, "out of memory");
+    rlpy_close(p);
+    return NULL;
+  }
   return p;
 }
 
@@ -103,6 +116,10 @@ RLPY_API double rlpy_timestep(const rlpy_sim *p) { return p->d.timestep; }
 RLPY_API long rlpy_deck_steps(const rlpy_sim *p) { return p->d.steps; }
 RLPY_API long rlpy_energy_every(const rlpy_sim *p) { return p->d.energy_every; }
 RLPY_API long rlpy_thermo_every(const rlpy_sim *p) { return p->d.thermo_every; }
+RLPY_API long rlpy_trajectory_every(const rlpy_sim *p) { return p->d.trajectory_every; }
+RLPY_API long rlpy_checkpoint_every(const rlpy_sim *p) { return p->d.checkpoint_every; }
+/* 1 if `rotleap run` writes this deck's trajectory as a DCD of the sites (+ PDB), 0: extended XYZ. */
+RLPY_API int rlpy_site_trajectory(const rlpy_sim *p) { return rl_deck_site_model(&p->s.mol); }
 RLPY_API int rlpy_real_units(const rlpy_sim *p) { return p->d.units == RL_UNITS_REAL; }
 RLPY_API const char *rlpy_model(const rlpy_sim *p) { return p->d.model->name; }
 RLPY_API long rlpy_fallbacks(const rlpy_sim *p) { return rl_integrator_fallbacks(p->in); }
@@ -194,6 +211,18 @@ static int call_python(void *ctx, const rl_run_report *r)
   return RL_OK;
 }
 
+/* The averages a checkpoint's run record carries, on the steps with energies (rotleap run's
+ * report_averages, without its analysis). */
+static int report_averages(void *ctx, const rl_run_report *r)
+{
+  rlpy_sim *p = ctx;
+  if (r->last) return RL_OK;
+  const double x[6] = {r->info->conserved, r->info->potential, r->info->temperature, r->info->t_trans, r->info->t_rot,
+                       scene_pressure_out(&p->d, r->pressure)};
+  for (int k = 0; k < 6; k++) running_add(&p->avg[k], x[k]);
+  return RL_OK;
+}
+
 /* nsteps production steps with the reporters when[i] (RL_REPORT_STEP 0 / RL_REPORT_STATE 1)
  * every[i] steps, each calling cb(i); with `finish`, the row of the last state to the STEP
  * reporters (last = 1) as `rotleap run` writes it.  With catch_sigint (the caller's main
@@ -211,6 +240,8 @@ RLPY_API int rlpy_run(rlpy_sim *p, long nsteps, int nrep, const int *when, const
   int st = reps ? RL_OK : rl_error(RL_ENOMEM, "out of memory");
   p->cb = cb;
   p->cb_status = 0;
+  const rl_reporter avg = {"averages", RL_REPORT_STEP, p->d.energy_every, report_averages, p};
+  if (!st) st = rl_run_add_reporter(drv, &avg);
   for (int i = 0; !st && i < nrep; i++) {
     reps[i] = (rlpy_rep){p, i};
     char name[32];
@@ -227,6 +258,7 @@ RLPY_API int rlpy_run(rlpy_sim *p, long nsteps, int nrep, const int *when, const
     sigaction(SIGINT, &sa, &old);
   }
   if (!st) {
+    p->drv = drv;
     st = rl_run_steps(drv, p->step, p->step + nsteps, catch_sigint ? &got_sigint : NULL, done);
     p->step += *done;
     p->watch = *rl_run_watch(drv);
@@ -236,7 +268,87 @@ RLPY_API int rlpy_run(rlpy_sim *p, long nsteps, int nrep, const int *when, const
   if (p->cb_status) st = RLPY_REPORTER_RAISED;
   else if (!st && catch_sigint && got_sigint) st = RLPY_INTERRUPTED;
   free(reps);
+  p->drv = NULL;
   rl_run_free(drv);
+  return st;
+}
+
+/* ----------------------------------------------------------- the library's writers */
+
+/* A checkpoint of the current state (in a state reporter's call: the state after its step) at
+ * `path`, with the run record `rotleap run` writes: the averages, thermostat account and random
+ * state, neighbour-list origin, watch and the deck's settings; no output streams (MARK_NONE). */
+RLPY_API int rlpy_checkpoint(rlpy_sim *p, const char *path)
+{
+  if (p->cur && p->cur->info) return rl_error(RL_ESTATE, "a checkpoint is written from a state reporter or between runs");
+  const long step = p->cur ? p->cur->step : p->step;
+  const double time = p->cur ? p->cur->time : rl_integrator_time(p->in);
+  run_record r;
+  memset(&r, 0, sizeof r);
+  r.version = 5;
+  r.E = p->avg[0]; r.U = p->avg[1]; r.T = p->avg[2]; r.Tt = p->avg[3]; r.Tr = p->avg[4]; r.P = p->avg[5];
+  r.done = step;
+  r.thermostat = p->d.thermostat;
+  r.seed = p->d.thermostat_seed;
+  r.physics = p->physics;
+  r.physics_len = strlen(p->physics);
+  r.has_watch = 1;
+  r.watch = p->drv ? *rl_run_watch(p->drv) : p->watch;
+  r.relax_step = -1;
+  return runrec_write_checkpoint(path, p->s.sys, p->s.ff, p->in, &r, step, time);
+}
+
+/* A trajectory written with io/'s writers as `rotleap run` writes PREFIX.dcd (dcd = 1: the
+ * sites, first frame at the current step + every, with `topology` the PDB of the current state)
+ * or PREFIX.xyz (dcd = 0: centres and axes or orientations).  NULL with a message. */
+typedef struct {
+  rl_dcd *dcd;
+  FILE *xyz;
+  char *path;
+} rlpy_traj;
+
+RLPY_API int rlpy_traj_close(rlpy_traj *t)
+{
+  if (!t) return RL_OK;
+  int st = RL_OK;
+  if (t->dcd) st = rl_dcd_close(t->dcd);
+  if (t->xyz && fclose(t->xyz) && !st) st = rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
+  free(t->path);
+  free(t);
+  return st;
+}
+
+RLPY_API rlpy_traj *rlpy_traj_open(rlpy_sim *p, const char *path, int dcd, long every, const char *topology)
+{
+  rlpy_traj *t = calloc(1, sizeof *t);
+  if (!t || !(t->path = strdup(path))) {
+    free(t);
+    rl_error(RL_ENOMEM, "out of memory");
+    return NULL;
+  }
+  int st = RL_OK;
+  if (dcd) {
+    if (topology) {
+      const rl_molecule *mols[1] = {&p->s.mol};
+      st = rl_pdb_write(topology, p->s.sys, mols);
+    }
+    if (!st && !(t->dcd = rl_dcd_create(path, p->s.sys, rlpy_step(p) + every, every, p->d.timestep, "rotleap"))) st = RL_EINVAL;
+  } else if (!(t->xyz = fopen(path, "w"))) st = rl_error(RL_EINVAL, "cannot create %s: %s", path, strerror(errno));
+  if (st) {
+    rlpy_traj_close(t);
+    return NULL;
+  }
+  return t;
+}
+
+/* The frame of the current state (in a state reporter's call: after its step). */
+RLPY_API int rlpy_traj_frame(rlpy_sim *p, rlpy_traj *t)
+{
+  if (t->dcd) return rl_dcd_write_frame(t->dcd, p->s.sys);
+  const long step = p->cur ? p->cur->step : p->step;
+  const double time = p->cur ? p->cur->time : rl_integrator_time(p->in);
+  int st = rl_xyz_write_frame(t->xyz, t->path, p->s.sys, time, step);
+  if (!st && (ferror(t->xyz) || fflush(t->xyz))) st = rl_error(RL_EINVAL, "cannot write %s: %s", t->path, strerror(errno));
   return st;
 }
 
@@ -302,6 +414,23 @@ static int set_all(rl_system *s, int q, const double *in)
   return st;
 }
 
+/* The integrator resumed at the same step and time from the current state (forces recomputed,
+ * v and l taken as the half-step values they are read as), the thermostat's account and random
+ * state kept. */
+static int resume_here(rlpy_sim *p)
+{
+  const size_t nrng = rl_integrator_rng_size(p->in);
+  void *rng = nrng ? malloc(nrng) : NULL;
+  if (nrng && !rng) return rl_error(RL_ENOMEM, "out of memory");
+  if (rng) memcpy(rng, rl_integrator_rng_state(p->in), nrng);
+  const double work = rl_integrator_thermostat_work(p->in);
+  const int st = rl_integrator_resume(p->in, p->step, rl_integrator_time(p->in));
+  if (rng) memcpy(rl_integrator_rng_state(p->in), rng, nrng);
+  rl_integrator_set_thermostat_work(p->in, work);
+  free(rng);
+  return st;
+}
+
 RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
 {
   int st = check_quantity(p, q);
@@ -310,13 +439,7 @@ RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
   rl_system *s = p->s.sys;
   const size_t n = (size_t)rl_system_count(s) * (q == Q_ORIENT ? 9 : 3);
   double *old = malloc(sizeof(double) * (n ? n : 1));
-  const size_t nrng = rl_integrator_rng_size(p->in);
-  void *rng = nrng ? malloc(nrng) : NULL;
-  if (!old || (nrng && !rng)) {
-    free(old);
-    free(rng);
-    return rl_error(RL_ENOMEM, "out of memory");
-  }
+  if (!old) return rl_error(RL_ENOMEM, "out of memory");
   rlpy_get(p, q, old);
   st = set_all(s, q, in);
   if (st) { /* the quantity as it was (values the system took before), the message kept */
@@ -324,16 +447,67 @@ RLPY_API int rlpy_set(rlpy_sim *p, int q, const double *in)
     snprintf(msg, sizeof msg, "%s", rl_last_error());
     set_all(s, q, old);
     free(old);
-    free(rng);
     return rl_error(st, "%s", msg);
   }
   free(old);
-  if (rng) memcpy(rng, rl_integrator_rng_state(p->in), nrng);
-  const double work = rl_integrator_thermostat_work(p->in);
-  st = rl_integrator_resume(p->in, p->step, rl_integrator_time(p->in));
-  if (rng) memcpy(rl_integrator_rng_state(p->in), rng, nrng);
-  rl_integrator_set_thermostat_work(p->in, work);
-  free(rng);
+  return resume_here(p);
+}
+
+/* ------------------------------------------------------ a force term written in Python */
+
+/* cb(f[n][3], k[nrot][3], virial[9], &energy, forces_only): adds its forces and lab torques (and
+ * virial) to the arrays and sets its energy; nonzero if it raised. */
+typedef int (*rlpy_force_cb)(double *f, double *k, double *virial, double *energy, int forces_only);
+
+typedef struct { rlpy_force_cb cb; } rlpy_ext;
+
+static void *ext_alloc(const rl_system *sys, const void *params)
+{
+  (void)sys;
+  rlpy_ext *e = malloc(sizeof *e);
+  if (e) *e = *(const rlpy_ext *)params;
+  else rl_error(RL_ENOMEM, "out of memory");
+  return e;
+}
+
+static int ext_compute(void *state, const rl_system *sys, rl_forces *out, double *energies)
+{
+  (void)sys;
+  const rlpy_ext *e = state;
+  double u = 0.0;
+  if (e->cb(&out->f[0][0], out->k ? &out->k[0][0] : NULL, out->virial, &u, out->forces_only))
+    return rl_error(RL_EINVAL, "the Python external force raised an exception");
+  energies[0] = u;
+  if (!out->forces_only) out->energy += u;
+  return RL_OK;
+}
+
+static void ext_free(void *state) { free(state); }
+
+static const rl_term_type rlpy_external_term = {
+    "python", "a force term written in Python (rotleap.Simulation.add_external_force): one Python call per force "
+    "computation", "", 1, {"external"}, ext_alloc, ext_compute, NULL, ext_free};
+
+/* Adds the Python term cb to the simulation's sum (one per simulation) and resumes the step at
+ * the current state with the forces recomputed (the thermostat's random state kept). */
+RLPY_API int rlpy_add_external(rlpy_sim *p, rlpy_force_cb cb)
+{
+  if (rl_terms_find(p->s.terms, &rlpy_external_term)) return rl_error(RL_EINVAL, "the simulation has an external force already");
+  const rlpy_ext e = {cb};
+  int st = rl_terms_add(p->s.terms, &rlpy_external_term, &e, NULL);
+  if (st) return st;
+  return resume_here(p);
+}
+
+/* ------------------------------------------------------------------------------ scan */
+
+/* `rotleap scan` with its arguments (those after "scan"): 0, 1 (a failure) or 2 (bad usage or
+ * deck), its table on stdout and messages on stderr (flushed), its files under output.prefix. */
+RLPY_API int rlpy_scan(int argc, char **argv)
+{
+  const int st = rl_app_scan(argc, argv);
+  fflush(stdout);
+  fflush(stderr);
   return st;
 }
 
@@ -367,25 +541,55 @@ RLPY_API int rlpy_catalog_params(int i, double *defaults)
   return m->nparams;
 }
 
-/* Model i built with its default parameters: mass, inertia[3], and per site (up to
- * RL_MOLECULE_MAX_SITES) names[8 each], body-frame positions [3], masses, sigma, epsilon,
- * charge, dipole and quadrupole (along body Z).  The number of sites, or -1 with a message. */
+/* A molecule's mass, inertia[3], and per site (up to RL_MOLECULE_MAX_SITES) names[8 each],
+ * body-frame positions [3], masses, sigma, epsilon, charge, dipole and quadrupole (along body
+ * Z); the number of sites. */
+static int molecule_out(const rl_molecule *m, double *mass, double *inertia, char *names, double *sites,
+                        double *site_mass, double *sigma, double *epsilon, double *charge, double *dipole,
+                        double *quadrupole)
+{
+  *mass = m->mass;
+  memcpy(inertia, m->inertia, sizeof m->inertia);
+  for (int s = 0; s < m->nsites; s++) {
+    memcpy(names + 8 * s, m->site_names[s], 8);
+    memcpy(sites + 3 * s, m->sites[s], sizeof m->sites[s]);
+    site_mass[s] = m->site_mass[s];
+    sigma[s] = m->sigma[s];
+    epsilon[s] = m->epsilon[s];
+    charge[s] = m->charge[s];
+    dipole[s] = m->dipole[s];
+    quadrupole[s] = m->quadrupole[s];
+  }
+  return m->nsites;
+}
+
+/* Model i built with its default parameters (molecule_out's arrays); -1 with a message. */
 RLPY_API int rlpy_catalog_molecule(int i, double *mass, double *inertia, char *names, double *sites, double *site_mass,
                                    double *sigma, double *epsilon, double *charge, double *dipole, double *quadrupole)
 {
   rl_molecule m;
   if (rl_model_build(rl_catalog_get(i), NULL, 0, &m)) return -1;
-  *mass = m.mass;
-  memcpy(inertia, m.inertia, sizeof m.inertia);
-  for (int s = 0; s < m.nsites; s++) {
-    memcpy(names + 8 * s, m.site_names[s], 8);
-    memcpy(sites + 3 * s, m.sites[s], sizeof m.sites[s]);
-    site_mass[s] = m.site_mass[s];
-    sigma[s] = m.sigma[s];
-    epsilon[s] = m.epsilon[s];
-    charge[s] = m.charge[s];
-    dipole[s] = m.dipole[s];
-    quadrupole[s] = m.quadrupole[s];
-  }
-  return m.nsites;
+  return molecule_out(&m, mass, inertia, names, sites, site_mass, sigma, epsilon, charge, dipole, quadrupole);
+}
+
+/* The simulation's molecule (the deck's model with its parameters), as rlpy_catalog_molecule. */
+RLPY_API int rlpy_molecule(const rlpy_sim *p, double *mass, double *inertia, char *names, double *sites,
+                           double *site_mass, double *sigma, double *epsilon, double *charge, double *dipole,
+                           double *quadrupole)
+{
+  return molecule_out(&p->s.mol, mass, inertia, names, sites, site_mass, sigma, epsilon, charge, dipole, quadrupole);
+}
+
+/* The deck's interactions: out[0] cutoff, 1 scheme (rl_cutoff_scheme), 2 LJ truncation
+ * (rl_lj_truncation), 3 dispersion correction, 4 eps_rf, 5 coulomb (rl_deck_coulomb), 6 Ewald
+ * tolerance, 7 alpha (0: derived), 8-10 PME grid (0: derived), 11 PME order, 12 eps' (inf:
+ * tin foil), 13-15 Ewald kmax (0: derived), 16 dipole method (rl_dipole_method). */
+RLPY_API void rlpy_interactions(const rlpy_sim *p, double *out)
+{
+  const rl_deck *d = &p->d;
+  const rl_ewald_params *e = &d->ewald;
+  const double v[] = {d->ff.cutoff, d->ff.scheme, d->ff.lj_truncation, d->ff.dispersion_correction, d->ff.eps_rf,
+                      d->coulomb, e->tolerance, e->alpha, e->grid[0], e->grid[1], e->grid[2], e->order,
+                      e->eps_surface, e->kmax[0], e->kmax[1], e->kmax[2], d->ff.dipole_method};
+  memcpy(out, v, sizeof v);
 }

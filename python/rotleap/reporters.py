@@ -8,7 +8,9 @@ import io
 import math
 import os
 
-__all__ = ["Reporter", "CallbackReporter", "ThermoReporter"]
+from ._native import lib
+
+__all__ = ["Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter"]
 
 
 class Reporter:
@@ -21,6 +23,7 @@ class Reporter:
             self.when = when
 
     def report(self, sim, report):
+        """Called at the reporter's steps with the simulation and a rotleap.Report."""
         raise NotImplementedError
 
     def __repr__(self):
@@ -35,6 +38,7 @@ class CallbackReporter(Reporter):
         self.fn = fn
 
     def report(self, sim, report):
+        """Calls fn(sim, report)."""
         self.fn(sim, report)
 
 
@@ -71,6 +75,7 @@ class ThermoReporter(Reporter):
                       "calE,t_trans_mid,t_rot_mid\n" % "".join("," + n for n in sim.energy_names))
 
     def report(self, sim, r):
+        """Accumulates calE and writes the row of r at the reporter's steps and at the last state."""
         if self._f is None:
             self._open(sim)
         if not r.last:  # the running statistics of the conserved quantity (Welford, as runrec.c)
@@ -92,9 +97,98 @@ class ThermoReporter(Reporter):
             self._f.flush()
 
     def close(self):
+        """Closes the file if the reporter opened it (a path)."""
         if self._f is not None and self._own:
             self._f.close()
         self._f = None
+
+
+def _every(every, default, name):
+    every = default if every is None else every
+    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+        raise ValueError("%s: every = %r must be a whole number >= 1 (the deck's is %r)" % (name, every, default))
+    return every
+
+
+class TrajectoryReporter(Reporter):
+    """The trajectory `rotleap run` writes, by the library's writers: a DCD of the sites (with
+    its PDB topology, the state when the run starts, at `topology`: default PATH with .pdb for
+    .dcd) for site models, else an extended XYZ of centres and axes or orientations (`format`
+    'dcd' or 'xyz' overrides the choice).  A frame every `every` steps (default the deck's
+    output.trajectory_every), after the step to each multiple; the file is created when the
+    first run() with the reporter starts.  close() finishes it (a DCD's header counts frames)."""
+
+    def __init__(self, path, every=None, format=None, topology=None):
+        super().__init__(every, "state")
+        if format not in (None, "dcd", "xyz"):
+            raise ValueError("TrajectoryReporter: format %r: 'dcd' or 'xyz'" % (format,))
+        self.path, self.format, self.topology = os.fspath(path), format, topology
+        self._t = None
+        self._sim = None
+
+    def cadence(self, sim):
+        """Opens the file when the first run starts; frames every `every` steps."""
+        self.every = _every(self.every, sim.trajectory_every, "TrajectoryReporter")
+        if self._t is None:
+            if self.format is None:
+                self.format = "dcd" if lib.rlpy_site_trajectory(sim._handle()) else "xyz"
+            top = None
+            if self.format == "dcd":
+                top = self.topology or (self.path[:-4] if self.path.endswith(".dcd") else self.path) + ".pdb"
+            t = lib.rlpy_traj_open(sim._handle(), self.path.encode(), self.format == "dcd", self.every,
+                                   top.encode() if top else None)
+            if not t:
+                from .simulation import _fail
+                _fail()
+            self._t, self._sim = t, sim
+        elif sim is not self._sim:
+            raise ValueError("TrajectoryReporter: %s is written by another simulation" % self.path)
+        return self.every
+
+    def report(self, sim, r):
+        """Writes the frame of the state after r's step."""
+        if lib.rlpy_traj_frame(sim._handle(), self._t):
+            from .simulation import _fail
+            _fail()
+
+    def close(self):
+        """Finishes and closes the trajectory file."""
+        if self._t is not None:
+            t, self._t = self._t, None
+            if lib.rlpy_traj_close(t):
+                from .simulation import _fail
+                _fail()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+class CheckpointReporter(Reporter):
+    """Checkpoints of the state, by the library's writer, as `rotleap run` writes PREFIX.chk:
+    every `every` steps (default the deck's output.checkpoint_every) and after run()'s last step
+    (finish), each replacing the last.  `rotleap run` continues from it (system.start)."""
+
+    def __init__(self, path, every=None):
+        super().__init__(every, "state")
+        self.path = os.fspath(path)
+
+    def cadence(self, sim):
+        """0 (at the end only) for every = None with the deck's output.checkpoint_every = 0."""
+        if self.every is None and sim.checkpoint_every <= 0:
+            return 0
+        self.every = _every(self.every, sim.checkpoint_every, "CheckpointReporter")
+        return self.every
+
+    def report(self, sim, r):
+        """Writes the checkpoint of the state after r's step."""
+        sim.checkpoint(self.path)
+
+    def finish(self, sim):
+        """Writes the checkpoint of the last state (called by run() after its last step)."""
+        sim.checkpoint(self.path)
 
 
 def _c_e4(x):

@@ -66,9 +66,11 @@ class Report:
         return f, k[:s._nrot]
 
     def forces(self):
+        """Forces (n, 3) at the report's step (a step report, during the reporter's call)."""
         return self._forces()[0]
 
     def torques(self):
+        """Lab-frame torques (n_rotating, 3) at the report's step (as forces())."""
         return self._forces()[1]
 
     def __repr__(self):
@@ -91,6 +93,8 @@ class Simulation:
         self._h = None
         self._running = False
         self._report = None
+        self._external = None
+        self._ext_raised = []
         tmp = None
         try:
             if text is not None:
@@ -116,8 +120,14 @@ class Simulation:
         self.timestep = lib.rlpy_timestep(h)
         self.energy_every = lib.rlpy_energy_every(h)
         self.thermo_every = lib.rlpy_thermo_every(h)
+        self.trajectory_every = lib.rlpy_trajectory_every(h)
+        self.checkpoint_every = lib.rlpy_checkpoint_every(h)
         self.deck_steps = lib.rlpy_deck_steps(h)
         self.units = "real" if lib.rlpy_real_units(h) else "lj"
+        self._energy_names()
+
+    def _energy_names(self):
+        h = self._h
         self.energy_names = [lib.rlpy_energy_name(h, j).decode() for j in range(lib.rlpy_nenergies(h))]
         self._nvalues = lib.rlpy_nvalues() + len(self.energy_names)
 
@@ -162,6 +172,7 @@ class Simulation:
 
     @property
     def closed(self):
+        """True after close()."""
         return self._h is None
 
     def __enter__(self):
@@ -186,6 +197,7 @@ class Simulation:
 
     @property
     def time(self):
+        """Simulated time of the current state (the deck's time unit: ps in real units)."""
         return lib.rlpy_time(self._handle())
 
     def step(self, n=1):
@@ -195,11 +207,25 @@ class Simulation:
     def run(self, steps=None, reporters=()):
         """`steps` more steps (default: up to the deck's run.steps) with the reporters called on
         their cadence (see Reporter), then the report of the last state to the step reporters
-        (last = True), as `rotleap run` writes its last thermo row.  A reporter that raises stops
-        the run with its exception; Ctrl-C stops it between two steps with KeyboardInterrupt."""
+        (last = True), as `rotleap run` writes its last thermo row, and finish(sim) of the
+        reporters that have one (a CheckpointReporter writes the last state's checkpoint).  A
+        reporter that raises stops the run with its exception; Ctrl-C stops it between two steps
+        with KeyboardInterrupt."""
         if steps is None:
             steps = max(self.deck_steps - self.current_step, 0)
+        reporters = list(reporters)
         self._run(steps, reporters, finish=True)
+        for r in reporters:
+            if callable(getattr(r, "finish", None)):
+                r.finish(self)
+
+    def checkpoint(self, path):
+        """Write the checkpoint of the current state to `path` with the library's writer, as
+        `rotleap run` writes PREFIX.chk (the same bytes for the same state, except that its run
+        record names no output streams); in a reporter, from a 'state' reporter only."""
+        h = self._handle()
+        if lib.rlpy_checkpoint(h, os.fsencode(path)):
+            _fail()
 
     def _run(self, steps, reporters, finish):
         h = self._idle()
@@ -207,14 +233,20 @@ class Simulation:
             raise TypeError("steps must be a whole number, not %r" % (steps,))
         if steps < 0:
             raise ValueError("steps = %d: a run takes 0 or more steps" % steps)
-        reps = list(reporters)
-        when = (ctypes.c_int * max(len(reps), 1))()
-        every = (ctypes.c_long * max(len(reps), 1))()
-        for i, r in enumerate(reps):
+        reps, cadences = [], []
+        for r in reporters:
             kind = getattr(r, "when", None)
             if kind not in ("step", "state") or not callable(getattr(r, "report", None)):
                 raise TypeError("reporter %r: a reporter has when = 'step' or 'state', every and report(sim, report)" % (r,))
             e = r.cadence(self) if hasattr(r, "cadence") else r.every
+            if e == 0 and hasattr(r, "cadence"):  # called at the end only (finish)
+                continue
+            reps.append(r)
+            cadences.append(e)
+        when = (ctypes.c_int * max(len(reps), 1))()
+        every = (ctypes.c_long * max(len(reps), 1))()
+        for i, (r, e) in enumerate(zip(reps, cadences)):
+            kind = r.when
             if isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e < 1:
                 raise ValueError("reporter %r: every = %r must be a whole number >= 1" % (r, e))
             if kind == "step" and e % self.energy_every:
@@ -247,12 +279,60 @@ class Simulation:
                               ctypes.byref(done))
         finally:
             self._running = False
+        self._raise_external()
         if raised:
             raise raised[0]
         if st == _native.INTERRUPTED:
             raise KeyboardInterrupt("rotleap: stopped at step %d" % self.current_step)
         if st:
             _fail(st)
+
+    # ------------------------------------------------------------------ an external force
+    def add_external_force(self, fn):
+        """Add a force term written in Python: fn(sim, forces, torques) adds its forces (n, 3)
+        and lab-frame torques (n_rotating, 3) to the arrays it is given (in place: they are the
+        library's accumulators) and returns its energy.  It is called once per force computation
+        (each step, and now: the forces are recomputed at the current state), from the thread
+        that steps, and reads the state from sim (positions, axes, orientations); its energy is
+        the component 'external' of the energies and of the potential, and it adds no virial.
+        Cost: one Python call per step (about 10 us) plus what fn does with numpy
+        (docs/python.md: a field on 256 dipoles adds 41 % to a 115 us step).  An exception
+        in fn stops the step it is in and is raised by step()/run(); the simulation is then at
+        the state of that unfinished step (rebuild or set the state before going on)."""
+        h = self._idle()
+        if not callable(fn):
+            raise TypeError("add_external_force: fn(sim, forces, torques) -> energy is needed, not %r" % (fn,))
+        n, nrot = self.count, self._nrot
+
+        def call(f, k, virial, energy, forces_only):
+            try:
+                F = np.ctypeslib.as_array(f, shape=(n, 3))
+                K = np.ctypeslib.as_array(k, shape=(nrot, 3)) if nrot else np.zeros((0, 3))
+                u = fn(self, F, K)
+                if isinstance(u, (bool, np.bool_)) or not isinstance(u, (int, float, np.integer, np.floating)):
+                    raise TypeError("the external force returned %r: its energy (a number) is needed" % (u,))
+                if not np.isfinite(u):
+                    raise ValueError("the external force returned the energy %r, not finite" % (u,))
+                energy[0] = float(u)
+                return 0
+            except BaseException as e:
+                self._ext_raised.append(e)
+                return 1
+
+        cb = _native.FORCE_CALLBACK(call)
+        if self._external is not None:
+            raise Error("the simulation has an external force already")
+        self._external = cb  # kept alive as long as the simulation
+        st = lib.rlpy_add_external(h, cb)
+        self._energy_names()
+        self._raise_external()
+        if st:
+            _fail(st)
+
+    def _raise_external(self):
+        if self._ext_raised:
+            e, self._ext_raised = self._ext_raised[0], []
+            raise e
 
     # ------------------------------------------------------------------ values
     def report(self):
@@ -279,6 +359,7 @@ class Simulation:
 
     @property
     def box(self):
+        """Box edges (3,) of the current state (nm in real units)."""
         L = np.empty(3)
         lib.rlpy_box(self._handle(), dptr(L))
         return L
@@ -325,6 +406,39 @@ class Simulation:
                     doc="unit axes (n, 3) of point dipoles and linear bodies")
     forces = property(lambda s: s._get(_FORCE), doc="forces at the current state (n, 3)")
     torques = property(lambda s: s._get(_TORQUE), doc="lab-frame torques at the current state (n_rotating, 3)")
+
+    def molecule(self):
+        """The simulation's molecule (the deck's model with its parameters) as a dict of the
+        rotleap.Model fields mass, inertia, site_names, sites (body frame, (nsites, 3)),
+        site_mass, sigma, epsilon, charge, dipole, quadrupole."""
+        from .catalog import molecule
+        h = self._handle()
+        return molecule(lambda *a: lib.rlpy_molecule(h, *a))
+
+    def site_positions(self):
+        """Lab positions of every site (n, nsites, 3): the centre plus A^T times the body-frame
+        site (matrix bodies), or the centre plus the site's z times the axis (axis bodies)."""
+        m = self.molecule()
+        x = self.positions
+        if self.kind in ("dipole", "linear"):
+            return x[:, None, :] + m["sites"][None, :, 2, None] * self.axes[:, None, :]
+        if self.kind == "point":
+            return x[:, None, :] + np.zeros((1, len(m["sites"]), 3))
+        return x[:, None, :] + np.einsum("nji,sj->nsi", self.orientations, m["sites"])
+
+    def interactions(self):
+        """The deck's interaction settings: {cutoff, scheme ('site' or 'molecule'), lj
+        ('plain', 'shifted', 'shifted-force', 'switched'), dispersion_correction (bool), eps_rf,
+        coulomb ('rf', 'ewald', 'pme'), ewald_tolerance, ewald_alpha (0: derived), pme_grid
+        (0s: derived), pme_order, ewald_boundary (inf: tin foil), ewald_kmax, dipole ('rf', 'sf')}."""
+        v = np.zeros(17)
+        lib.rlpy_interactions(self._handle(), dptr(v))
+        return dict(cutoff=v[0], scheme=("site", "molecule")[int(v[1])],
+                    lj=("plain", "shifted", "shifted-force", "switched")[int(v[2])],
+                    dispersion_correction=bool(v[3]), eps_rf=v[4], coulomb=("rf", "ewald", "pme")[int(v[5])],
+                    ewald_tolerance=v[6], ewald_alpha=v[7], pme_grid=tuple(int(g) for g in v[8:11]),
+                    pme_order=int(v[11]), ewald_boundary=v[12], ewald_kmax=tuple(int(k) for k in v[13:16]),
+                    dipole=("rf", "sf")[int(v[16])])
 
     @property
     def fallbacks(self):

@@ -47,18 +47,55 @@ def test_import():
 
 @pytest.mark.parametrize("deck,sets", [("stockmayer.ini", STOCKMAYER), ("tip4p.ini", TIP4P),
                                        ("nve", NVE)], ids=["stockmayer", "tip4p", "stockmayer-nve"])
+def checkpoint_parts(path):
+    """A checkpoint file (docs/files.md) as its header, state section and run record sections
+    {tag: bytes}."""
+    data = path.read_bytes()
+    magic = b"rotleap-run-5"
+    m = data.index(magic)
+    size = int.from_bytes(data[m - 8:m], "little")
+    blob, sections, at = data[m:m + size], {}, 16
+    while at < len(blob):
+        tag, n = blob[at:at + 4].decode(), int.from_bytes(blob[at + 4:at + 12], "little")
+        sections[tag] = blob[at + 12:at + 12 + n]
+        at += 12 + n
+    return data[:16], data[24:m - 8], sections
+
+
+@pytest.mark.parametrize("deck,sets", [("stockmayer.ini", STOCKMAYER), ("tip4p.ini", TIP4P),
+                                       ("nve", NVE)], ids=["stockmayer", "tip4p", "stockmayer-nve"])
 def test_same_run_as_cli(cli, tmp_path, deck, sets):
-    """The deck run by rotleap run and from Python: thermo files byte for byte, and the final
+    """The deck run by rotleap run and from Python with the built-in reporters: thermo and
+    trajectory files byte for byte; checkpoints byte for byte in the state and in every section
+    of the run record but MARK (which names the output files of the run that wrote it); the final
     state (read back from rotleap run's checkpoint) bit for bit."""
     deck = nve_deck(tmp_path) if deck == "nve" else example(deck)
+    sets = dict(sets, **{"output.trajectory_every": 20, "output.checkpoint_every": 40})
     run_cli(cli, deck, tmp_path, *sets_of(sets), "output.prefix=cli")
     sim = rotleap.Simulation(deck, set=sets)
     th = rotleap.ThermoReporter(str(tmp_path / "py.thermo.csv"))
-    sim.run(reporters=[th])
+    ext = "dcd" if sim.kind not in ("dipole", "linear", "point") else "xyz"
+    tr = rotleap.TrajectoryReporter(tmp_path / ("py." + ext))
+    chk = rotleap.CheckpointReporter(tmp_path / "py.chk")
+    mid = []  # the checkpoint written at step 40, kept by a reporter called after chk's
+    keep = rotleap.CallbackReporter(lambda s, r: mid.append(checkpoint_parts(tmp_path / "py.chk")), 40, "state")
+    sim.run(reporters=[th, tr, chk, keep])
     th.close()
+    tr.close()
     cli_rows = (tmp_path / "cli.thermo.csv").read_text()
     assert (tmp_path / "py.thermo.csv").read_text() == cli_rows
     assert len(cli_rows.splitlines()) > 3
+    assert (tmp_path / ("py." + ext)).read_bytes() == (tmp_path / ("cli." + ext)).read_bytes()
+    if ext == "dcd":
+        assert (tmp_path / "py.pdb").read_bytes() == (tmp_path / "cli.pdb").read_bytes()
+    head_c, state_c, rec_c = checkpoint_parts(tmp_path / "cli.chk")
+    head_p, state_p, rec_p = checkpoint_parts(tmp_path / "py.chk")
+    assert head_p == head_c and state_p == state_c
+    assert set(rec_p) == set(rec_c) and "MARK" in rec_c and "BOOK" in rec_c and "PHYS" in rec_c
+    for tag in rec_c:
+        assert tag == "MARK" or rec_p[tag] == rec_c[tag], tag
+    assert mid and mid[0][1] != state_c  # the checkpoint of step 40 was another state
+    assert int.from_bytes(mid[0][2]["BOOK"][-24:-16], "little") == 40  # its run record's steps done
     back = rotleap.Simulation(deck, set=dict(sets, **{"system.start": str(tmp_path / "cli.chk")}))
     assert back.current_step == sim.current_step == sets["run.steps"]
     quantities = ["positions", "velocities", "angular_momenta"]
@@ -276,3 +313,17 @@ def test_catalogue_and_from_model():
     assert np.array_equal(a.positions, b.positions) and np.array_equal(a.axes, b.axes)
     with pytest.raises(rotleap.Error, match="no-such-model"):
         rotleap.Simulation.from_model("no-such-model", 10, box=3, set=keys)
+
+
+def test_rotleap_run_continues_a_python_checkpoint(cli, tmp_path):
+    """A CheckpointReporter's file is a start `rotleap run` continues bit for bit: 150 steps from
+    Python, the rest by rotleap run from the checkpoint, equal the 300 steps of rotleap run."""
+    deck = example("stockmayer.ini")
+    run_cli(cli, deck, tmp_path, *sets_of(STOCKMAYER), "output.prefix=whole")
+    sim = rotleap.Simulation(deck, set=STOCKMAYER)
+    sim.run(150, reporters=[rotleap.CheckpointReporter(tmp_path / "py.chk")])
+    run_cli(cli, deck, tmp_path, *sets_of(STOCKMAYER), "system.start=py.chk", "output.prefix=cont")
+    _, whole, rec_w = checkpoint_parts(tmp_path / "whole.chk")
+    _, cont, rec_c = checkpoint_parts(tmp_path / "cont.chk")
+    assert cont == whole
+    assert rec_c["BOOK"] == rec_w["BOOK"]  # the averages over the whole run, the thermostat's account
