@@ -30,7 +30,7 @@ typedef struct {
 } key_def;
 
 enum {
-  K_MODEL, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
+  K_MODEL, K_MOLFILE, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
   K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
@@ -39,7 +39,8 @@ enum {
 };
 
 static const key_def keys[NKEYS] = {
-    [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models); required"},
+    [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models), or a molecule the deck defines in a [molecule NAME] section (here or in system.molecules; see \"Molecules\" below); required"},
+    [K_MOLFILE] = {"system", "molecules", K_PATH, Q_NONE, NULL, NULL, "a molecule file: [molecule NAME] sections only, in the deck's line format, so that one file serves many decks; a relative path is taken from the deck's directory (from the current directory for a deck read from a pipe)"},
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
@@ -181,19 +182,40 @@ typedef struct {
   int section_bad;                  /* its header was refused: its keys are skipped           */
   int stopped;                      /* reading was stopped: the file is not a deck            */
   FILE *err;
+  /* [molecule NAME] sections: their headers and key lines, in order, with file and line */
+  struct { char *name; const char *file; int line; } mol[RL_DECK_MAX_MOLECULES];
+  int nmol;
+  struct { int mol; char *key, *val; const char *file; int line; } *ml;
+  int nml, cap_ml;
+  int molfile;                      /* reading system.molecules: [molecule] sections only      */
+  char *molpath;                    /* its path as opened (messages name it)                  */
 } raw_deck;
+
+static void vproblem(raw_deck *r, const char *file, int line, const char *fmt, va_list ap)
+{
+  if (line > 0) fprintf(r->err, "%s:%d: ", file, line);
+  else if (line < 0) fprintf(r->err, "--set: ");
+  else fprintf(r->err, "%s: ", file);
+  vfprintf(r->err, fmt, ap);
+  fputc('\n', r->err);
+  r->problems++;
+}
 
 static void problem(raw_deck *r, int line, const char *fmt, ...)
 {
   va_list ap;
   va_start(ap, fmt);
-  if (line > 0) fprintf(r->err, "%s:%d: ", r->path, line);
-  else if (line < 0) fprintf(r->err, "--set: ");
-  else fprintf(r->err, "%s: ", r->path);
-  vfprintf(r->err, fmt, ap);
-  fputc('\n', r->err);
+  vproblem(r, r->path, line, fmt, ap);
   va_end(ap);
-  r->problems++;
+}
+
+/* A problem at a line of another file (a molecule file). */
+static void problem_at(raw_deck *r, const char *file, int line, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vproblem(r, file, line, fmt, ap);
+  va_end(ap);
 }
 
 static int find_key(const char *section, const char *name)
@@ -260,8 +282,40 @@ static const char *default_text(int k)
   return !keys[k].def ? NULL : keys[k].def[0] ? keys[k].def : "none";
 }
 
+/* The molecule a [molecule NAME] section defines: its index, or -1 if section is not one. */
+static int molecule_section(const raw_deck *r, const char *section)
+{
+  if (strncmp(section, "molecule", 8) || (section[8] && !isspace((unsigned char)section[8]))) return -1;
+  const char *name = section + 8;
+  while (isspace((unsigned char)*name)) name++;
+  for (int i = r->nmol - 1; i >= 0; i--)
+    if (!strcmp(r->mol[i].name, name)) return i;
+  return -1;
+}
+
 static void store(raw_deck *r, const char *section, const char *name, const char *value, int line)
 {
+  const int mi = molecule_section(r, section);
+  if (mi >= 0 || !strncmp(section, "molecule ", 9)) {
+    if (line < 0) { problem(r, line, "[%s] %s: a molecule is defined in its section, not from the command line", section, name); return; }
+    if (mi < 0) return; /* its header was refused */
+    if (r->nml == r->cap_ml) {
+      const int cap = r->cap_ml ? 2 * r->cap_ml : 32;
+      void *t = realloc(r->ml, (size_t)cap * sizeof *r->ml);
+      if (!t) { problem(r, line, "out of memory"); return; }
+      r->ml = t;
+      r->cap_ml = cap;
+    }
+    r->ml[r->nml].mol = mi;
+    r->ml[r->nml].key = strdup(name);
+    r->ml[r->nml].val = strdup(value);
+    r->ml[r->nml].file = r->path;
+    r->ml[r->nml].line = line;
+    if (r->ml[r->nml].key && r->ml[r->nml].val) r->nml++;
+    else { free(r->ml[r->nml].key); free(r->ml[r->nml].val); problem(r, line, "out of memory"); }
+    return;
+  }
+  if (r->molfile) { problem(r, line, "[%s]: a molecule file holds [molecule NAME] sections only", section); return; }
   if (!strcmp(section, "model")) { /* model parameters, checked once the model is known */
     for (int i = 0; i < r->nmodel; i++)
       if (!strcmp(r->model_key[i], name)) {
@@ -291,7 +345,7 @@ static void store(raw_deck *r, const char *section, const char *name, const char
   if (k < 0) {
     int sec_known = 0;
     for (int j = 0; j < NKEYS; j++) sec_known |= !strcmp(keys[j].section, section);
-    if (!sec_known) problem(r, line, "unknown section [%s] (sections: system, model, interactions, run, output)", section);
+    if (!sec_known) problem(r, line, "unknown section [%s] (sections: system, model, molecule NAME, interactions, run, output)", section);
     else problem(r, line, "unknown key '%s' in [%s] (see rotleap run --help)", name, section);
     return;
   }
@@ -343,6 +397,44 @@ static int read_line(FILE *f, raw_deck *r, char *buf, size_t keep, size_t *len)
   return 1;
 }
 
+/* A section header [name]: 1 if its keys are to be read.  [molecule NAME] registers a molecule
+ * (a name of letters, digits and _ + - . at most 31 characters, defined once, not a catalogue
+ * model's); in a molecule file no other section is allowed. */
+static int new_molecule(raw_deck *r, const char *name)
+{
+  if (strncmp(name, "molecule", 8) || (name[8] && !isspace((unsigned char)name[8]))) {
+    if (r->molfile) { problem(r, r->lineno, "[%s]: a molecule file holds [molecule NAME] sections only", name); return 0; }
+    return 1;
+  }
+  const char *mn = name + 8;
+  while (isspace((unsigned char)*mn)) mn++;
+  size_t n = strlen(mn), ok = n > 0 && n < sizeof ((rl_deck_molecule *)0)->name;
+  for (size_t i = 0; i < n && ok; i++) ok = isalnum((unsigned char)mn[i]) || strchr("_+-.", mn[i]);
+  if (!ok) {
+    problem(r, r->lineno, "[%s]: a molecule's name is 1 to %zu letters, digits or _ + - . ([molecule water])", name,
+            sizeof ((rl_deck_molecule *)0)->name - 1);
+    return 0;
+  }
+  for (int i = 0; i < r->nmol; i++)
+    if (!strcmp(r->mol[i].name, mn)) {
+      problem(r, r->lineno, "[molecule %s] is defined twice (first at %s:%d)", mn, r->mol[i].file, r->mol[i].line);
+      return 0;
+    }
+  for (int i = 0; i < rl_catalog_count(); i++)
+    if (!strcmp(rl_catalog_get(i)->name, mn)) {
+      problem(r, r->lineno, "[molecule %s]: the catalogue has a model of that name (rotleap models): give yours another", mn);
+      return 0;
+    }
+  if (r->nmol == RL_DECK_MAX_MOLECULES) {
+    problem(r, r->lineno, "[molecule %s]: more than %d molecules defined", mn, RL_DECK_MAX_MOLECULES);
+    return 0;
+  }
+  if (!(r->mol[r->nmol].name = strdup(mn))) { problem(r, r->lineno, "out of memory"); return 0; }
+  r->mol[r->nmol].file = r->path;
+  r->mol[r->nmol++].line = r->lineno;
+  return 1;
+}
+
 /* One raw line of `len` characters (the first `keep` of them in buf, modified) checked against the
  * rules above; what libinih is to parse of it is left in *out ("" for nothing: a blank line, a
  * comment, a line refused here, or a long path line stored here). */
@@ -372,7 +464,7 @@ static void check_line(raw_deck *r, char *buf, size_t len, size_t keep, const ch
       if (strlen(name) > DECK_SECTION_MAX)
         problem(r, r->lineno, "the section name [%.20s...] has %zu characters, at most %d", name, strlen(name), DECK_SECTION_MAX);
       else if (*after) problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", name);
-      else {
+      else if (new_molecule(r, name)) {
         r->section_bad = 0;
         free(r->section);
         r->section = strdup(name);
@@ -839,6 +931,10 @@ static void start_file(raw_deck *r, rl_deck *d, const char *v)
 /* the values the handler stored (strdup'd) */
 static void raw_deck_free(raw_deck *r)
 {
+  for (int i = 0; i < r->nmol; i++) free(r->mol[i].name);
+  for (int i = 0; i < r->nml; i++) { free(r->ml[i].key); free(r->ml[i].val); }
+  free(r->ml);
+  free(r->molpath);
   for (int k = 0; k < NKEYS; k++) free(r->val[k]);
   for (int i = 0; i < r->nmodel; i++) { free(r->model_key[i]); free(r->model_val[i]); }
   free(r->section);
@@ -885,6 +981,300 @@ static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
     problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = anisotropic needs run.barostat = mc (C-rescale is isotropic or semiisotropic)");
   if (d->baro_aniso == 2 && mc)
     problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = semiisotropic needs run.barostat = c-rescale (mc is isotropic or anisotropic)");
+}
+
+/* ---- molecules a deck defines ([molecule NAME]) -------------------------------------------- */
+
+static int user_define(const rl_model *self, const double *params, int force_general, rl_molecule *m)
+{
+  (void)params;
+  const rl_deck_molecule *u = (const rl_deck_molecule *)self; /* model is its first member */
+  const char *names[RL_MOLECULE_MAX_SITES];
+  for (int a = 0; a < u->nsites; a++) names[a] = u->site_names[a];
+  const rl_molecule_def def = {u->name, u->nsites, names, &u->pos[0][0], u->mass, u->sigma, u->epsilon, u->charge,
+                               &u->dipole[0][0], u->quadrupole, {u->inertia[0], u->inertia[1], u->inertia[2]},
+                               u->symmetrize ? RL_DECK_SYMMETRIZE_RTOL : 0.0};
+  return rl_molecule_build(&def, force_general, m);
+}
+
+const rl_deck_molecule *rl_deck_user_molecule(const rl_deck *d)
+{
+  return d->model && d->model->define == user_define ? (const rl_deck_molecule *)d->model : NULL;
+}
+
+/* The units of a site's quantities that are not deck quantities (quantity.c): mass, charge,
+ * dipole, quadrupole.  1 D = 0.020819434 e nm (CODATA: 3.33564e-30 C m). */
+typedef enum { SQ_LENGTH, SQ_ENERGY, SQ_MASS, SQ_CHARGE, SQ_DIPOLE, SQ_QUADRUPOLE } site_qty;
+static const struct { site_qty q; const char *suffix; double factor; } site_units[] = {
+    {SQ_MASS, "amu", 1.0},        {SQ_MASS, "u", 1.0},           {SQ_MASS, "g/mol", 1.0},
+    {SQ_CHARGE, "e", 1.0},        {SQ_DIPOLE, "e*nm", 1.0},      {SQ_DIPOLE, "D", 0.020819434},
+    {SQ_DIPOLE, "e*A", 0.1},      {SQ_QUADRUPOLE, "e*nm^2", 1.0}, {SQ_QUADRUPOLE, "D*A", 0.0020819434},
+    {SQ_QUADRUPOLE, "e*A^2", 0.01}};
+static const char *const site_keywords[] = {"mass", "charge", "sigma", "epsilon", "dipole", "quadrupole"};
+
+static int site_keyword(const char *t)
+{
+  for (int k = 0; k < 6; k++)
+    if (!strcmp(t, site_keywords[k])) return k;
+  return -1;
+}
+
+/* 1 if token t starts with a number; the rest (an attached unit) in *rest. */
+static int numeric(const char *t, const char **rest)
+{
+  char *end;
+  (void)strtod(t, &end);
+  *rest = end;
+  return end != t;
+}
+
+/* One value of a site: the number `num` (with an attached unit, or `unit` from the token after
+ * the numbers, or bare) as quantity q in units u.  0, or -1 with a message in err. */
+static int site_value(const char *num, const char *unit, site_qty q, rl_units u, double *out, char *err, size_t n)
+{
+  const char *att;
+  numeric(num, &att);
+  const char *un = *att ? att : unit ? unit : "";
+  if (q == SQ_LENGTH || q == SQ_ENERGY) {
+    char buf[DECK_LINE_MAX + 32]; /* a token of a line: never cut */
+    snprintf(buf, sizeof buf, "%.*s%s%s", (int)(att - num), num, *un ? " " : "", un);
+    return rl_parse_quantity(buf, q == SQ_LENGTH ? Q_LENGTH : Q_ENERGY, u, 0, out, err, n);
+  }
+  char *end;
+  const double x = strtod(num, &end);
+  if (!isfinite(x)) { snprintf(err, n, "'%s' is not a finite number", num); return -1; }
+  double f = 1.0;
+  if (*un) {
+    if (u == RL_UNITS_LJ) { snprintf(err, n, "reduced (lj) units take no unit suffix (got '%s')", un); return -1; }
+    int found = 0;
+    for (size_t k = 0; k < sizeof site_units / sizeof site_units[0] && !found; k++)
+      if (site_units[k].q == q && !strcmp(site_units[k].suffix, un)) { f = site_units[k].factor; found = 1; }
+    if (!found) {
+      snprintf(err, n, "unit '%s' is not known here (mass: amu; charge: e; dipole: D, e*nm, e*A; quadrupole: D*A, "
+               "e*nm^2, e*A^2; bare numbers are in the first)", un);
+      return -1;
+    }
+  }
+  *out = x * f;
+  return 0;
+}
+
+/* A site line: "NAME x y z [UNIT] mass M [charge Q] [sigma S [UNIT]] [epsilon E [UNIT]]
+ * [dipole dx dy dz [UNIT]] [quadrupole Q [UNIT]]" into site a of dm.  0, or -1 reported. */
+static int site_line(raw_deck *r, const char *file, int line, const char *text, rl_deck_molecule *dm, int a)
+{
+  char *buf = strdup(text), *save, *tok[64];
+  if (!buf) { problem_at(r, file, line, "out of memory"); return -1; }
+  int nt = 0, st = 0;
+  for (char *t = strtok_r(buf, " \t", &save); t; t = strtok_r(NULL, " \t", &save)) {
+    if (nt == 64) { problem_at(r, file, line, "site: too many words"); free(buf); return -1; }
+    tok[nt++] = t;
+  }
+  const char *rest;
+  char err[256];
+  int given[6] = {0};
+#define SITE_FAIL(...) do { problem_at(r, file, line, __VA_ARGS__); st = -1; goto done; } while (0)
+  if (nt < 4) SITE_FAIL("site = NAME x y z [unit] mass M ...: give a name and three coordinates (got '%s')", text);
+  if (numeric(tok[0], &rest) || strlen(tok[0]) >= sizeof dm->site_names[0] || site_keyword(tok[0]) >= 0)
+    SITE_FAIL("site: '%s' is not a site name (1 to %zu characters, not a number or a keyword)", tok[0],
+              sizeof dm->site_names[0] - 1);
+  for (int b = 0; b < a; b++)
+    if (!strcmp(dm->site_names[b], tok[0])) SITE_FAIL("site %s: two sites of one name (RDFs and pair overrides name sites)", tok[0]);
+  snprintf(dm->site_names[a], sizeof dm->site_names[a], "%s", tok[0]);
+  int i = 1;
+  /* groups: the position (3 numbers), then keyword + 1 or 3 numbers, each with an optional unit */
+  for (int g = -1; i < nt || g < 0; g++) {
+    int kw = -1, nnum = 3;
+    if (g >= 0) {
+      kw = site_keyword(tok[i]);
+      if (kw < 0) SITE_FAIL("site %s: '%s' is not one of mass, charge, sigma, epsilon, dipole, quadrupole", tok[0], tok[i]);
+      if (given[kw]) SITE_FAIL("site %s: %s given twice", tok[0], tok[i]);
+      given[kw] = 1;
+      nnum = kw == 4 ? 3 : 1;
+      i++;
+    }
+    const char *what = kw < 0 ? "position" : site_keywords[kw];
+    const int first = i;
+    for (int k = 0; k < nnum; k++, i++)
+      if (i >= nt || !numeric(tok[i], &rest)) SITE_FAIL("site %s: %s needs %d number%s", tok[0], what, nnum, nnum > 1 ? "s" : "");
+    const char *unit = i < nt && site_keyword(tok[i]) < 0 && !numeric(tok[i], &rest) ? tok[i++] : NULL;
+    static const site_qty qty[6] = {SQ_MASS, SQ_CHARGE, SQ_LENGTH, SQ_ENERGY, SQ_DIPOLE, SQ_QUADRUPOLE};
+    const site_qty q = kw < 0 ? SQ_LENGTH : qty[kw];
+    double v[3];
+    for (int k = 0; k < nnum; k++)
+      if (site_value(tok[first + k], unit, q, dm->model.units, &v[k], err, sizeof err)) SITE_FAIL("site %s: %s: %s", tok[0], what, err);
+    if ((kw == 0 || kw == 2 || kw == 3) && !(v[0] >= 0))
+      SITE_FAIL("site %s: %s %g must be >= 0", tok[0], what, v[0]);
+    switch (kw) {
+    case -1: memcpy(dm->pos[a], v, sizeof dm->pos[a]); break;
+    case 0: dm->mass[a] = v[0]; break;
+    case 1: dm->charge[a] = v[0]; break;
+    case 2: dm->sigma[a] = v[0]; break;
+    case 3: dm->epsilon[a] = v[0]; break;
+    case 4: memcpy(dm->dipole[a], v, sizeof dm->dipole[a]); break;
+    default: dm->quadrupole[a] = v[0]; break;
+    }
+  }
+  if (!given[0]) SITE_FAIL("site %s has no mass: write mass M (mass 0 for a massless site, like TIP4P's M)", tok[0]);
+  if (given[2] != given[3]) SITE_FAIL("site %s: give sigma and epsilon together (an LJ site needs both)", tok[0]);
+#undef SITE_FAIL
+done:
+  free(buf);
+  return st;
+}
+
+/* The molecule i's lines into dm, checked; then built (rl_molecule_build), its messages at the
+ * line of the site they name.  0, or the number of problems reported. */
+static int parse_molecule(raw_deck *r, int i, rl_deck_molecule *dm)
+{
+  const int before = r->problems;
+  const char *file = r->mol[i].file;
+  memset(dm, 0, sizeof *dm);
+  snprintf(dm->name, sizeof dm->name, "%s", r->mol[i].name);
+  dm->model.name = dm->name;
+  dm->model.description = "a molecule defined in a deck";
+  dm->model.reference = "the deck's [molecule] section";
+  dm->model.units = RL_UNITS_REAL;
+  dm->model.define = user_define;
+  int site_line_no[RL_MOLECULE_MAX_SITES], seen_units = 0, seen[4] = {0};
+  /* units first: the sites' values depend on them */
+  for (int j = 0; j < r->nml; j++)
+    if (r->ml[j].mol == i && !strcmp(r->ml[j].key, "units")) {
+      if (seen_units) problem_at(r, r->ml[j].file, r->ml[j].line, "[molecule %s] units given twice", dm->name);
+      seen_units = 1;
+      if (!strcmp(r->ml[j].val, "lj")) dm->model.units = RL_UNITS_LJ;
+      else if (strcmp(r->ml[j].val, "real"))
+        problem_at(r, r->ml[j].file, r->ml[j].line, "[molecule %s] units: '%s' is not real or lj", dm->name, r->ml[j].val);
+    }
+  for (int j = 0; j < r->nml; j++) {
+    if (r->ml[j].mol != i) continue;
+    const char *k = r->ml[j].key, *v = r->ml[j].val, *f = r->ml[j].file;
+    const int ln = r->ml[j].line;
+    static const char *const single[4] = {"inertia", "symmetrize", "mixing", "description"};
+    for (int s = 0; s < 4; s++)
+      if (!strcmp(k, single[s]) && seen[s]++) problem_at(r, f, ln, "[molecule %s] %s given twice", dm->name, k);
+    if (!strcmp(k, "units")) continue;
+    if (!strcmp(k, "site")) {
+      if (dm->nsites == RL_MOLECULE_MAX_SITES) {
+        problem_at(r, f, ln, "[molecule %s]: more than %d sites", dm->name, RL_MOLECULE_MAX_SITES);
+        continue;
+      }
+      if (!site_line(r, f, ln, v, dm, dm->nsites)) site_line_no[dm->nsites++] = ln;
+    } else if (!strcmp(k, "inertia")) { /* a single-centre dipole's moment I (or I I I) */
+      char *end;
+      double x[3];
+      int n = 0;
+      const char *p = v;
+      while (n < 3 && *p) {
+        x[n] = strtod(p, &end);
+        if (end == p) break;
+        n++;
+        p = end + strspn(end, " \t");
+      }
+      if (*p || (n != 1 && n != 3) || !isfinite(x[0]) || !(x[0] > 0) || (n == 3 && (!isfinite(x[1]) || !isfinite(x[2]))))
+        problem_at(r, f, ln, "[molecule %s] inertia: '%s' is not one positive number or three (%s)", dm->name, v,
+                   dm->model.units == RL_UNITS_LJ ? "m sigma^2" : "amu nm^2");
+      else for (int c = 0; c < 3; c++) dm->inertia[c] = x[n == 1 ? 0 : c];
+    } else if (!strcmp(k, "symmetrize")) {
+      if (!strcmp(v, "yes")) dm->symmetrize = 1;
+      else if (strcmp(v, "no")) problem_at(r, f, ln, "[molecule %s] symmetrize: '%s' is not yes or no", dm->name, v);
+    } else if (!strcmp(k, "mixing")) {
+      if (!strcmp(v, "geometric")) dm->model.geometric_mixing = 1;
+      else if (strcmp(v, "lorentz-berthelot"))
+        problem_at(r, f, ln, "[molecule %s] mixing: '%s' is not lorentz-berthelot or geometric", dm->name, v);
+    } else if (strcmp(k, "description"))
+      problem_at(r, f, ln, "[molecule %s]: unknown key '%s' (site, units, inertia, symmetrize, mixing, description)", dm->name, k);
+  }
+  if (r->problems > before) return r->problems - before;
+  if (!dm->nsites) {
+    problem_at(r, file, r->mol[i].line, "[molecule %s] has no sites (site = NAME x y z mass M ...)", dm->name);
+    return r->problems - before;
+  }
+  /* coincident sites: one site carries all of a point's parameters */
+  double ext = 0.0;
+  for (int a = 0; a < dm->nsites; a++)
+    for (int b = 0; b < a; b++)
+      ext = fmax(ext, hypot(hypot(dm->pos[a][0] - dm->pos[b][0], dm->pos[a][1] - dm->pos[b][1]), dm->pos[a][2] - dm->pos[b][2]));
+  for (int a = 0; a < dm->nsites; a++)
+    for (int b = 0; b < a; b++) {
+      const double dist = hypot(hypot(dm->pos[a][0] - dm->pos[b][0], dm->pos[a][1] - dm->pos[b][1]), dm->pos[a][2] - dm->pos[b][2]);
+      if (dist <= 1e-9 * ext || dist == 0.0) {
+        problem_at(r, file, site_line_no[a], "[molecule %s] sites %s and %s coincide: give one site all of the "
+                   "point's parameters", dm->name, dm->site_names[b], dm->site_names[a]);
+        return r->problems - before;
+      }
+    }
+  rl_molecule m;
+  if (rl_model_build(&dm->model, NULL, 0, &m)) {
+    const char *msg = rl_last_error(), *at = strstr(msg, ": site ");
+    int a = -1;
+    if (at && sscanf(at, ": site %d (", &a) != 1) a = -1;
+    const int ln = a >= 0 && a < dm->nsites ? site_line_no[a] : r->mol[i].line;
+    problem_at(r, file, ln, "[molecule %s]: %s", dm->name, msg);
+    return r->problems - before;
+  }
+  dm->model.family = m.natural_kind;
+  return 0;
+}
+
+/* system.molecules: the file's [molecule] sections, read like the deck's (the same line format),
+ * a relative path taken from the deck's directory. */
+static void read_molecule_file(raw_deck *r, const char *deck)
+{
+  const char *v = r->val[K_MOLFILE];
+  struct stat sd;
+  const int from_dir = v[0] != '/' && !stat(deck, &sd) && S_ISREG(sd.st_mode) && strrchr(deck, '/');
+  const size_t dn = from_dir ? (size_t)(strrchr(deck, '/') - deck) + 1 : 0;
+  if (!(r->molpath = malloc(dn + strlen(v) + 1))) { problem(r, r->line[K_MOLFILE], "out of memory"); return; }
+  memcpy(r->molpath, deck, dn);
+  strcpy(r->molpath + dn, v);
+  struct stat sb;
+  FILE *f = NULL;
+  if (stat(r->molpath, &sb)) problem(r, r->line[K_MOLFILE], "system.molecules: cannot open %s: %s", r->molpath, strerror(errno));
+  else if (!S_ISREG(sb.st_mode)) problem(r, r->line[K_MOLFILE], "system.molecules: %s is not a regular file (%s)", r->molpath, file_kind(sb.st_mode));
+  else if (sb.st_size > DECK_BYTES_MAX) problem(r, r->line[K_MOLFILE], "system.molecules: %s is more than 1 MiB", r->molpath);
+  else if (!(f = fopen(r->molpath, "r"))) problem(r, r->line[K_MOLFILE], "system.molecules: cannot open %s: %s", r->molpath, strerror(errno));
+  if (!f) return;
+  const char *deck_path = r->path;
+  char *section = r->section;
+  const int lineno = r->lineno, bad = r->section_bad;
+  const long bytes = r->bytes;
+  r->path = r->molpath;
+  r->section = NULL;
+  r->lineno = 0;
+  r->section_bad = 0;
+  r->bytes = 0;
+  r->molfile = 1;
+  read_deck(f, r);
+  fclose(f);
+  free(r->section);
+  r->molfile = 0;
+  r->path = deck_path;
+  r->section = section;
+  r->lineno = lineno;
+  r->section_bad = bad;
+  r->bytes = bytes;
+  r->stopped = 0;
+}
+
+/* Every [molecule] section parsed into d->molecules; system.model resolved among them first,
+ * then in the catalogue. */
+static void resolve_model(raw_deck *r, rl_deck *d)
+{
+  const int before = r->problems;
+  if (r->val[K_MOLFILE] && !r->bad[K_MOLFILE]) read_molecule_file(r, d->path);
+  for (int i = 0; i < r->nmol; i++)
+    if (!parse_molecule(r, i, &d->molecules[d->nmolecules])) d->nmolecules++;
+  require(r, K_MODEL);
+  if (!r->val[K_MODEL] || r->bad[K_MODEL]) return;
+  for (int i = 0; i < d->nmolecules; i++)
+    if (!strcmp(d->molecules[i].name, r->val[K_MODEL])) { d->model = &d->molecules[i].model; return; }
+  for (int i = 0; i < r->nmol; i++)
+    if (!strcmp(r->mol[i].name, r->val[K_MODEL])) return; /* defined, with its problems reported */
+  if (r->val[K_MOLFILE] && before < r->problems) return;   /* perhaps defined in a file that did not load */
+  d->model = rl_catalog_find(r->val[K_MODEL]);
+  if (!d->model)
+    problem(r, r->line[K_MODEL], "system.model: %s%s", rl_last_error(), r->nmol ? " (or a [molecule NAME] of the deck)" : "");
 }
 
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
@@ -939,11 +1329,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
 
   /* the model decides the unit system */
-  require(&r, K_MODEL);
-  if (r.val[K_MODEL] && !r.bad[K_MODEL]) {
-    d->model = rl_catalog_find(r.val[K_MODEL]);
-    if (!d->model) problem(&r, r.line[K_MODEL], "system.model: %s", rl_last_error());
-  }
+  resolve_model(&r, d);
   rl_units u = d->model ? d->model->units : RL_UNITS_REAL;
   d->units = u;
   if (d->model) {
@@ -1190,4 +1576,42 @@ void rl_deck_print_keys(FILE *f, int md)
     fprintf(f, "\n## [model]\n\nAdjustable parameters of reduced models, by name, for example "
                "`mu = 1.5` for `stockmayer` (see `rotleap models`). A parameter must be a number >= 0 "
                "whose square is a finite double (the energies use it: `mu = 1e155` is refused).\n");
+  if (md)
+    fprintf(f, "\n## Molecules: [molecule NAME]\n\n"
+               "A deck runs a catalogue model or a rigid molecule of its own, defined by its sites in a "
+               "`[molecule NAME]` section of the deck or of the file `system.molecules` names (a file of such "
+               "sections only, in the deck's line format, so that one file serves many decks; a relative path is "
+               "taken from the deck's directory). `system.model = NAME` runs it. rotleap computes the centre of "
+               "mass, the inertia tensor and the principal axes, classifies the molecule to the cheapest exact "
+               "family (point, dipole, linear, spherical, symmetric, asymmetric: docs/integrators.md) and picks the "
+               "pair kernel from its site pattern as for the catalogue: TIP4P written out site by site runs bit for "
+               "bit as `model = tip4p` (tests/cli/molecule_tests.sh). The summary's `species` line gives the family, "
+               "the rotation path and the relative differences of the principal moments.\n\n"
+               "```\n[molecule water]\nunits = real\n"
+               "site = O  0 0 0 nm                 mass 15.9994 sigma 0.315365 nm epsilon 0.155 kcal/mol\n"
+               "site = H1 0.0756950 0 0.0585882 nm mass 1.008   charge 0.52\n"
+               "site = H2 -0.0756950 0 0.0585882 nm mass 1.008  charge 0.52\n"
+               "site = M  0 0 0.015 nm             mass 0       charge -1.04\n```\n\n"
+               "| key | meaning |\n|---|---|\n"
+               "| `site` | one line per site, in order: `NAME x y z [unit]` then any of `mass M` (required; 0 for a "
+               "massless site such as TIP4P's M), `charge Q`, `sigma S [unit]` and `epsilon E [unit]` (together), "
+               "`dipole dx dy dz [unit]` (a point dipole; along the molecular axis), `quadrupole Q [unit]` (a linear "
+               "point quadrupole, along the axis of a linear molecule or dipole). Positions in any frame (an example "
+               "geometry in the lab is fine). Units as the deck's quantities: lengths nm, A, pm; energies kJ/mol, "
+               "kcal/mol, K; mass amu; charge e; dipole e*nm, D, e*A; quadrupole e*nm^2, D*A, e*A^2; a bare number is "
+               "in the first; in lj units every value is bare (reduced). A unit follows the numbers it applies to, "
+               "as a word of its own (`0.1 0 0 nm`) or attached (`3.15A`). At most %d sites; site names of at most 7 "
+               "characters, each once |\n"
+               "| `units` | real (default) or lj: the deck's unit system, as a catalogue model's |\n"
+               "| `inertia` | a single-centre point dipole's moment I (or `I I I`), amu nm^2 or m sigma^2 |\n"
+               "| `mixing` | lorentz-berthelot (default) or geometric: the sigma of unlike LJ sites |\n"
+               "| `symmetrize` | yes: principal moments within %g relative count as equal and are replaced by their "
+               "mean (the sites stay where they are), for a symmetric top whose rounded coordinates miss the %g "
+               "tolerance; the summary warns of such a near miss and names this key |\n"
+               "| `description` | free text |\n\n"
+               "Refused, each at its file and line: a site without a mass, a molecule of no mass, coincident "
+               "sites, a negative mass, sigma or epsilon, a value that is not finite, an unknown unit or key, a "
+               "dipole off the molecular axis, a linear molecule with a site off its axis (beyond %g of its size), "
+               "a name the catalogue has, a molecule defined twice, another section in a molecule file.\n",
+            RL_MOLECULE_MAX_SITES, RL_DECK_SYMMETRIZE_RTOL, RL_INERTIA_RTOL, RL_AXIS_RTOL);
 }

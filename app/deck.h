@@ -32,9 +32,30 @@
  * (k-vector sum) or "pme" (smooth PME) of rotleap/ewald.h. */
 typedef enum { RL_DECK_COULOMB_RF = 0, RL_DECK_COULOMB_EWALD = 1, RL_DECK_COULOMB_PME = 2 } rl_deck_coulomb;
 
+/* A molecule a deck defines ([molecule NAME] in the deck or in system.molecules): a model like
+ * the catalogue's, whose define() builds it from these sites with rl_molecule_build.  model is
+ * the first member: d->model points at it (rl_deck_user_molecule finds the rest). */
+#define RL_DECK_MAX_MOLECULES 8
+#define RL_DECK_SYMMETRIZE_RTOL 1e-4 /* [molecule] symmetrize = yes: moments this close (relative) are equal;
+                                       the summary warns of a near miss below it */
+typedef struct {
+  rl_model model;
+  char name[32];
+  int nsites;
+  char site_names[RL_MOLECULE_MAX_SITES][8];
+  const char *site_ptrs[RL_MOLECULE_MAX_SITES];
+  double pos[RL_MOLECULE_MAX_SITES][3], mass[RL_MOLECULE_MAX_SITES];
+  double sigma[RL_MOLECULE_MAX_SITES], epsilon[RL_MOLECULE_MAX_SITES], charge[RL_MOLECULE_MAX_SITES];
+  double dipole[RL_MOLECULE_MAX_SITES][3], quadrupole[RL_MOLECULE_MAX_SITES];
+  double inertia[3];        /* [molecule] inertia: single-centre dipoles                 */
+  int symmetrize;           /* [molecule] symmetrize = yes: RL_DECK_SYMMETRIZE_RTOL      */
+} rl_deck_molecule;
+
 typedef struct {
   /* [system] */
-  const rl_model *model;
+  const rl_model *model;    /* a catalogue model, or &molecules[i].model                 */
+  rl_deck_molecule molecules[RL_DECK_MAX_MOLECULES]; /* the deck's [molecule] sections     */
+  int nmolecules;
   double params[RL_MODEL_MAX_PARAMS];
   int force_general;
   int count;
@@ -86,6 +107,9 @@ typedef struct {
 /* 1 if the molecule's trajectory is a DCD of its sites (+ a PDB topology), 0 if an extended XYZ
  * of centres and orientations (point dipoles, atoms). */
 int rl_deck_site_model(const rl_molecule *m);
+
+/* The deck's molecule behind d->model, or NULL for a catalogue model. */
+const rl_deck_molecule *rl_deck_user_molecule(const rl_deck *d);
 
 /* The integrators by name: run.integrator and `rotleap scan --integrators`. */
 typedef struct {

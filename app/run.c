@@ -650,11 +650,14 @@ static int species_text(const run_ctx *c, char *buf, size_t cap)
                   d01, d12, d02, RL_INERTIA_RTOL);
     const double dd[3] = {d01, d12, d02};
     for (int k = 0; k < 3 && n > 0 && (size_t)n < cap; k++)
-      if (dd[k] > RL_INERTIA_RTOL && dd[k] < 1e-6) {
+      if (dd[k] > RL_INERTIA_RTOL && dd[k] <= RL_DECK_SYMMETRIZE_RTOL) {
         n += snprintf(buf + n, cap - (size_t)n, "warning = two principal moments of %s differ by %.3g relative, just above "
                       "the tolerance %g for calling them equal: it is integrated as %s, not by the faster path of a "
-                      "more symmetric top; if the difference is rounding in its coordinates, symmetrise the model\n",
-                      m->name, dd[k], RL_INERTIA_RTOL, rl_kind_name(kind));
+                      "more symmetric top; if the difference is rounding in its coordinates, %s%s%s\n",
+                      m->name, dd[k], RL_INERTIA_RTOL, rl_kind_name(kind),
+                      rl_deck_user_molecule(c->d) ? "add symmetrize = yes to [molecule " : "symmetrise the model",
+                      rl_deck_user_molecule(c->d) ? m->name : "", rl_deck_user_molecule(c->d) ? "] (moments within 1e-4 "
+                      "relative are then made equal)" : "");
         break;
       }
   } else if (n > 0 && (size_t)n < cap) n += snprintf(buf + n, cap - (size_t)n, "\n");

@@ -41,7 +41,7 @@ static int site(site_table *t, const char *name, double x, double y, double z, d
 static int finish(const rl_model *self, site_table *t, int force_general, rl_molecule *m)
 {
   rl_molecule_def d = {self->name, t->n, t->names, &t->pos[0][0], t->mass, t->sigma, t->eps,
-                       t->q, &t->dip[0][0], t->quad, {t->inertia[0], t->inertia[1], t->inertia[2]}};
+                       t->q, &t->dip[0][0], t->quad, {t->inertia[0], t->inertia[1], t->inertia[2]}, 0.0};
   return rl_molecule_build(&d, force_general, m);
 }
 
@@ -192,6 +192,38 @@ static int def_nh3(const rl_model *s, const double *p, int fg, rl_molecule *m)
   return finish(s, &t, fg, m);
 }
 
+/* ---- atoms and ions: one LJ site (+ a charge) ---- */
+static int def_argon(const rl_model *s, const double *p, int fg, rl_molecule *m)
+{ /* Rahman 1964: sigma 3.405 A, eps/k 119.8 K; mass 39.948 (IUPAC) */
+  (void)p;
+  site_table t = {0};
+  site(&t, "Ar", 0, 0, 0, 39.948, 0.3405, 119.8 * KB_KJ, 0);
+  return finish(s, &t, fg, m);
+}
+/* Joung & Cheatham 2008, Table 5 (as AMBER's frcmod.ionsjc_{spce,tip3p,tip4pew}): Rmin/2 in A and
+ * eps in kcal/mol; sigma = 2^(5/6) Rmin/2; masses 22.99 and 35.45 (AMBER's, OpenMM's) */
+#define RMIN2_TO_SIGMA_NM(r) ((r) * pow(2.0, 5.0 / 6.0) * 0.1)
+static int ion(const rl_model *s, const char *name, double mass, double q, double rmin2_A, double eps_kcal,
+               int fg, rl_molecule *m)
+{
+  site_table t = {0};
+  site(&t, name, 0, 0, 0, mass, RMIN2_TO_SIGMA_NM(rmin2_A), eps_kcal * KCAL, q);
+  return finish(s, &t, fg, m);
+}
+#define ION(fn, site_name, mass, q, rmin2, eps)                                                          \
+  static int fn(const rl_model *s, const double *p, int fg, rl_molecule *m)                            \
+  {                                                                                                    \
+    (void)p;                                                                                           \
+    return ion(s, site_name, mass, q, rmin2, eps, fg, m);                                              \
+  }
+ION(def_na_spce, "Na", 22.99, 1.0, 1.212, 0.3526418)
+ION(def_cl_spce, "Cl", 35.45, -1.0, 2.711, 0.0127850)
+ION(def_na_tip3p, "Na", 22.99, 1.0, 1.369, 0.0874393)
+ION(def_cl_tip3p, "Cl", 35.45, -1.0, 2.513, 0.0355910)
+ION(def_na_tip4pew, "Na", 22.99, 1.0, 1.226, 0.1684375)
+ION(def_cl_tip4pew, "Cl", 35.45, -1.0, 2.760, 0.0116615)
+
+#define JC08 "I. S. Joung, T. E. Cheatham III, J. Phys. Chem. B 112, 9020 (2008), Table 5"
 static const rl_model catalog[] = {
     {"stockmayer", "Stockmayer fluid: LJ + point dipole (reduced units)",
      "W. H. Stockmayer, J. Chem. Phys. 9, 398 (1941); I* = 0.025 is a conventional choice, adjustable",
@@ -222,6 +254,14 @@ static const rl_model catalog[] = {
      RL_UNITS_REAL, RL_KIND_ASYMMETRIC, 0, 0, {NULL}, {NULL}, {0}, def_spce},
     {"tip3p", "water, TIP3P", "W. L. Jorgensen et al., J. Chem. Phys. 79, 926 (1983)",
      RL_UNITS_REAL, RL_KIND_ASYMMETRIC, 0, 0, {NULL}, {NULL}, {0}, def_tip3p},
+    {"argon", "argon, Lennard-Jones atom", "A. Rahman, Phys. Rev. 136, A405 (1964)",
+     RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_argon},
+    {"na-spce", "Na+ for SPC/E water (Joung-Cheatham)", JC08, RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_na_spce},
+    {"cl-spce", "Cl- for SPC/E water (Joung-Cheatham)", JC08, RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_cl_spce},
+    {"na-tip3p", "Na+ for TIP3P water (Joung-Cheatham)", JC08, RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_na_tip3p},
+    {"cl-tip3p", "Cl- for TIP3P water (Joung-Cheatham)", JC08, RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_cl_tip3p},
+    {"na-tip4pew", "Na+ for TIP4P-Ew water (Joung-Cheatham)", JC08, RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_na_tip4pew},
+    {"cl-tip4pew", "Cl- for TIP4P-Ew water (Joung-Cheatham)", JC08, RL_UNITS_REAL, RL_KIND_POINT, 0, 0, {NULL}, {NULL}, {0}, def_cl_tip4pew},
 };
 
 int rl_catalog_count(void) { return (int)(sizeof catalog / sizeof catalog[0]); }

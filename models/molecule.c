@@ -114,7 +114,10 @@ int rl_molecule_build(const rl_molecule_def *def, int force_general, rl_molecule
   double lam[3], V[9];
   int st = principal_axes(T, lam, V);
   if (st) return st;
-  double mx = lam[2], tol = RL_INERTIA_RTOL * mx;
+  const double rtol = def->inertia_rtol > 0.0 ? def->inertia_rtol : RL_INERTIA_RTOL;
+  if (!(rtol <= 1e-4))
+    return rl_error(RL_EINVAL, "molecule %s: inertia tolerance %g must be at most 1e-4", nm, def->inertia_rtol);
+  double mx = lam[2], tol = rtol * mx;
   rl_kind kind;
   double dipvec[3] = {0, 0, 0};
   int dip_site = -1;
@@ -210,6 +213,14 @@ int rl_molecule_build(const rl_molecule_def *def, int force_general, rl_molecule
                       "the axis of linear molecules and point dipoles only", nm, a, m->site_names[a]);
   }
   (void)dip_site;
+  if (kind == RL_KIND_SYMMETRIC || kind == RL_KIND_ASYMMETRIC) {
+    /* a planar molecule has J_c = J_a + J_b exactly; the eigenvalues may break that by round-off,
+     * which the system refuses as a violated triangle inequality: put the largest moment back on
+     * the sum when it exceeds it by no more than the tolerance */
+    const int c = lam[2] >= lam[0] && lam[2] >= lam[1] ? 2 : lam[1] >= lam[0] ? 1 : 0;
+    const double sum = lam[(c + 1) % 3] + lam[(c + 2) % 3];
+    if (lam[c] > sum && lam[c] - sum <= tol) lam[c] = sum;
+  }
   memcpy(m->axes, V, sizeof m->axes);
   memcpy(m->inertia, lam, sizeof m->inertia);
   m->natural_kind = kind;

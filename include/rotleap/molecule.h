@@ -15,7 +15,8 @@
  *
  * Two moments count as equal when |J_a - J_b| <= RL_INERTIA_RTOL max J (1e-10, system.h); a
  * moment is zero when J <= RL_INERTIA_RTOL max J.  Moments classified equal are replaced by their
- * mean; the change is below 1e-10 relative by construction.  The sites of a linear molecule (and
+ * mean; the change is below 1e-10 relative by construction (below def->inertia_rtol where a
+ * caller symmetrises a near miss with a larger tolerance).  The sites of a linear molecule (and
  * any dipole) must lie on the axis within RL_AXIS_RTOL = 1e-5 of the molecule's size -- the
  * distance at which a site's contribution to the zero moment reaches the 1e-10 tolerance -- and
  * are projected onto it; a site farther off (e.g. a massless charge) is an error, because it
@@ -50,6 +51,9 @@ typedef struct {
   const double *dipole;           /* [nsites][3] dipole vectors (same frame as pos) or NULL   */
   const double *quadrupole;       /* [nsites] linear quadrupole along the molecular axis, or NULL */
   double inertia[3];              /* single-centre molecules only: principal moments (I, I, I) */
+  double inertia_rtol;            /* 0: RL_INERTIA_RTOL.  Larger (at most 1e-4): moments closer than
+                                     inertia_rtol max J count as equal and are replaced by their mean,
+                                     symmetrising a near miss whose coordinates were rounded      */
 } rl_molecule_def;
 
 typedef struct {

@@ -159,13 +159,41 @@ static void catalogue_families(void **state)
     assert_true(ok);
     rl_molecule g;
     assert_int_equal(rl_model_build(md, NULL, 1, &g), RL_OK);
-    assert_int_equal(g.kind, RL_KIND_ASYMMETRIC);
+    assert_int_equal(g.kind, md->family == RL_KIND_POINT ? RL_KIND_POINT : RL_KIND_ASYMMETRIC); /* atoms do not rotate */
     assert_int_equal(g.natural_kind, md->family);
   }
   assert_null(rl_catalog_find("tip5p"));
   printf("check unknown model message: \"%s\" %s\n", rl_last_error(),
          strstr(rl_last_error(), "unknown model 'tip5p'") ? "ok" : "FAIL");
   assert_non_null(strstr(rl_last_error(), "unknown model 'tip5p' (known: stockmayer"));
+}
+
+/* Argon and the Joung-Cheatham ions (issue 35): one site, point family, the published numbers
+ * (Rmin/2 in A and eps in kcal/mol, as AMBER's frcmod.ionsjc_* files and OpenMM's XML give them;
+ * sigma = 2^(5/6) Rmin/2). */
+static void catalogue_atoms_ions(void **state)
+{
+  (void)state;
+  static const struct { const char *name; double mass, q, rmin2_A, eps_kcal; } t[] = {
+      {"na-spce", 22.99, 1, 1.212, 0.3526418},  {"cl-spce", 35.45, -1, 2.711, 0.0127850},
+      {"na-tip3p", 22.99, 1, 1.369, 0.0874393}, {"cl-tip3p", 35.45, -1, 2.513, 0.0355910},
+      {"na-tip4pew", 22.99, 1, 1.226, 0.1684375}, {"cl-tip4pew", 35.45, -1, 2.760, 0.0116615}};
+  for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+    rl_molecule m;
+    const rl_model *md = rl_catalog_find(t[i].name);
+    assert_non_null(md);
+    assert_int_equal(rl_model_build(md, NULL, 0, &m), RL_OK);
+    const double sigma = 2.0 * t[i].rmin2_A / pow(2.0, 1.0 / 6.0) * 0.1, eps = t[i].eps_kcal * 4.184;
+    const int ok = m.kind == RL_KIND_POINT && m.nsites == 1 && m.mass == t[i].mass && m.charge[0] == t[i].q &&
+                   fabs(m.sigma[0] - sigma) < 1e-15 && fabs(m.epsilon[0] - eps) < 1e-15;
+    printf("check %-10s sigma %.7f nm eps %.7f kJ/mol q %+g %s\n", t[i].name, m.sigma[0], m.epsilon[0], m.charge[0], ok ? "ok" : "FAIL");
+    assert_true(ok);
+  }
+  rl_molecule ar;
+  assert_int_equal(rl_model_build(rl_catalog_find("argon"), NULL, 0, &ar), RL_OK);
+  const int ok = ar.kind == RL_KIND_POINT && ar.sigma[0] == 0.3405 && fabs(ar.epsilon[0] - 0.99607) < 1e-5 && ar.mass == 39.948;
+  printf("check argon sigma %.4f nm eps %.6f kJ/mol (119.8 K) %s\n", ar.sigma[0], ar.epsilon[0], ok ? "ok" : "FAIL");
+  assert_true(ok);
 }
 
 /* Six sites on the axes, masses (1, 1 + e, 2): J = (6 + 2e, 6, 4 + 2e) -- two moments differ
@@ -394,7 +422,8 @@ static void mixed_species(void **state)
 
 int main(void)
 {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(catalogue_families), cmocka_unit_test(near_degenerate),
+  const struct CMUnitTest tests[] = {cmocka_unit_test(catalogue_families),
+      cmocka_unit_test(catalogue_atoms_ions), cmocka_unit_test(near_degenerate),
                                      cmocka_unit_test(fast_paths), cmocka_unit_test(conservation_per_family),
                                      cmocka_unit_test(mixed_species)};
   return cmocka_run_group_tests(tests, NULL, NULL);
