@@ -4,10 +4,11 @@
 set -euo pipefail
 build=(build-essential cmake pkg-config libgsl-dev libinih-dev libfftw3-dev)  # compiler, CMake, GSL, INI decks, FFTs (PME)
 testdeps=(libcmocka-dev python3 python3-mdtraj python3-mdanalysis python3-ase strace python3-numpy python3-pytest
-          python3-pip python3-setuptools)
+          python3-pip python3-setuptools python3-simtk libopenmm-plugins)
 # unit tests; JSON check; MDTraj and MDAnalysis read our DCD, ASE our extended XYZ; strace
 # injects failed writes (tests/io/inject_tests.sh); numpy, pytest, pip and setuptools: the Python
-# package, its install and its tests (docs/python.md)
+# package, its install and its tests (docs/python.md); OpenMM 7.7: the binding's to_openmm /
+# from_openmm tests (tests/python/test_interop.py), which skip without it
 python=(python3 python3-numpy python3-pytest python3-pip python3-setuptools)
 example=(python3 python3-matplotlib)                          # PNG plots of the default job
 validate=(python3-simtk libopenmm-plugins python3-numpy)      # OpenMM 7.7 cross-checks
