@@ -338,6 +338,25 @@ FILE *outputs_append(outputs *o, int k)
   return fp;
 }
 
+/* Sync the file open at fd (`name` in messages) and hash its bytes [*hashed, len) on into *hash
+ * (len < 0: up to its end); *hashed = len. */
+static int mark_fd(int fd, const char *name, int64_t len, int64_t *hashed, uint64_t *hash)
+{
+  struct stat st;
+  if (fsync(fd) != 0 || fstat(fd, &st) != 0) return rl_error(RL_EINVAL, "cannot write %s: %s", name, strerror(errno));
+  if (st.st_size < *hashed)
+    return rl_error(RL_EINVAL, "%s shrank from %lld to %lld bytes while the run wrote it", name, (long long)*hashed,
+                    (long long)st.st_size);
+  if (len < 0) len = st.st_size;
+  if (len < *hashed || len > st.st_size)
+    return rl_error(RL_EINVAL, "%s: a mark of its first %lld bytes, but it holds %lld and %lld are marked already", name,
+                    (long long)len, (long long)st.st_size, (long long)*hashed);
+  if (hash_range(fd, *hashed, len, hash) != 0)
+    return rl_error(RL_EINVAL, "cannot read back %s: %s", name, strerror(errno));
+  *hashed = len;
+  return RL_OK;
+}
+
 int outputs_mark(outputs *o, out_mark marks[OUT_NSTREAMS])
 {
   for (int k = 0; k < OUT_NSTREAMS; k++) {
@@ -347,18 +366,22 @@ int outputs_mark(outputs *o, out_mark marks[OUT_NSTREAMS])
     if (s->fp && fflush(s->fp) != 0) return rl_error(RL_EINVAL, "cannot write %s: %s", s->part, strerror(errno));
     if (s->rfd < 0 && (s->rfd = open(s->part, O_RDONLY | O_NOFOLLOW | O_CLOEXEC)) < 0)
       return rl_error(RL_EINVAL, "cannot read back %s: %s", s->part, strerror(errno));
-    struct stat st;
-    if (fsync(s->rfd) != 0 || fstat(s->rfd, &st) != 0)
-      return rl_error(RL_EINVAL, "cannot write %s: %s", s->part, strerror(errno));
-    if (st.st_size < s->hashed)
-      return rl_error(RL_EINVAL, "%s shrank from %lld to %lld bytes while the run wrote it", s->part,
-                      (long long)s->hashed, (long long)st.st_size);
-    if (hash_range(s->rfd, s->hashed, st.st_size, &s->hash) != 0)
-      return rl_error(RL_EINVAL, "cannot read back %s: %s", s->part, strerror(errno));
-    s->hashed = st.st_size;
-    marks[k] = (out_mark){MARK_PART, st.st_size, s->skip, s->hash};
+    const int st = mark_fd(s->rfd, s->part, -1, &s->hashed, &s->hash);
+    if (st) return st;
+    marks[k] = (out_mark){MARK_PART, s->hashed, s->skip, s->hash};
   }
   return RL_OK;
+}
+
+int outputs_mark_file(const char *path, out_tracker *t, int64_t len, out_mark *m)
+{
+  memset(m, 0, sizeof *m);
+  const int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return rl_error(RL_EINVAL, "cannot read back %s: %s", path, strerror(errno));
+  const int st = mark_fd(fd, path, len, &t->hashed, &t->hash);
+  close(fd);
+  if (!st) *m = (out_mark){MARK_FINAL, t->hashed, t->skip, t->hash};
+  return st;
 }
 
 int outputs_close(outputs *o)

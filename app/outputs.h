@@ -76,6 +76,16 @@ FILE *outputs_append(outputs *o, int k);
 /* Flush the streams' FILEs, sync every working file to disk and fill marks[OUT_NSTREAMS] with
  * where each stream is, its length and hash (MARK_NONE for streams not written). */
 int outputs_mark(outputs *o, out_mark marks[OUT_NSTREAMS]);
+/* A stream written under its final name by another writer (the Python binding's reporters):
+ * bytes [skip, hashed) of it are hashed into hash.  Start with {skip, skip, OUTPUTS_HASH_INIT}. */
+typedef struct {
+  int64_t skip, hashed;
+  uint64_t hash;
+} out_tracker;
+/* Sync the file at `path` and mark its first `len` bytes (len < 0: all it holds), hashing on from
+ * t (len must not be below t->hashed): m = {MARK_FINAL, len, t->skip, hash}, as outputs_mark and
+ * outputs_commit mark a run's stream. */
+int outputs_mark_file(const char *path, out_tracker *t, int64_t len, out_mark *m);
 /* Close the FILEs the outputs own (checked).  The first failure is returned. */
 int outputs_close(outputs *o);
 /* Rename every working file over its name, sync the directory, and turn marks (from

@@ -12,6 +12,8 @@ CALLBACK = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int)
 FORCE_CALLBACK = ctypes.CFUNCTYPE(ctypes.c_int, _dbl_p, _dbl_p, _dbl_p, _dbl_p, ctypes.c_int)
 
 INTERRUPTED = -2       # rlpy_run: SIGINT between two steps
+# the streams a checkpoint marks (app/outputs.h OUT_*): rlpy_stream
+THERMO, TRAJ, TOPOLOGY, SAMPLES, NSTREAMS = range(5)
 REPORTER_RAISED = -3   # rlpy_run: a Python reporter raised
 
 
@@ -35,12 +37,16 @@ def _load():
         "rlpy_trajectory_every": (ctypes.c_long, [P]),
         "rlpy_checkpoint_every": (ctypes.c_long, [P]),
         "rlpy_site_trajectory": (ctypes.c_int, [P]),
-        "rlpy_checkpoint": (ctypes.c_int, [P, ctypes.c_char_p]),
+        "rlpy_checkpoint": (ctypes.c_int, [P, ctypes.c_char_p, ctypes.POINTER(ctypes.c_long)]),
+        "rlpy_stream": (ctypes.c_int, [P, ctypes.c_int, ctypes.c_char_p, ctypes.c_long]),
+        "rlpy_journal_open": (ctypes.c_int, [P, ctypes.c_char_p]),
+        "rlpy_journal_close": (ctypes.c_int, [P]),
         "rlpy_add_external": (ctypes.c_int, [P, FORCE_CALLBACK]),
         "rlpy_scan": (ctypes.c_int, [ctypes.c_int, ctypes.POINTER(ctypes.c_char_p)]),
         "rlpy_traj_open": (P, [P, ctypes.c_char_p, ctypes.c_int, ctypes.c_long, ctypes.c_char_p]),
         "rlpy_traj_frame": (ctypes.c_int, [P, P]),
         "rlpy_traj_close": (ctypes.c_int, [P]),
+        "rlpy_traj_skip": (ctypes.c_long, [P]),
         "rlpy_real_units": (ctypes.c_int, [P]),
         "rlpy_model": (ctypes.c_char_p, [P]),
         "rlpy_fallbacks": (ctypes.c_long, [P]),

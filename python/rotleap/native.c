@@ -3,7 +3,9 @@
  * (python/rotleap/_native.py declares every function below).  Plain types only: ints, longs,
  * doubles, double arrays the caller owns, and one callback.  Every call that can fail returns
  * an rl status (RL_OK = 0) with the message in rlpy_error(); the library never prints. */
+#include "analysis.h"
 #include "deck.h"
+#include "outputs.h"
 #include "runrec.h"
 #include "scan.h"
 #include "scene.h"
@@ -14,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define RLPY_API __attribute__((visibility("default")))
 
@@ -38,6 +41,14 @@ typedef struct {
   running avg[6];          /* the checkpoint's averages, as rotleap run keeps them: the
                               conserved energy, potential, T, T_trans, T_rot, pressure  */
   char *physics;           /* the deck's settings that define the simulation (PHYS)     */
+  struct {                 /* the streams the built-in reporters write (OUT_*: thermo,
+                              trajectory, topology, analysis journal), which a checkpoint
+                              marks as rotleap run marks its own (outputs.h)            */
+    char *path;            /* NULL: none                                                */
+    out_tracker t;
+  } streams[OUT_NSTREAMS];
+  analysis *an;            /* rotleap run's analysis, journaled to `journal` (or NULL)  */
+  FILE *journal;
 } rlpy_sim;
 
 typedef struct {
@@ -50,9 +61,13 @@ typedef struct {
 RLPY_API const char *rlpy_error(void) { return rl_last_error(); }
 RLPY_API const char *rlpy_version(void) { return ROTLEAP_VERSION; }
 
+RLPY_API int rlpy_journal_close(rlpy_sim *p);
+
 RLPY_API void rlpy_close(rlpy_sim *p)
 {
   if (!p) return;
+  rlpy_journal_close(p);
+  for (int k = 0; k < OUT_NSTREAMS; k++) free(p->streams[k].path);
   rl_integrator_free(p->in);
   scene_free(&p->s);
   free(p->physics);
@@ -211,16 +226,27 @@ static int call_python(void *ctx, const rl_run_report *r)
   return RL_OK;
 }
 
-/* The averages a checkpoint's run record carries, on the steps with energies (rotleap run's
- * report_averages, without its analysis). */
+/* The averages a checkpoint's run record carries, on the steps with energies, and the
+ * analysis's record of the step when it has a journal (rotleap run's report_averages). */
 static int report_averages(void *ctx, const rl_run_report *r)
 {
   rlpy_sim *p = ctx;
   if (r->last) return RL_OK;
   const double x[6] = {r->info->conserved, r->info->potential, r->info->temperature, r->info->t_trans, r->info->t_rot,
                        scene_pressure_out(&p->d, r->pressure)};
+  if (p->an) {
+    const int st = analysis_step(p->an, r->info, x[5], r->forces, r->sys, r->box);
+    if (st) return rl_error_wrap(st, "step %ld", r->step);
+  }
   for (int k = 0; k < 6; k++) running_add(&p->avg[k], x[k]);
   return RL_OK;
+}
+
+/* The analysis's sample of the state (output.sample_every), as rotleap run's report_sample. */
+static int report_sample(void *ctx, const rl_run_report *r)
+{
+  const int st = analysis_sample(((rlpy_sim *)ctx)->an, r->sys);
+  return st ? rl_error_wrap(st, "step %ld", r->step) : RL_OK;
 }
 
 /* nsteps production steps with the reporters when[i] (RL_REPORT_STEP 0 / RL_REPORT_STATE 1)
@@ -242,6 +268,8 @@ RLPY_API int rlpy_run(rlpy_sim *p, long nsteps, int nrep, const int *when, const
   p->cb_status = 0;
   const rl_reporter avg = {"averages", RL_REPORT_STEP, p->d.energy_every, report_averages, p};
   if (!st) st = rl_run_add_reporter(drv, &avg);
+  const rl_reporter smp = {"samples", RL_REPORT_STATE, p->d.sample_every, report_sample, p};
+  if (!st && p->an && p->d.sample_every > 0) st = rl_run_add_reporter(drv, &smp);
   for (int i = 0; !st && i < nrep; i++) {
     reps[i] = (rlpy_rep){p, i};
     char name[32];
@@ -277,8 +305,10 @@ RLPY_API int rlpy_run(rlpy_sim *p, long nsteps, int nrep, const int *when, const
 
 /* A checkpoint of the current state (in a state reporter's call: the state after its step) at
  * `path`, with the run record `rotleap run` writes: the averages, thermostat account and random
- * state, neighbour-list origin, watch and the deck's settings; no output streams (MARK_NONE). */
-RLPY_API int rlpy_checkpoint(rlpy_sim *p, const char *path)
+ * state, neighbour-list origin, watch, the deck's settings, and the marks of the streams given
+ * to rlpy_stream (MARK_FINAL: they are written under their names), of stream k's first len[k]
+ * bytes (len NULL or len[k] < 0: all it holds; the journal is synced first). */
+RLPY_API int rlpy_checkpoint(rlpy_sim *p, const char *path, const long *len)
 {
   if (p->cur && p->cur->info) return rl_error(RL_ESTATE, "a checkpoint is written from a state reporter or between runs");
   const long step = p->cur ? p->cur->step : p->step;
@@ -295,7 +325,53 @@ RLPY_API int rlpy_checkpoint(rlpy_sim *p, const char *path)
   r.has_watch = 1;
   r.watch = p->drv ? *rl_run_watch(p->drv) : p->watch;
   r.relax_step = -1;
-  return runrec_write_checkpoint(path, p->s.sys, p->s.ff, p->in, &r, step, time);
+  int st = p->an && p->streams[OUT_SAMPLES].path ? analysis_journal_sync(p->an, NULL) : RL_OK;
+  for (int k = 0; k < OUT_NSTREAMS && !st; k++)
+    if (p->streams[k].path) st = outputs_mark_file(p->streams[k].path, &p->streams[k].t, len ? len[k] : -1, &r.marks[k]);
+  return st ? st : runrec_write_checkpoint(path, p->s.sys, p->s.ff, p->in, &r, step, time);
+}
+
+/* Stream k (OUT_THERMO 0, OUT_TRAJ 1, OUT_TOPOLOGY 2, OUT_SAMPLES 3) is the file at `path`, written
+ * from here on, with `skip` leading bytes outside its hash (a DCD's header); path NULL: none. */
+RLPY_API int rlpy_stream(rlpy_sim *p, int k, const char *path, long skip)
+{
+  if (k < 0 || k >= OUT_NSTREAMS) return rl_error(RL_EINVAL, "stream %d: no such stream", k);
+  char *copy = path ? strdup(path) : NULL;
+  if (path && !copy) return rl_error(RL_ENOMEM, "out of memory");
+  free(p->streams[k].path);
+  p->streams[k].path = copy;
+  p->streams[k].t = (out_tracker){skip, skip, OUTPUTS_HASH_INIT};
+  return RL_OK;
+}
+
+/* rotleap run's analysis from here on, journaled to a new file at `path` (rotleap run's
+ * PREFIX.samples, which its continuation replays), with a record of every step with energies and
+ * a sample every output.sample_every steps. */
+RLPY_API int rlpy_journal_open(rlpy_sim *p, const char *path)
+{
+  if (p->an) return rl_error(RL_EINVAL, "the simulation has an analysis journal already");
+  int fd, st = rl_file_create(path, &fd);
+  if (st) return st;
+  if (!(p->journal = fdopen(fd, "w"))) {
+    close(fd);
+    return rl_error(RL_EINVAL, "cannot open %s: %s", path, strerror(errno));
+  }
+  if (!(p->an = analysis_alloc(&p->d, &p->s.mol, p->s.sys))) st = RL_EINVAL;
+  if (!st) st = analysis_set_tconf(p->an, p->s.terms, p->s.ff);
+  if (!st) st = analysis_set_journal(p->an, p->journal, path);
+  if (st) rlpy_journal_close(p);
+  return st;
+}
+
+/* Ends the analysis and closes its journal (checked). */
+RLPY_API int rlpy_journal_close(rlpy_sim *p)
+{
+  analysis_free(p->an);
+  p->an = NULL;
+  int st = RL_OK;
+  if (p->journal && fclose(p->journal) != 0) st = rl_error(RL_EINVAL, "cannot write the analysis journal: %s", strerror(errno));
+  p->journal = NULL;
+  return st;
 }
 
 /* A trajectory written with io/'s writers as `rotleap run` writes PREFIX.dcd (dcd = 1: the
@@ -339,6 +415,15 @@ RLPY_API rlpy_traj *rlpy_traj_open(rlpy_sim *p, const char *path, int dcd, long 
     return NULL;
   }
   return t;
+}
+
+/* The leading bytes of the trajectory file outside its mark's hash: a DCD's header, which every
+ * frame rewrites (0 for XYZ); -1 with a message. */
+RLPY_API long rlpy_traj_skip(const rlpy_traj *t)
+{
+  long header = 0, frame;
+  if (t->dcd && rl_dcd_layout(t->path, &header, &frame)) return -1;
+  return header;
 }
 
 /* The frame of the current state (in a state reporter's call: after its step). */

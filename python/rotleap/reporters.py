@@ -8,7 +8,7 @@ import io
 import math
 import os
 
-from ._native import lib
+from ._native import lib, THERMO, TRAJ, TOPOLOGY, SAMPLES
 
 __all__ = ["Reporter", "CallbackReporter", "ThermoReporter", "TrajectoryReporter", "CheckpointReporter"]
 
@@ -46,12 +46,19 @@ class ThermoReporter(Reporter):
     """The rows of `rotleap run`'s PREFIX.thermo.csv, same columns, same number formats, every
     `every` steps (default: the deck's output.thermo_every) and the row of the last state.  calE,
     the running relative standard deviation of the conserved quantity, is taken over every step
-    with energies, as `rotleap run` takes it.  `file`: a path or a text file object."""
+    with energies, as `rotleap run` takes it.  `file`: a path or a text file object.  A file the
+    reporter opened (a path) is a stream the simulation's checkpoints mark, as rotleap run marks
+    its thermo file; when a later run() goes on, its row of the last state is replaced by the
+    row of the next run's first step, as rotleap run's continuation replaces it."""
 
     def __init__(self, file, every=None):
         super().__init__(every, "step")
         self._file = file
         self._f = None
+        self._own = False
+        self._sim = None
+        self._size = 0  # bytes written (the rows are ASCII)
+        self._pre_last = None  # the size before the row of the last state, until a run goes on
         self._n, self._mean, self._m2 = 0, 0.0, 0.0
 
     def cadence(self, sim):
@@ -62,17 +69,36 @@ class ThermoReporter(Reporter):
                 or self.every % sim.energy_every:
             raise ValueError("ThermoReporter: every = %r must be a multiple of output.energy_every (%d)"
                              % (self.every, sim.energy_every))
+        if self._f is None:
+            self._open(sim)
+        elif self._pre_last is not None and self._own:  # the run goes on: the last state's row goes
+            self._f.flush()
+            self._f.seek(self._pre_last)
+            self._f.truncate()
+            self._size = self._pre_last
+        self._pre_last = None
         return sim.energy_every
+
+    def _write(self, text):
+        self._f.write(text.encode() if self._own else text)
+        self._size += len(text)
 
     def _open(self, sim):
         if isinstance(self._file, (str, bytes, os.PathLike)):
-            self._f = open(self._file, "w")
+            self._f = open(self._file, "wb")
             self._own = True
+            self._sim = sim
+            sim._attach_stream(THERMO, self, self._file)
         else:
             self._f = self._file
             self._own = False
-        self._f.write("step,time,total,potential%s,ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,"
-                      "calE,t_trans_mid,t_rot_mid\n" % "".join("," + n for n in sim.energy_names))
+        self._write("step,time,total,potential%s,ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,"
+                    "calE,t_trans_mid,t_rot_mid\n" % "".join("," + n for n in sim.energy_names))
+
+    def _mark_length(self, k):
+        """The bytes a checkpoint marks: all but the row of the last state (rotleap run's marks)."""
+        self._f.flush()
+        return self._size if self._pre_last is None else self._pre_last
 
     def report(self, sim, r):
         """Accumulates calE and writes the row of r at the reporter's steps and at the last state."""
@@ -92,12 +118,17 @@ class ThermoReporter(Reporter):
         row += ",%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%s,%.6g,%.6g\n" % (
             r.ke_trans, r.ke_rot, r.temperature, r.t_trans, r.t_rot, r.pressure, r.conserved, _c_e4(calE),
             r.t_trans_mid, r.t_rot_mid)
-        self._f.write(row)
+        if r.last:
+            self._pre_last = self._size
+        self._write(row)
         if r.last:
             self._f.flush()
 
     def close(self):
-        """Closes the file if the reporter opened it (a path)."""
+        """Closes the file if the reporter opened it (a path); checkpoints no longer mark it."""
+        if self._sim is not None:
+            self._sim._detach_stream(THERMO, self)
+            self._sim = None
         if self._f is not None and self._own:
             self._f.close()
         self._f = None
@@ -141,6 +172,13 @@ class TrajectoryReporter(Reporter):
                 from .simulation import _fail
                 _fail()
             self._t, self._sim = t, sim
+            skip = lib.rlpy_traj_skip(t)
+            if skip < 0:
+                from .simulation import _fail
+                _fail()
+            sim._attach_stream(TRAJ, self, self.path, skip)  # marked by the checkpoints, as rotleap run's
+            if top:
+                sim._attach_stream(TOPOLOGY, self, top)
         elif sim is not self._sim:
             raise ValueError("TrajectoryReporter: %s is written by another simulation" % self.path)
         return self.every
@@ -151,8 +189,14 @@ class TrajectoryReporter(Reporter):
             from .simulation import _fail
             _fail()
 
+    def _mark_length(self, k):
+        return -1  # all the file holds: the frames are written through
+
     def close(self):
-        """Finishes and closes the trajectory file."""
+        """Finishes and closes the trajectory file (checkpoints no longer mark it)."""
+        if self._sim is not None:
+            self._sim._detach_stream(TRAJ, self)
+            self._sim._detach_stream(TOPOLOGY, self)
         if self._t is not None:
             t, self._t = self._t, None
             if lib.rlpy_traj_close(t):
@@ -169,18 +213,35 @@ class TrajectoryReporter(Reporter):
 class CheckpointReporter(Reporter):
     """Checkpoints of the state, by the library's writer, as `rotleap run` writes PREFIX.chk:
     every `every` steps (default the deck's output.checkpoint_every) and after run()'s last step
-    (finish), each replacing the last.  `rotleap run` continues from it (system.start)."""
+    (finish), each replacing the last.  With `journal` (default), rotleap run's analysis runs
+    from the first run() with the reporter on, its journal at PREFIX.samples beside PATH =
+    PREFIX.chk (PATH.samples for another name), and each checkpoint marks the files of the
+    simulation's built-in reporters (thermo, trajectory, topology, journal) as rotleap run marks
+    its own: for the same deck the checkpoint is rotleap run's byte for byte, and `rotleap run`
+    continues it (system.start = PATH), appending to those files under output.prefix = PREFIX.
+    close() ends the journal."""
 
-    def __init__(self, path, every=None):
+    def __init__(self, path, every=None, journal=True):
         super().__init__(every, "state")
         self.path = os.fspath(path)
+        self.journal = (self.path[:-4] if self.path.endswith(".chk") else self.path) + ".samples" if journal else None
+        self._sim = None
 
     def cadence(self, sim):
         """0 (at the end only) for every = None with the deck's output.checkpoint_every = 0."""
+        if self.journal and self._sim is None and SAMPLES not in sim._streams:
+            if lib.rlpy_journal_open(sim._handle(), self.journal.encode()):
+                from .simulation import _fail
+                _fail()
+            self._sim = sim
+            sim._attach_stream(SAMPLES, self, self.journal)
         if self.every is None and sim.checkpoint_every <= 0:
             return 0
         self.every = _every(self.every, sim.checkpoint_every, "CheckpointReporter")
         return self.every
+
+    def _mark_length(self, k):
+        return -1  # the journal as synced by the checkpoint
 
     def report(self, sim, r):
         """Writes the checkpoint of the state after r's step."""
@@ -189,6 +250,15 @@ class CheckpointReporter(Reporter):
     def finish(self, sim):
         """Writes the checkpoint of the last state (called by run() after its last step)."""
         sim.checkpoint(self.path)
+
+    def close(self):
+        """Ends the analysis journal (later checkpoints mark no journal)."""
+        sim, self._sim = self._sim, None
+        if sim is not None:
+            sim._detach_stream(SAMPLES, self)
+            if sim._h is not None and lib.rlpy_journal_close(sim._h):
+                from .simulation import _fail
+                _fail()
 
 
 def _c_e4(x):

@@ -95,6 +95,7 @@ class Simulation:
         self._report = None
         self._external = None
         self._ext_raised = []
+        self._streams = {}  # stream (_native.THERMO ...) -> the built-in reporter writing it
         tmp = None
         try:
             if text is not None:
@@ -221,11 +222,33 @@ class Simulation:
 
     def checkpoint(self, path):
         """Write the checkpoint of the current state to `path` with the library's writer, as
-        `rotleap run` writes PREFIX.chk (the same bytes for the same state, except that its run
-        record names no output streams); in a reporter, from a 'state' reporter only."""
+        `rotleap run` writes PREFIX.chk: its run record marks the files the built-in Thermo-,
+        Trajectory- and CheckpointReporter (its analysis journal) write for this simulation, as
+        rotleap run marks its streams, so that `rotleap run` continues them; in a reporter, from a
+        'state' reporter only."""
         h = self._handle()
-        if lib.rlpy_checkpoint(h, os.fsencode(path)):
+        lens = (ctypes.c_long * _native.NSTREAMS)(*([-1] * _native.NSTREAMS))
+        for k, owner in self._streams.items():
+            lens[k] = owner._mark_length(k)
+        if lib.rlpy_checkpoint(h, os.fsencode(path), lens):
             _fail()
+
+    def _attach_stream(self, k, owner, path, skip=0):
+        """owner (a built-in reporter) writes stream k at path: checkpoints mark it.  False if
+        another reporter writes that stream already (then this one is not marked)."""
+        if self._streams.get(k, owner) is not owner:
+            return False
+        if lib.rlpy_stream(self._handle(), k, os.fsencode(path), skip):
+            _fail()
+        self._streams[k] = owner
+        return True
+
+    def _detach_stream(self, k, owner):
+        """owner no longer writes stream k (it closed its file)."""
+        if self._streams.get(k) is owner:
+            del self._streams[k]
+            if self._h is not None:
+                lib.rlpy_stream(self._h, k, None, 0)
 
     def _run(self, steps, reporters, finish):
         h = self._idle()

@@ -29,3 +29,28 @@ def run_cli(cli, deck, cwd, *sets):
 
 def example(name):
     return os.path.join(SRC, "examples", name)
+
+
+def _ci():
+    return os.environ.get("CI") == "true"
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """Under CI (CI=true, as .ci/run sets it) a test that skips (a missing module such as
+    openmm or mdtraj, or no rotleap command) fails instead, naming the reason."""
+    outcome = yield
+    rep = outcome.get_result()
+    if _ci() and rep.skipped and not hasattr(rep, "wasxfail"):
+        reason = rep.longrepr[2] if isinstance(rep.longrepr, tuple) else str(rep.longrepr)
+        rep.outcome = "failed"
+        rep.longrepr = "CI=true: this test would have been skipped (%s); under CI a skip is a failure" % reason
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collectreport(report):
+    """The same for a whole module skipped when it is collected."""
+    if _ci() and report.skipped:
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        report.outcome = "failed"
+        report.longrepr = "CI=true: this module would have been skipped (%s); under CI a skip is a failure" % reason
