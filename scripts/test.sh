@@ -11,37 +11,52 @@ cmake -S . -B build-test -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON >/dev/nu
 cmake -S . -B build-noomp -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON -DROTLEAP_OPENMP=OFF \
   -DROTLEAP_TESTS=OFF -DROTLEAP_NO_CLONES=ON >/dev/null
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAP_WERROR=ON -DROTLEAP_SANITIZE=ON >/dev/null
-# The three builds run side by side: each is held up by the long compiles of the pair rows (forces/pair/kernels/), so
-# in turn they would leave the other cores idle for minutes.  Each build's output goes to its
-# own log, printed if it fails.
-builds=(build-test build-noomp build-asan)
-pids=()
-for b in "${builds[@]}"; do
-  cmake --build "$b" -j"$jobs" >"$b.log" 2>&1 &
-  pids+=($!)
-done
-failed=0
-for i in "${!builds[@]}"; do
-  if ! wait "${pids[$i]}"; then
-    echo "scripts/test.sh: building ${builds[$i]} failed:" >&2
-    cat "${builds[$i]}.log" >&2
-    failed=1
+
+# Two pipelines side by side, so that neither phase leaves a core idle (the long compiles of the
+# pair rows, forces/pair/kernels/, and the tail of a test pass with one test left running):
+#  - the Release pass: build-test, its tests, then the Python package as `pip install .`
+#    installs it (docs/python.md), from build-test's native module into a folder of that build
+#    (the system's Python is left alone), and the binding's tests against the installed copy,
+#    from outside the source tree (CTest's python_binding runs the same tests against the build
+#    folder: the sanitizer pass runs it);
+#  - the sanitizer pass: build-noomp and build-asan (at a lower priority, so that the Release
+#    pass, which starts testing first, is not held up), then the tests under the sanitizers.
+# Each pipeline's output goes to its log; the Release log is printed when it ends, a failed
+# build's log at once.
+release_pass() {
+  cmake --build build-test -j"$jobs" >build-test.log 2>&1 || { echo "building build-test failed:"; cat build-test.log; return 1; }
+  echo "scripts/test.sh: built build-test (log: build-test.log)"
+  ctest --test-dir build-test --output-on-failure -j"$jobs" -LE python
+  local site="$PWD/build-test/python-site"
+  rm -rf "$site"
+  ROTLEAP_BUILD_DIR="$PWD/build-test" /usr/bin/python3 -m pip install -q --no-build-isolation --no-index --no-deps \
+    --root-user-action=ignore --target "$site" .
+  (cd build-test && PYTHONPATH="$site" ROTLEAP_CLI="$PWD/rotleap" /usr/bin/python3 -m pytest -q -p no:cacheprovider \
+    ../tests/python)
+}
+release_pass >release-pass.log 2>&1 &
+release=$!
+for b in build-noomp build-asan; do
+  if ! nice -n 5 cmake --build "$b" -j"$jobs" >"$b.log" 2>&1; then
+    echo "scripts/test.sh: building $b failed:" >&2
+    cat "$b.log" >&2
+    wait "$release" || true
+    exit 1
   fi
 done
-[ "$failed" -eq 0 ]
-echo "scripts/test.sh: built build-test, build-noomp and build-asan (logs: build-*.log)"
-ctest --test-dir build-test --output-on-failure -j"$jobs"
-# The Python package as `pip install .` installs it (docs/python.md), from build-test's native
-# module into a folder of that build (the system's Python is left alone); the binding's tests
-# then run against the installed copy, from outside the source tree.
-site="$PWD/build-test/python-site"
-rm -rf "$site"
-ROTLEAP_BUILD_DIR="$PWD/build-test" /usr/bin/python3 -m pip install -q --no-build-isolation --no-index --no-deps \
-  --root-user-action=ignore --target "$site" .
-(cd build-test && PYTHONPATH="$site" ROTLEAP_CLI="$PWD/rotleap" /usr/bin/python3 -m pytest -q -p no:cacheprovider \
-  ../tests/python)
+echo "scripts/test.sh: built build-noomp and build-asan (logs: build-noomp.log, build-asan.log)"
 # The sanitizer pass leaves out the tests labelled "long" (10^6-step numerical and statistical
-# checks whose code the other tests run under the sanitizers too: tests/integrators/CMakeLists.txt),
-# which the Release pass above ran in full.
+# checks whose code the other tests run under the sanitizers too: tests/integrators/CMakeLists.txt)
+# and "soak" (the kill-and-continue soak: tests/CMakeLists.txt), which the Release pass runs.
+asan=0
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE long
+  ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE "long|soak" || asan=$?
+rel=0
+wait "$release" || rel=$?
+echo "scripts/test.sh: the Release pass (release-pass.log):"
+cat release-pass.log
+if [ "$rel" -ne 0 ] || [ "$asan" -ne 0 ]; then
+  echo "scripts/test.sh: FAILED (Release pass status $rel, sanitizer pass status $asan)" >&2
+  exit 1
+fi
+echo "scripts/test.sh: all tests passed"
