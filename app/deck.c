@@ -33,7 +33,7 @@ enum {
   K_MODEL, K_MOLFILE, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
   K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
-  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
+  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TAUROT, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_BARO, K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING,
   K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_TCONF, K_PROGRESS, NKEYS
 };
@@ -71,9 +71,10 @@ static const key_def keys[NKEYS] = {
     [K_STEPS] = {"run", "steps", K_INT, Q_NONE, NULL, NULL, "number of steps; required"},
     [K_DT] = {"run", "timestep", K_REAL, Q_TIME, NULL, NULL, "time step h; required"},
     [K_INTEGRATOR] = {"run", "integrator", K_CHOICE, Q_NONE, "rl", "rl|rl-exact|rl-quaternion|rl-hybrid|fincham|no-squish", "revised leapfrog: guarded cubic (rl), exact solve, quaternion variant; baselines (matrix bodies only): the paper's hybrid, Fincham's implicit quaternion leapfrog, NO_SQUISH (docs/integrators.md)"},
-    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi|nvt-langevin", "NVE, the paper's isokinetic NVT, Bussi stochastic rescaling, or Langevin in the middle of the drift (BAOAB; docs/integrators.md). nvt-isokinetic (eqs. 17-18) holds only the on-step temperature: from a start out of equilibrium at run.temperature (a lattice, another temperature) the kinetic energy alternates from step to step without damping and the conserved sum drifts at any time step, so relax first (run.equilibrate at run.temperature) or use nvt-bussi"},
+    [K_ENSEMBLE] = {"run", "ensemble", K_CHOICE, Q_NONE, "nve", "nve|nvt-isokinetic|nvt-bussi|nvt-langevin|nvt-langevin-dot|nvt-langevin-dot-obabo", "NVE, the paper's isokinetic NVT, Bussi stochastic rescaling, Langevin in the middle of the drift (BAOAB; docs/integrators.md), or the rigid-body Langevin thermostat of Davidchack, Ouldridge & Tretyakov with its own rotational friction (run.tau_rot), its Ornstein-Uhlenbeck step in the middle of the drift (nvt-langevin-dot, B A O A B) or of the kick (nvt-langevin-dot-obabo, O B A B O). nvt-isokinetic (eqs. 17-18) holds only the on-step temperature: from a start out of equilibrium at run.temperature (a lattice, another temperature) the kinetic energy alternates from step to step without damping and the conserved sum drifts at any time step, so relax first (run.equilibrate at run.temperature) or use nvt-bussi"},
     [K_TTEMP] = {"run", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "thermostat temperature (NVT); required for NVT"},
-    [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi: relaxation time of the kinetic energy; Langevin: friction time 1/gamma; default 100 h"},
+    [K_TAU] = {"run", "tau", K_REAL, Q_TIME, NULL, NULL, "Bussi: relaxation time of the kinetic energy; Langevin: friction time 1/gamma (Langevin-DOT: of translation); default 100 h"},
+    [K_TAUROT] = {"run", "tau_rot", K_REAL, Q_TIME, NULL, NULL, "nvt-langevin-dot(-obabo): rotational friction time 1/gamma_r, the same on each principal axis of the body-frame angular momentum; default run.tau"},
     [K_TGROUPS] = {"run", "thermostat_groups", K_CHOICE, Q_NONE, "trans-rot", "trans-rot|all", "Bussi: one thermostat for translation and one for rotation, or one for both (docs/integrators.md)"},
     [K_TSEED] = {"run", "seed", K_INT, Q_NONE, "2", NULL, "seed of the Bussi or Langevin thermostat's random numbers"},
     [K_EQSTEPS] = {"run", "equilibrate", K_INT, Q_NONE, "0", NULL, "relaxation steps before the run (Bussi, tau = 20 relaxation steps), e.g. from a lattice"},
@@ -955,9 +956,9 @@ static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
         problem(r, r->line[their[k]], "run.%s is only used with a barostat (run.barostat = mc or c-rescale)", keys[their[k]].name);
     return;
   }
-  if (ens_ok && ens != 2 && ens != 3)
+  if (ens_ok && ens < 2)
     problem(r, r->line[K_BARO] ? r->line[K_BARO] : r->line[K_ENSEMBLE], "run.barostat = %s needs a stochastic thermostat "
-            "(run.ensemble = nvt-bussi or nvt-langevin): the barostat samples at run.temperature", val(r, K_BARO));
+            "(run.ensemble = nvt-bussi or nvt-langevin[-dot[-obabo]]): the barostat samples at run.temperature", val(r, K_BARO));
   if (!r->val[K_PRESSURE]) problem(r, r->line[K_BARO], "run.barostat = %s needs run.pressure", val(r, K_BARO));
   d->pressure = number(r, K_PRESSURE, u, 0, 0.0);
   /* beyond 10 GPa (1e3 reduced) no rigid-molecule model applies: most likely a unit left out
@@ -1434,7 +1435,8 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->method = rl_deck_integrators[choice(&r, K_INTEGRATOR)].method;
   int ens = choice(&r, K_ENSEMBLE);
   const int ens_ok = !r.bad[K_ENSEMBLE]; /* an unknown ensemble is its one problem: nothing is checked against it */
-  static const rl_thermostat ensembles[] = {RL_THERMO_NONE, RL_THERMO_ISOKINETIC, RL_THERMO_BUSSI, RL_THERMO_LANGEVIN};
+  static const rl_thermostat ensembles[] = {RL_THERMO_NONE, RL_THERMO_ISOKINETIC, RL_THERMO_BUSSI, RL_THERMO_LANGEVIN,
+                                            RL_THERMO_LANGEVIN_DOT, RL_THERMO_LANGEVIN_DOT_OBABO};
   d->thermostat = ensembles[ens];
   const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
@@ -1442,7 +1444,10 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
   if (ens == 0 && ens_ok && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
-  if (r.val[K_TAU] && !stochastic && ens_ok) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin");
+  if (r.val[K_TAU] && !stochastic && ens_ok) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin[-dot[-obabo]]");
+  d->tau_rot = number(&r, K_TAUROT, u, 0, d->tau);
+  if (r.val[K_TAUROT] && ens < 4 && ens_ok) problem(&r, r.line[K_TAUROT], "run.tau_rot is only used with ensemble = nvt-langevin-dot or nvt-langevin-dot-obabo");
+  else if (r.val[K_TAUROT] && !r.bad[K_TAUROT] && !(d->tau_rot > 0)) problem(&r, r.line[K_TAUROT], "run.tau_rot must be positive");
   d->thermostat_groups = choice(&r, K_TGROUPS) ? RL_THERMO_GROUPS_ALL : RL_THERMO_GROUPS_TRANS_ROT;
   if (r.val[K_TGROUPS] && ens != 2 && ens_ok)
     problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");

@@ -77,6 +77,7 @@ typedef struct {
   rl_rot_method method;
   rl_thermostat thermostat;
   double thermostat_temperature, tau;
+  double tau_rot; /* nvt-langevin-dot(-obabo): rotational friction time (default tau) */
   unsigned long thermostat_seed;
   rl_thermo_groups thermostat_groups;
   int barostat;             /* 0 none, 1 Monte Carlo, 2 C-rescale (run.barostat)          */

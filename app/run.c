@@ -858,7 +858,7 @@ static int decide_continuation(run_ctx *c, run_record *rec, int *cont)
     other = physics_diff(rec->physics, rec->physics_len, c->physics, 0, diff, sizeof diff);
     outputs_other = physics_diff(rec->physics, rec->physics_len, c->physics, 1, odiff, sizeof odiff);
   } else if (rec->version >= 2 ? rec->thermostat != (long)d->thermostat
-                               : (rec->rng_size > 0) != (d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN)) {
+                               : (rec->rng_size > 0) != (d->thermostat >= RL_THERMO_BUSSI)) {
     other = 1;
     snprintf(diff, sizeof diff, "run.ensemble: %s -> %s", rec->thermostat >= 0 ? rl_thermostat_name((rl_thermostat)rec->thermostat) : "?",
              rl_thermostat_name(d->thermostat));
@@ -1036,6 +1036,7 @@ int rl_app_run(const rl_deck *d)
     p.thermostat = d->thermostat;
     p.T0 = d->thermostat_temperature;
     p.tau = d->tau;
+    p.tau_rot = d->tau_rot;
     p.seed = d->thermostat_seed;
     p.groups = d->thermostat_groups;
     p.force_general = d->force_general;

@@ -282,7 +282,7 @@ int runrec_decode(const void *blob, size_t size, int nbodies, const char *path, 
         if (st) return st;
       }
       if (r->done < 0) return bad_field(path, "step count", "is negative");
-      if (r->thermostat < 0 || r->thermostat > 3) return bad_field(path, "thermostat", "is not one rotleap has");
+      if (r->thermostat < 0 || r->thermostat > RL_THERMO_LANGEVIN_DOT_OBABO) return bad_field(path, "thermostat", "is not one rotleap has");
       seen_book = 1;
     } else if (!strcmp(tag, "RNG ")) {
       r->rng = s.p;
@@ -435,10 +435,11 @@ char *runrec_physics(const rl_deck *d)
   ADD("interactions.dipole = %s\n", dip[d->ff.dipole_method]);
   ADD("run.timestep = %s %s\n", exact(r5, d->timestep), tu);
   ADD("run.integrator = %s\n", rl_rot_method_name(d->method));
-    static const char *const ensemble[] = {"nve", "nvt-isokinetic", "nvt-bussi", "nvt-langevin"};
+    static const char *const ensemble[] = {"nve", "nvt-isokinetic", "nvt-bussi", "nvt-langevin", "nvt-langevin-dot", "nvt-langevin-dot-obabo"};
   ADD("run.ensemble = %s\n", ensemble[d->thermostat]);
   if (d->thermostat != RL_THERMO_NONE) ADD("run.temperature = %s %s\n", exact(r6, d->thermostat_temperature), Tu);
-  if (d->thermostat == RL_THERMO_BUSSI || d->thermostat == RL_THERMO_LANGEVIN) ADD("run.tau = %s %s\n", exact(r7, d->tau), tu);
+  if (d->thermostat >= RL_THERMO_BUSSI) ADD("run.tau = %s %s\n", exact(r7, d->tau), tu);
+  if (d->thermostat >= RL_THERMO_LANGEVIN_DOT) ADD("run.tau_rot = %s %s\n", exact(r7, d->tau_rot), tu);
   if (d->thermostat == RL_THERMO_BUSSI) ADD("run.thermostat_groups = %s\n", rl_thermo_groups_name(d->thermostat_groups));
   if (d->barostat) {
     char b1[40], b2[40], b3[40];

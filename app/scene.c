@@ -280,6 +280,7 @@ void scene_integrator_params(const rl_deck *d, scene_purpose what, rl_integrator
     p->thermostat = d->thermostat;
     p->T0 = d->thermostat_temperature;
     p->tau = d->tau;
+    p->tau_rot = d->tau_rot;
     p->seed = d->thermostat_seed;
     p->groups = d->thermostat_groups;
     p->force_general = d->force_general;

@@ -102,6 +102,8 @@ const char *rl_thermostat_name(rl_thermostat t)
   case RL_THERMO_ISOKINETIC: return "isokinetic";
   case RL_THERMO_BUSSI: return "Bussi";
   case RL_THERMO_LANGEVIN: return "Langevin";
+  case RL_THERMO_LANGEVIN_DOT: return "Langevin-DOT";
+  case RL_THERMO_LANGEVIN_DOT_OBABO: return "Langevin-DOT-OBABO";
   }
   return NULL;
 }
@@ -254,7 +256,7 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   if (!provider.compute) { rl_error(RL_EINVAL, "rl_integrator_alloc: no force provider"); return NULL; }
   /* the thermostat of p, the first operator */
   const rl_stepop_type *T = rl_stepop_for_thermostat(p->thermostat);
-  const rl_thermostat_params tp = {p->T0, p->tau, p->seed, p->groups};
+  const rl_thermostat_params tp = {p->T0, p->tau, p->seed, p->groups, p->tau_rot};
   const rl_stepop first = {T, (void *)&tp, NULL, 0.0};
   if (validate(sys, p, &first, T ? 1 : 0)) return NULL;
   rl_integrator *in = calloc(1, sizeof *in);

@@ -64,7 +64,7 @@ typedef enum {
                                mid-step v and l are rescaled after the kick by alpha, alpha^2
                                drawn from the canonical relaxation of their kinetic energy
                                over tau                                                        */
-  RL_THERMO_LANGEVIN = 3    /* Langevin dynamics in the middle of the drift (BAOAB, Leimkuhler
+  RL_THERMO_LANGEVIN = 3,   /* Langevin dynamics in the middle of the drift (BAOAB, Leimkuhler
                                & Matthews, Appl. Math. Res. Express 2013, 34; OpenMM's
                                LangevinMiddleIntegrator): kick l and v by h, drift r and rotate
                                by h/2, an Ornstein-Uhlenbeck step on every translational and
@@ -77,6 +77,18 @@ typedef enum {
                                (rl_integrator_dof); the system's removed dof is left as it is,
                                for whatever thermostat continues from the state.  Not with the
                                baseline rotation methods                                      */
+  RL_THERMO_LANGEVIN_DOT = 4, /* the rigid-body Langevin thermostat of Davidchack, Ouldridge &
+                               Tretyakov (J. Chem. Phys. 130, 234101 (2009); 142, 144114
+                               (2015); 147, 224103 (2017)) on rotleap's leapfrog: an exact
+                               Ornstein-Uhlenbeck step on v (friction 1/tau) and on the
+                               body-frame angular momentum (friction 1/tau_rot on each principal
+                               axis, noise sqrt(kT I_k (1 - exp(-2 h / tau_rot)))) in the middle
+                               of the drift (B A O A B).  With tau_rot = tau it is
+                               RL_THERMO_LANGEVIN's dynamics.  docs/integrators.md, "The
+                               Davidchack-Ouldridge-Tretyakov Langevin thermostat"           */
+  RL_THERMO_LANGEVIN_DOT_OBABO = 5 /* the same Ornstein-Uhlenbeck step in the middle of the kick
+                               instead (O B A B O: between the half kicks, at the on-step v(t),
+                               l(t) and A(t)); works with every rotation method            */
 } rl_thermostat;
 
 /* Which degrees of freedom share one Bussi thermostat.  RL_THERMO_GROUPS_TRANS_ROT (the default):
@@ -95,7 +107,7 @@ typedef enum {
 
 /* "trans-rot", "all" (NULL if unknown). */
 const char *rl_thermo_groups_name(rl_thermo_groups g);
-/* "none", "isokinetic", "bussi", "langevin" (NULL if unknown). */
+/* "none", "isokinetic", "Bussi", "Langevin", "Langevin-DOT", "Langevin-DOT-OBABO" (NULL if unknown). */
 const char *rl_thermostat_name(rl_thermostat t);
 
 typedef struct {
@@ -127,6 +139,8 @@ typedef struct {
                              for forces only (rl_forces.forces_only), as GROMACS's
                              nstcalcenergy and LAMMPS's thermo steps do.  0 or 1 (default):
                              every step.  The trajectory does not depend on it             */
+  double tau_rot;         /* Langevin-DOT: rotational friction time 1/gamma_r (> 0); 0 (the
+                             default): tau                                                     */
 } rl_integrator_params;
 
 void rl_integrator_params_default(rl_integrator_params *p);

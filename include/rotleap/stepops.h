@@ -162,19 +162,24 @@ int rl_stepop_forces(rl_stepop_ctx *c, int energy);
 
 /* ------------------------------------------------------------ the built-in thermostats */
 
-/* The parameter block of the three thermostats (rl_integrator_params' fields of the same names). */
+/* The parameter block of the built-in thermostats (rl_integrator_params' fields of the same names). */
 typedef struct {
   double T0;               /* target temperature (> 0)                                           */
   double tau;              /* Bussi: relaxation time of K; Langevin: friction time 1/gamma (> 0) */
   unsigned long seed;      /* Bussi, Langevin: GSL mt19937 seed                                  */
   rl_thermo_groups groups; /* Bussi only                                                         */
+  double tau_rot;          /* Langevin-DOT: rotational friction time (> 0; 0: tau)                */
 } rl_thermostat_params;
 
 /* isokinetic (RL_STEP_BEFORE_KICK, eqs. 17-18), bussi (RL_STEP_AFTER_KICK), langevin
  * (RL_STEP_MID_DRIFT); rl_integrator.h's rl_thermostat has what each does. */
 extern const rl_stepop_type rl_stepop_isokinetic, rl_stepop_bussi, rl_stepop_langevin;
+/* langevin-dot (RL_STEP_MID_DRIFT) and langevin-dot-obabo (RL_STEP_BEFORE_KICK): rl_integrator.h's
+ * RL_THERMO_LANGEVIN_DOT, RL_THERMO_LANGEVIN_DOT_OBABO. */
+extern const rl_stepop_type rl_stepop_langevin_dot, rl_stepop_langevin_dot_obabo;
 
-/* The descriptor named `name` ("isokinetic", "bussi", "langevin", "mc-barostat", "c-rescale"), or NULL. */
+/* The descriptor named `name` ("isokinetic", "bussi", "langevin", "langevin-dot", "langevin-dot-obabo",
+ * "mc-barostat", "c-rescale"), or NULL. */
 const rl_stepop_type *rl_stepop_find(const char *name);
 /* The operator rl_integrator_params.thermostat = t adds (NULL for RL_THERMO_NONE or unknown). */
 const rl_stepop_type *rl_stepop_for_thermostat(rl_thermostat t);

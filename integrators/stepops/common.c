@@ -10,6 +10,7 @@
 const rl_stepop_type *rl_stepop_find(const char *name)
 {
   static const rl_stepop_type *const all[] = {&rl_stepop_isokinetic, &rl_stepop_bussi, &rl_stepop_langevin,
+                                                  &rl_stepop_langevin_dot, &rl_stepop_langevin_dot_obabo,
                                                   &rl_stepop_mc_barostat, &rl_stepop_crescale};
   for (size_t k = 0; name && k < sizeof all / sizeof *all; k++)
     if (!strcmp(all[k]->name, name)) return all[k];
@@ -22,6 +23,8 @@ const rl_stepop_type *rl_stepop_for_thermostat(rl_thermostat t)
   case RL_THERMO_ISOKINETIC: return &rl_stepop_isokinetic;
   case RL_THERMO_BUSSI: return &rl_stepop_bussi;
   case RL_THERMO_LANGEVIN: return &rl_stepop_langevin;
+  case RL_THERMO_LANGEVIN_DOT: return &rl_stepop_langevin_dot;
+  case RL_THERMO_LANGEVIN_DOT_OBABO: return &rl_stepop_langevin_dot_obabo;
   default: return NULL;
   }
 }

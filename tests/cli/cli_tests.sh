@@ -188,6 +188,16 @@ check "nvt-langevin with a negative tau is refused by name" '[ $code -eq 2 ] && 
 "$rotleap" run "$src/tests/cli/water_scan.ini" --set run.ensemble=nvt-langevin --set run.temperature=298K \
   --set run.integrator=no-squish --set run.steps=5 --set output.prefix="$work/lgv" >out.txt 2>err.txt; code=$?
 check "nvt-langevin with a baseline rotation method is refused, naming both" '[ $code -ne 0 ] && grep -q "Langevin thermostat splits the rotation into two half steps, which the baseline no-squish" err.txt'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-langevin-dot --set run.temperature=1.35 \
+  --set run.tau=0.05 --set run.tau_rot=0.02 --set run.steps=20 --set output.prefix="$work/dot" >out.txt 2>err.txt; code=$?
+check "nvt-langevin-dot runs with run.tau_rot, recorded in its checkpoint, results by the canonical formula" \
+  '[ $code -eq 0 ] && grep -aq "^run.tau_rot = 0.02 reduced$" "$work/dot.chk" && grep -q "(canonical formula)" "$work/dot.results.txt"'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-langevin --set run.temperature=1.35 \
+  --set run.tau_rot=0.02 --set run.steps=20 --set output.prefix="$work/dot" >out.txt 2>err.txt; code=$?
+check "run.tau_rot under nvt-langevin is refused by name" '[ $code -eq 2 ] && grep -q "run.tau_rot is only used with ensemble = nvt-langevin-dot" err.txt'
+"$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-langevin-dot-obabo --set run.temperature=1.35 \
+  --set run.tau_rot=-1 --set run.steps=20 --set output.prefix="$work/dot" >out.txt 2>err.txt; code=$?
+check "nvt-langevin-dot-obabo with a negative tau_rot is refused by name" '[ $code -eq 2 ] && grep -q "run.tau_rot must be positive" err.txt'
 
 "$rotleap" run "$src/tests/cli/stockmayer_short.ini" --set run.ensemble=nvt-bussi --set run.temperature=1.35 --set run.steps=50 \
   --set output.prefix="$work/eqnvt" >/dev/null 2>&1

@@ -40,9 +40,9 @@ three_runs() {
   check "$name: under another prefix, the same state (new files from step N)" "same_state $name-A.chk $name-C.chk"
 }
 if [ $part = all ] || [ $part = stockmayer ]; then
-for ens in nve nvt-isokinetic nvt-bussi nvt-langevin; do
+for ens in nve nvt-isokinetic nvt-bussi nvt-langevin nvt-langevin-dot nvt-langevin-dot-obabo; do
   extra=(); [ "$ens" != nve ] && extra=(--set run.temperature=1.35)
-  case $ens in nvt-bussi|nvt-langevin) extra+=(--set run.tau=0.05) ;; esac
+  case $ens in nvt-bussi|nvt-langevin) extra+=(--set run.tau=0.05) ;; nvt-langevin-dot*) extra+=(--set run.tau=0.05 --set run.tau_rot=0.08) ;; esac
   common=(--set run.ensemble=$ens "${extra[@]}" --set output.thermo_every=5 --set output.trajectory_every=10)
   three_runs "$ens" "$deck" "${common[@]}"
   check "$ens: under another prefix, the thermo rows from step N on are the uninterrupted run's" \

@@ -2,16 +2,12 @@
  * kinetic energy, a Gamma(g/2, kT) law, and keep its conserved quantity (E + energy removed)
  * constant up to the integration error; the isokinetic scaling holds T exactly (test_cluster). */
 #include "../testutil.h"
+#include "fields.h"
 
 #include <gsl/gsl_statistics_double.h>
 #include <stdlib.h>
 #include <unistd.h>
 
-static int no_forces(void *ctx, const rl_system *sys, rl_forces *out)
-{
-  (void)ctx; (void)sys; (void)out;
-  return RL_OK;
-}
 
 /* Free bodies (20 points, 20 asymmetric tops, 20 dipoles): forces never change the kinetic
  * energy, so its distribution is the thermostat's stationary law: mean g kT/2, variance
@@ -518,18 +514,6 @@ static void centre_of_mass_after_langevin(void **state)
  * (Leimkuhler & Matthews 2013); a thermostat acting after the kick (BOA) would give
  * kT/(k (1 - h^2 omega^2/4)), 1.33 kT/k at h omega = 1, and one on the on-step velocities the
  * same.  Here h omega = 1 with two frictions. */
-static int harmonic_trap(void *ctx, const rl_system *sys, rl_forces *out)
-{
-  const double k = *(const double *)ctx;
-  for (int i = 0; i < rl_system_count(sys); i++) {
-    double r[3];
-    rl_system_get_position(sys, i, r);
-    for (int c = 0; c < 3; c++) out->f[i][c] = -k * r[c];
-    out->energy += 0.5 * k * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-  }
-  return RL_OK;
-}
-
 static void langevin_harmonic_exact(void **state)
 {
   (void)state;
@@ -591,20 +575,6 @@ static void langevin_harmonic_exact(void **state)
  * its fastest libration omega = sqrt(a/J_min); at a/kT = 20 the libration is nearly harmonic
  * (1 - <b.z> = 0.05), so a wrongly placed or wrongly scaled Ornstein-Uhlenbeck step (the wrong
  * moment on a body axis, noise along rho) moves 1 - <b.z> by a factor, not by a percent. */
-static int axis_field(void *ctx, const rl_system *sys, rl_forces *out)
-{
-  const double a = *(const double *)ctx;
-  for (int i = 0; i < rl_system_count(sys); i++) {
-    double b[3];
-    rl_system_get_axis(sys, i, b);
-    out->k[i][0] = a * b[1]; /* a b x z */
-    out->k[i][1] = -a * b[0];
-    out->k[i][2] = 0.0;
-    out->energy -= a * b[2];
-  }
-  return RL_OK;
-}
-
 static void langevin_orientations(void **state)
 {
   (void)state;
