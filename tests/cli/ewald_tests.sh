@@ -42,6 +42,8 @@ bad kmax_pme "interactions.ewald_kmax is only used with coulomb = ewald (coulomb
 bad grid_ewald "interactions.pme_grid is only used with coulomb = pme (coulomb = ewald here)" 's/^coulomb = pme/coulomb = ewald\npme_grid = 20/'
 bad tol_rf "interactions.ewald_tolerance is only used with coulomb = ewald or pme (coulomb = rf here)" 's/^coulomb = pme/coulomb = rf/'
 bad epsrf_pme "interactions.eps_rf is only used with coulomb = rf (coulomb = pme here" 's/^coulomb = pme/&\neps_rf = 80/'
+bad dipole_ewald "interactions.dipole is only used with coulomb = rf (coulomb = ewald here" 's/^dipole = sf/&\ncoulomb = ewald/' "$sm"
+bad dipole_pme "interactions.dipole is only used with coulomb = rf (coulomb = pme here" 's/^dipole = sf/dipole = rf\ncoulomb = pme/' "$sm"
 bad boundary "interactions.ewald_boundary: '0.5' is not tinfoil, vacuum or a dielectric constant >= 1" 's/^coulomb = pme/&\newald_boundary = 0.5/'
 bad scheme "interactions.scheme = molecule does not go with coulomb = pme" 's/^coulomb = pme/&\nscheme = molecule/'
 bad cutoff_box "interactions.cutoff 0.7 is larger than half the shortest box edge" 's/^cutoff = .*/cutoff = 0.7 nm/'
