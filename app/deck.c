@@ -867,7 +867,9 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
   p.nspecies = 1;
   p.cutoff = d->ff.cutoff;
   rl_ewald_info info;
-  int st = !sys || rl_system_add_species(sys, &sd, 1, NULL) || rl_system_set_box(sys, d->box);
+  /* one molecule for charges (OpenMM's choices do not depend on the count); all of them with
+   * point dipoles, whose derived alpha and mesh follow from sum mu^2 / sqrt(N) */
+  int st = !sys || rl_system_add_species(sys, &sd, m.has_dipole && d->count > 0 ? d->count : 1, NULL) || rl_system_set_box(sys, d->box);
   if (!st) st = rl_ewald_resolve(sys, &p, d->coulomb == RL_DECK_COULOMB_PME ? RL_EWALD_PME : RL_EWALD_SUM, &info);
   if (st) {
     const char *msg = rl_last_error(), *tail = strstr(msg, ": ");
