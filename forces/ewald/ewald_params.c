@@ -166,6 +166,7 @@ static int alloc_axes(double *a[3], const int K[3], int per)
 }
 
 #define EW_ALIAS 4
+#define EW_SKIP 320.0 /* the dipolar sums leave out mesh vectors with k^2 / 4 alpha^2 > 80 */
 /* Q of charges (Q[0]) and, with dip, Q_F (Q[1]) and Q_T (Q[2]) of point dipoles (ewald.h): the
  * factorised alias sums per axis are sum_l U^2 k^j (j = 0, 2, 4) and sum_l exp(-k^2/4a^2) U^2 k^j,
  * combined over the axes by (kx^2 + ky^2 + kz^2)^2 = sum_c k_c^4 + 2 sum_{c<d} k_c^2 k_d^2. */
@@ -225,6 +226,7 @@ static int pme_functionals(const rl_ewald_info *in, const double L[3], const dou
         if (!ix && !iy && !iz) continue;
         const double w = (iz == 0 || (Kz % 2 == 0 && iz == Kz / 2)) ? 1.0 : 2.0;
         const double k2 = K2[0][3 * ix + 1] + K2[1][3 * iy + 1] + K2[2][3 * iz + 1];
+        if (dip && k2 > EW_SKIP * a2) continue; /* every term below exp(-80) (the aliases lie further out) */
         const double G = 4 * M_PI * exp(-k2 / (4 * a2)) / k2 / (mod[0][ix] * mod[1][iy] * mod[2][iz]);
         double sum1 = 0.0, sum1F = 0.0, sum1T = 0.0;
         for (int lx = 0; lx < 3; lx++)
@@ -335,6 +337,7 @@ static int pme_dipole_self(const rl_ewald_info *in, const double L[3], const dou
         if (!ix && !iy && !iz) continue;
         const double *q[3] = {P[0] + 13 * (size_t)ix, P[1] + 13 * (size_t)iy, P[2] + 13 * (size_t)iz};
         const double k2 = q[0][12] + q[1][12] + q[2][12];
+        if (k2 > EW_SKIP * a2) continue;
         const double G = 4 * M_PI * exp(-k2 / (4 * a2)) / k2 / (mod[0][ix] * mod[1][iy] * mod[2][iz]);
         for (int d = 0; d < nD; d++) {
           const double *f[3] = {q[0] + 4 * (Ds[d][0] + 1), q[1] + 4 * (Ds[d][1] + 1), q[2] + 4 * (Ds[d][2] + 1)};
