@@ -56,7 +56,7 @@ static const key_def keys[NKEYS] = {
     [K_SWITCH] = {"interactions", "switch", K_REAL, Q_LENGTH, NULL, NULL, "switching distance for lj = switched"},
     [K_DISP] = {"interactions", "dispersion_correction", K_BOOL, Q_NONE, "no", NULL, "long-range LJ correction of energy and pressure"},
     [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting): of the charges under coulomb = rf, and of point dipoles"},
-    [K_COULOMB] = {"interactions", "coulomb", K_CHOICE, Q_NONE, "rf", "rf|ewald|pme", "charges: reaction field (eps_rf), Ewald summation (a k-vector sum) or smooth particle-mesh Ewald (FFTW3), as OpenMM's NonbondedForce Ewald and PME: erfc(alpha r)/r within the cutoff (site pairs, pairs within a molecule excluded) plus the reciprocal sum; tin-foil boundary unless ewald_boundary says otherwise. Point dipoles too (the dipolar Ewald sum; interactions.dipole then plays no part); a model with quadrupoles needs rf. The run prints alpha, the grid or k vectors and the estimated RMS force error (docs/interactions.md, Ewald)"},
+    [K_COULOMB] = {"interactions", "coulomb", K_CHOICE, Q_NONE, "rf", "rf|ewald|pme", "charges: reaction field (eps_rf), Ewald summation (a k-vector sum) or smooth particle-mesh Ewald (FFTW3), as OpenMM's NonbondedForce Ewald and PME: erfc(alpha r)/r within the cutoff (site pairs, pairs within a molecule excluded) plus the reciprocal sum; tin-foil boundary unless ewald_boundary says otherwise. Point dipoles too (the dipolar Ewald sum; interactions.dipole is then refused); a model with quadrupoles needs rf. The run prints alpha, the grid or k vectors and the estimated RMS force error (docs/interactions.md, Ewald)"},
     [K_ETOL] = {"interactions", "ewald_tolerance", K_REAL, Q_NONE, "5e-4", NULL, "coulomb = ewald or pme: OpenMM's ewaldErrorTolerance delta, in (0, 0.1): alpha = sqrt(-ln(2 delta)) / cutoff, the PME grid max(6, ceil(2 alpha L / (3 delta^(1/5)))) and the Ewald k vectors as OpenMM 7.7 derives them; explicit values below are checked against it"},
     [K_EALPHA] = {"interactions", "ewald_alpha", K_REAL, Q_INVLENGTH, NULL, NULL, "coulomb = ewald or pme: the splitting parameter alpha (3.2 /nm, 0.32 /A; reduced: 1/sigma, bare); default from ewald_tolerance. alpha cutoff >= 1.27 (the real-space cut leaves erfc(alpha cutoff) <= 0.1)"},
     [K_PGRID] = {"interactions", "pme_grid", K_INTS, Q_NONE, NULL, NULL, "coulomb = pme: mesh points per edge, \"nx ny nz\" or one number for all three (OpenMM's setPMEParameters); default from ewald_tolerance. Refused if too coarse for the tolerance (exp(-k^2 / 4 alpha^2) > 10 ewald_tolerance at the Nyquist vector pi K / L) or below pme_order"},
@@ -64,7 +64,7 @@ static const key_def keys[NKEYS] = {
     [K_EKMAX] = {"interactions", "ewald_kmax", K_INTS, Q_NONE, NULL, NULL, "coulomb = ewald: the k vectors 2 pi (nx/Lx, ny/Ly, nz/Lz) with abs(n_c) <= kmax_c, \"kx ky kz\" or one number; default from ewald_tolerance (OpenMM's kmax - 1: OpenMM sums abs(n_c) < kmax_c). Refused if too coarse for the tolerance"},
     [K_EKMAX2] = {"interactions", "ewald_kmax2", K_REAL, Q_NONE, NULL, NULL, "coulomb = ewald: also nx^2 + ny^2 + nz^2 <= ewald_kmax2, a sphere in units of (2 pi / L)^2 (the NIST SPC/E reference sums: ewald_kmax = 5, ewald_kmax2 = 26); default: no such limit (OpenMM's box of vectors)"},
     [K_EBOUND] = {"interactions", "ewald_boundary", K_STRING, Q_NONE, "tinfoil", NULL, "coulomb = ewald or pme: the dielectric around the sphere of periodic images: tinfoil (conducting, no surface term), vacuum (eps' = 1), or a number eps' >= 1: the surface term 2 pi kc M^2 / ((2 eps' + 1) V). The dielectric constant in PREFIX.results.txt uses it"},
-    [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles: reaction field or shifted force"},
+    [K_DIPOLE] = {"interactions", "dipole", K_CHOICE, Q_NONE, "rf", "rf|sf", "point dipoles under coulomb = rf: reaction field (eps_rf) or shifted force; refused with coulomb = ewald or pme, whose sum includes the dipoles"},
     [K_SKIN] = {"interactions", "skin", K_REAL, Q_LENGTH, NULL, NULL, "Verlet-list skin; default 0.1 cutoff, growing at large steps as sqrt(v h / 0.0015 cutoff) (v the thermal speed sqrt(3kT/m)) up to 0.25 cutoff: 0.1 cutoff for TIP4P up to 2 fs, 0.2 at 8 fs. The summary prints the skin used"},
     [K_KERNEL] = {"interactions", "kernel", K_CHOICE, Q_NONE, "auto", "auto|general", "auto: pair kernels specialised by site pattern (TIP4P, charges+LJ, Stockmayer), threaded; general: the serial reference routine (docs/interactions.md)"},
     [K_PRECISION] = {"interactions", "precision", K_CHOICE, Q_NONE, "double", "double|mixed", "double: every pair term in double precision; mixed: the TIP4P kernel's terms in single precision on CPUs with AVX2 (sums, energies and virial double, as GROMACS's default build and OpenMM's CPU platform), about 1e-6 relative; other models and CPUs stay double. The summary prints the precision used (docs/interactions.md)"},
@@ -827,6 +827,9 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
   if (r->val[K_EPSRF])
     problem(r, r->line[K_EPSRF], "interactions.eps_rf is only used with coulomb = rf (coulomb = %s here: the Ewald sum's "
             "surroundings are interactions.ewald_boundary)", cv);
+  if (r->val[K_DIPOLE])
+    problem(r, r->line[K_DIPOLE], "interactions.dipole is only used with coulomb = rf (coulomb = %s here: the point dipoles "
+            "are in the Ewald sum, real and reciprocal parts, with no reaction field or shifted force)", cv);
   if (d->ff.scheme == RL_CUTOFF_MOLECULE && !r->bad[K_SCHEME])
     problem(r, r->line[K_SCHEME], "interactions.scheme = molecule does not go with coulomb = %s: the real-space Ewald sum "
             "cuts every site pair by its own distance (scheme = site)", cv);
@@ -865,7 +868,9 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
   p.nspecies = 1;
   p.cutoff = d->ff.cutoff;
   rl_ewald_info info;
-  int st = !sys || rl_system_add_species(sys, &sd, 1, NULL) || rl_system_set_box(sys, d->box);
+  /* one molecule for charges (OpenMM's choices do not depend on the count); all of them with
+   * point dipoles, whose derived alpha and mesh follow from sum mu^2 / sqrt(N) */
+  int st = !sys || rl_system_add_species(sys, &sd, m.has_dipole && d->count > 0 ? d->count : 1, NULL) || rl_system_set_box(sys, d->box);
   if (!st) st = rl_ewald_resolve(sys, &p, d->coulomb == RL_DECK_COULOMB_PME ? RL_EWALD_PME : RL_EWALD_SUM, &info);
   if (st) {
     const char *msg = rl_last_error(), *tail = strstr(msg, ": ");

@@ -6,7 +6,7 @@ Ewald sum, over a range of tolerances.
 Run (from the repository root, after building; the driver is built with the tests):
     /usr/bin/python3 validate/ewald_convergence.py [--driver build/tests/forces/ewald/ewald_point]
                                                   [--no-write]
-About 10 s on 2 cores.  Writes validate/data/ewald_convergence.txt (the table) and
+About 10 s on 2 cores for the charges, a few minutes more for the dipoles.  Writes validate/data/ewald_convergence.txt (the table) and
 validate/plots/ewald_convergence.png (if matplotlib is there) unless --no-write.
 
 Systems: `ions`, 1,000 random point ions +-1 e in a 3.0 nm cube (centres >= 0.25 nm apart),
@@ -26,6 +26,15 @@ factor 2 of measured, every row.  Because at OpenMM's choices the real-space err
 second set of rows tests the reciprocal estimates alone: the reference's cutoff and alpha (no
 real-space error left) with explicit meshes (orders 4 to 8) and k cutoffs; est/meas there is
 err_recip over the measured error.
+
+Point dipoles (LJ units, kc = 1; --no-dipoles leaves them out): `dipoles`, 500 random point dipoles
+mu*^2 = 3 at rho* = 0.8 (L = 8.55 sigma, centres >= 0.8 sigma apart, random directions), and
+`stockmayer`, 256 dipoles of a Stockmayer liquid (rho* 0.8, T* 1.35, mu*^2 3; the last frame of a
+short rotleap NVT run, reaction field, made here), both with cutoff 3 sigma.  For each tolerance
+delta (the target delta epsilon/sigma, LAMMPS's convention; alpha and the k cutoff or mesh
+derived from the dipolar estimates) the estimated RMS force and torque errors on a dipole
+(rl_ewald_info.dip_err_total, dip_terr_total) against the measured ones, and again the
+reciprocal estimates alone with explicit k cutoffs and meshes.
 """
 import argparse
 import gzip
@@ -45,8 +54,8 @@ RECIP_PME = [(24, 5), (32, 5), (48, 5), (64, 5), (32, 4), (32, 6), (32, 8)]
 RECIP_KMAX = [8, 10, 12, 14]
 
 
-def run(driver, args):
-    p = subprocess.run([driver] + args + ["--sites", "--threads", "2"], capture_output=True, text=True)
+def run(driver, args, sites=True):
+    p = subprocess.run([driver] + args + (["--sites"] if sites else []) + ["--threads", "2"], capture_output=True, text=True)
     if p.returncode:
         sys.exit("failed: %s %s\n%s" % (driver, " ".join(args), p.stderr))
     return json.loads(p.stdout)
@@ -62,10 +71,104 @@ def measured(out, ref):
     return math.sqrt(num / n)
 
 
+TOLS_DIP = {"ewald": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 1e-5], "pme": [3e-2, 1e-2, 3e-3, 1e-3]}
+RECIP_DIP_PME = [(32, 5), (48, 5), (64, 5), (32, 7), (48, 7)]  # per 8.55 sigma of edge
+RECIP_DIP_KMAX = [8, 10, 12]
+
+
+def molecular(out, ref, key):
+    num = sum(sum((x - y) ** 2 for x, y in zip(a[key], b[key])) for a, b in zip(out["molecules"], ref["molecules"]))
+    return math.sqrt(num / len(ref["molecules"]))
+
+
+def dipole_configs(work, rotleap):
+    """The two dipolar configurations as ewald_point --dipoles files: (name, path, L)."""
+    import random
+    rng = random.Random(3)
+    n, L, mu = 500, (500 / 0.8) ** (1.0 / 3.0), math.sqrt(3.0)
+    pts = []
+    while len(pts) < n:
+        r = [rng.random() * L for _ in range(3)]
+        if all(sum(((r[c] - q[c]) - L * round((r[c] - q[c]) / L)) ** 2 for c in range(3)) >= 0.64 for q in pts):
+            pts.append(r)
+    lines = []
+    for r in pts:
+        e = [rng.gauss(0, 1) for _ in range(3)]
+        ne = math.sqrt(sum(x * x for x in e))
+        lines.append("%.17g %.17g %.17g %.17g %.17g %.17g" % (*r, *[x / ne for x in e]))
+    path = os.path.join(work, "dipoles.txt")
+    with open(path, "w") as f:
+        f.write("%d %.17g %.17g\n%s\n" % (n, L, mu, "\n".join(lines)))
+    out = [("dipoles", path, L)]
+    deck = os.path.join(work, "liquid.ini")
+    with open(deck, "w") as f:
+        f.write("[system]\nmodel = stockmayer\ncount = 256\ndensity = 0.8\ntemperature = 1.35\nseed = 5\n[model]\n"
+                "mu = %.17g\n[interactions]\ncutoff = 3.0\nlj = shifted-force\ndipole = sf\n[run]\nsteps = 1500\n"
+                "timestep = 0.002\nensemble = nvt-bussi\ntemperature = 1.35\nequilibrate = 500\n[output]\n"
+                "prefix = %s\ntrajectory_every = 1500\nthermo_every = 500\nprogress = no\n" % (mu, os.path.join(work, "liquid")))
+    p = subprocess.run([rotleap, "run", deck], capture_output=True, text=True)
+    if p.returncode:
+        sys.exit("failed: rotleap run %s\n%s" % (deck, p.stderr))
+    rows = open(os.path.join(work, "liquid.xyz")).read().split("\n")
+    L = float(rows[1].split('"')[1].split()[0])
+    path = os.path.join(work, "stockmayer.txt")
+    with open(path, "w") as f:
+        f.write("256 %.17g %.17g\n" % (L, mu))
+        for row in rows[2:258]:
+            f.write(" ".join(row.split()[1:7]) + "\n")
+    out.append(("stockmayer", path, L))
+    return out
+
+
+def dipole_rows(args, work, lines):
+    """The dipolar rows; returns whether every ratio lies within a factor 2."""
+    ok = True
+    lines.append("# point dipoles (LJ units): estimated vs measured RMS force (epsilon/sigma) and torque (epsilon) on a dipole")
+    lines.append("system     method tolerance  alpha   grid/kmax      est_F      meas_F     F e/m  est_T      meas_T     T e/m")
+    for name, path, L in dipole_configs(work, args.rotleap):
+        conf = ["--dipoles", path]
+        rcref = 0.5 * L
+        aref = 6.0 / rcref
+        km = int(math.ceil(L * 2 * aref * math.sqrt(40.0) / (2 * math.pi)))
+        ref = run(args.driver, conf + ["--method", "ewald", "--cutoff", repr(rcref), "--alpha", repr(aref),
+                                       "--kmax", str(km), str(km), str(km), "--kmax-sq", str(km * km)], sites=False)
+
+        def row(label, out, est_f, est_t):
+            nonlocal ok
+            p = out["params"]
+            mf, mt = molecular(out, ref, "force"), molecular(out, ref, "torque")
+            rf, rt = est_f / mf, est_t / mt
+            good = 0.5 <= rf <= 2.0 and 0.5 <= rt <= 2.0
+            ok &= good
+            res = ("x".join(map(str, p["grid"])) + " p%d" % p["order"]) if p["method"] == "pme" else " ".join(map(str, p["kmax"]))
+            lines.append("%-10s %-6s %-10s %-7.4f %-13s  %-9.3g  %-9.3g  %-5.2f  %-9.3g  %-9.3g  %.2f%s"
+                         % (name, p["method"], label, p["alpha"], res, est_f, mf, rf, est_t, mt, rt, "" if good else "  OUTSIDE 2x"))
+            print(lines[-1], flush=True)
+
+        for method in ("ewald", "pme"):
+            for tol in TOLS_DIP[method]:
+                out = run(args.driver, conf + ["--method", method, "--cutoff", "3.0", "--tolerance", repr(tol)], sites=False)
+                p = out["params"]
+                row("%.0e" % tol, out, p["dip_err_total"], p["dip_terr_total"])
+        lines.append("%-10s reference: Ewald, cutoff %.4f, alpha %.4f, kmax %d, n^2 <= %d" % (name, rcref, aref, km, km * km))
+        base = conf + ["--cutoff", repr(rcref), "--alpha", repr(aref), "--tolerance", "0.09"]
+        for g, order in RECIP_DIP_PME:
+            n = str(int(round(g * L / 8.55)))
+            out = run(args.driver, base + ["--method", "pme", "--grid", n, n, n, "--order", str(order)], sites=False)
+            row("recip", out, out["params"]["dip_err_recip"], out["params"]["dip_terr_recip"])
+        for k in RECIP_DIP_KMAX:
+            n = str(int(round(k * L / 8.55)))
+            out = run(args.driver, base + ["--method", "ewald", "--kmax", n, n, n], sites=False)
+            row("recip", out, out["params"]["dip_err_recip"], out["params"]["dip_terr_recip"])
+    return ok
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--driver", default=os.path.join(ROOT, "build", "tests", "forces", "ewald", "ewald_point"))
+    ap.add_argument("--rotleap", default=os.path.join(ROOT, "build", "rotleap"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--no-dipoles", action="store_true")
     args = ap.parse_args()
     t0 = time.time()
     work = tempfile.mkdtemp(prefix="rotleap-ewconv-")
@@ -116,8 +219,14 @@ def main():
                              % (s["name"], method, p["alpha"], res, p["err_real"], p["err_recip"], p["err_total"], meas,
                                 p["err_recip"] / meas, "" if 0.5 <= ratio <= 2.0 else "  OUTSIDE 2x"))
                 print(lines[-1], flush=True)
-    lines.append("result (both systems, every tolerance and method): %s; %.0f s"
+    lines.append("result (charges: both systems, every tolerance and method): %s; %.0f s"
                  % ("estimate within a factor 2 of the measured error" if ok else "OUTSIDE a factor 2", time.time() - t0))
+    if not args.no_dipoles:
+        t1 = time.time()
+        okd = dipole_rows(args, work, lines)
+        lines.append("result (point dipoles: both systems, every row, force and torque): %s; %.0f s"
+                     % ("estimate within a factor 2 of the measured error" if okd else "OUTSIDE a factor 2", time.time() - t1))
+        ok &= okd
     print(lines[-1])
     if not args.no_write:
         with open(os.path.join(HERE, "data", "ewald_convergence.txt"), "w") as f:

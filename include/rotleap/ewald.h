@@ -71,6 +71,23 @@
  * Holm, J. Chem. Theory Comput. 8, 936 (2012); LAMMPS pppm's "ad" estimate) for PME, both for
  * randomly placed charges: dF = kc sum q^2 / V sqrt(Q / N).
  *
+ * Point dipoles have estimates of their own, for randomly placed and oriented dipoles, of the RMS
+ * force and torque errors: the real-space cut by Wang & Holm, J. Chem. Phys. 115, 6351 (2001),
+ * eq. (37) for the force (as LAMMPS's ewald/dipole) and its counterpart for the torque, derived
+ * the same way (the field of the pairs beyond rc, to leading order in exp(-alpha^2 rc^2)); the
+ * k-space part from the omitted vectors (Ewald) or Hockney & Eastwood's functional for dipoles
+ * (Cerda, Ballenegger, Lenz & Holm, J. Chem. Phys. 129, 234104 (2008)) with the SPME influence
+ * function and analytical differentiation (PME):
+ *   dF = kc sum mu^2 / V sqrt(Q_F / 9N),  dT = kc sum mu^2 / V sqrt(2 Q_T / 9N),
+ *   Q_F = sum_m [sum_l phi_l^2 k_l^6 - 2 G sum_l phi_l U_l^2 k_l^6 + G^2 (sum_l U_l^2 k_l^4)(sum_l U_l^2 k_l^2)],
+ *   Q_T = sum_m [sum_l phi_l^2 k_l^4 - 2 G sum_l phi_l U_l^2 k_l^4 + G^2 (sum_l U_l^2 k_l^2)^2]
+ * (Ewald: G = 0 over the omitted vectors, U = 1).  When the system has point dipoles, the values
+ * not given are derived from them instead: alpha where the real-space force estimate equals
+ * dip_target (tolerance times the force between two unit charges 1 A apart; lj: tolerance
+ * epsilon/sigma, LAMMPS's kspace accuracy), then the smallest k cutoff (or mesh, in proportion
+ * to the edges) whose reciprocal estimate is below it; with charges too, the larger alpha of the
+ * two choices and the finer k cutoff or mesh.
+ *
  * Threads: every loop runs on `threads` OpenMP threads (0: OMP_NUM_THREADS if set, else 1), in
  * shares whose sums never depend on the thread count: structure factors are summed over sites
  * in order, forces site by site, the charge mesh plane by plane (each plane summing its sites in
@@ -162,6 +179,14 @@ typedef struct {
    * err_recip only, err_total both as if the other part were used with the same alpha and rc. */
   double err_real, err_recip, err_total;
   int threads;
+  /* with point dipoles (nsites_dipolar > 0; NAN otherwise): the estimated RMS error of the force
+   * (dip_err_*) and of the torque (dip_terr_*) on a point dipole, for randomly placed and
+   * oriented dipoles, real part, reciprocal part and root sum of squares as above; and dip_target,
+   * the force error that values derived for dipoles aim at: tolerance times the force between two
+   * unit charges 1 A apart (lj: tolerance epsilon/sigma), LAMMPS's kspace accuracy convention. */
+  double dip_err_real, dip_err_recip, dip_err_total;
+  double dip_terr_real, dip_terr_recip, dip_terr_total;
+  double dip_target;
 } rl_ewald_info;
 
 /* Resolve and check a parameter block for a method on a system (its species and cell): derived

@@ -43,7 +43,8 @@ static double now(void)
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* JSON has no NaN: the error estimates (none for dipoles alone) as -1 then */
+/* JSON has no NaN: the error estimates that do not apply (charges' with dipoles alone, dipoles' with
+ * charges alone) as -1 then */
 static double finite_or(double x) { return isfinite(x) ? x : -1.0; }
 
 static void vec(const char *name, const double *v, int last)
@@ -172,15 +173,19 @@ int main(int argc, char **argv)
   rl_forces F = {f, k, 0.0, {0}, 0};
   if (rl_terms_compute(t, sys, &F)) die("compute");
   const rl_ewald_info *in = rl_ewald_term_info(rl_terms_state(t, krecip));
-  char text[512];
+  char text[1024];
   rl_ewald_describe(in, rl_system_units(sys), text, sizeof text);
   printf("{\"describe\": \"%s\",\n", text);
   printf("\"params\": {\"method\": \"%s\", \"alpha\": %.17g, \"cutoff\": %.17g, \"tolerance\": %.17g, \"kmax\": [%d, %d, %d], "
          "\"kmax_sq\": %.17g, \"nkvec\": %ld, \"grid\": [%d, %d, %d], \"order\": %d, \"err_real\": %.6g, \"err_recip\": %.6g, "
-         "\"err_total\": %.6g, \"nsites_charged\": %d, \"sum_q2\": %.17g, \"nsites_dipolar\": %d, \"sum_mu2\": %.17g},\n",
+         "\"err_total\": %.6g, \"nsites_charged\": %d, \"sum_q2\": %.17g, \"nsites_dipolar\": %d, \"sum_mu2\": %.17g, "
+         "\"dip_err_real\": %.6g, \"dip_err_recip\": %.6g, \"dip_err_total\": %.6g, \"dip_terr_real\": %.6g, "
+         "\"dip_terr_recip\": %.6g, \"dip_terr_total\": %.6g, \"dip_target\": %.6g},\n",
          method, in->alpha, in->cutoff, in->tolerance, in->kmax[0], in->kmax[1], in->kmax[2], in->kmax_sq, in->nkvec,
          in->grid[0], in->grid[1], in->grid[2], in->order, finite_or(in->err_real), finite_or(in->err_recip),
-         finite_or(in->err_total), in->nsites_charged, in->sum_q2, in->nsites_dipolar, in->sum_mu2);
+         finite_or(in->err_total), in->nsites_charged, in->sum_q2, in->nsites_dipolar, in->sum_mu2,
+         finite_or(in->dip_err_real), finite_or(in->dip_err_recip), finite_or(in->dip_err_total), finite_or(in->dip_terr_real),
+         finite_or(in->dip_terr_recip), finite_or(in->dip_terr_total), in->dip_target);
   double L[3];
   rl_system_box(sys, L);
   printf("\"box\": [%.17g, %.17g, %.17g], \"count\": %d,\n\"energy\": {", L[0], L[1], L[2], n);

@@ -10,7 +10,9 @@
  *   threads    1, 2 and 3 threads give the same bits (600 bodies: the body loops go parallel)
  *   surface    the eps' term against 2 pi kc |M|^2 / ((2 eps' + 1) V), M = sum q r + sum mu, and
  *              its torque mu x (-4 pi kc M / ((2 eps' + 1) V)); the self term's value
- *   refuse     "pme" refuses dipoles, naming the key */
+ *   resolve    the count and sum of mu^2; values derived from a tolerance reach the dipolar target
+ *   estimates  the dipolar force and torque error estimates (real-space cut, k sum, mesh) within a
+ *              factor 2 of the errors measured against a converged sum */
 #include "ewald_testutil.h"
 
 /* Stockmayer dipoles (0.04 e nm), symmetric tops and ions. */
@@ -256,8 +258,81 @@ static void resolve(void **state)
   char line[512];
   rl_ewald_describe(&in, RL_UNITS_REAL, line, sizeof line);
   printf("%s\n", line);
-  EW_CHECK_TRUE("the description says that it has no error estimate for them",
-                strstr(line, "smooth PME of point dipoles: alpha") && strstr(line, "no error estimate for the dipoles"));
+  EW_CHECK_TRUE("the description gives the dipoles' estimated force and torque errors",
+                strstr(line, "smooth PME of point dipoles: alpha") && strstr(line, "estimated RMS error on a dipole: force"));
+  /* the values derived from the tolerance reach the dipolar target (tolerance x the force between
+   * unit charges 1 A apart), alpha from the real-space estimate, the k cutoff or mesh from the
+   * reciprocal one */
+  s.p.tolerance = 2e-6;
+  for (int m = 0; m < 2; m++) {
+    const rl_ewald_method meth = m ? RL_EWALD_PME : RL_EWALD_SUM;
+    assert_int_equal(rl_ewald_resolve(s.sys, &s.p, meth, &in), RL_OK);
+    rl_ewald_describe(&in, RL_UNITS_REAL, line, sizeof line);
+    printf("%s\n", line);
+    const double target = 2e-6 * RL_COULOMB_KJMOL_NM * 100.0;
+    EW_CHECK_TRUE(m ? "pme, derived: real-space force estimate at the target, reciprocal below it"
+                    : "ewald, derived: real-space force estimate at the target, reciprocal below it",
+                  fabs(in.dip_target - target) < 1e-12 * target && fabs(in.dip_err_real - target) < 1e-6 * target &&
+                      in.dip_err_recip <= target && in.dip_terr_total > 0 && isnan(in.err_total));
+  }
+  ew_scene_free(&s);
+}
+
+/* The dipolar error estimates against the errors measured against a converged sum (150 random
+ * Stockmayer dipoles; each part alone: the real-space cut with a converged k sum, the k sum or
+ * the mesh with the reference's cutoff): estimated over measured RMS force and torque within a
+ * factor 2 (1.0-1.3 here; validate/ewald_convergence.py gives the table over tolerances). */
+static void estimates(void **state)
+{
+  (void)state;
+  ew_scene s;
+  const double L[3] = {3.0, 3.0, 3.0};
+  scene_dip(&s, L, 150, 0, 0, 21);
+  ew_result ref;
+  s.p.cutoff = 1.5;
+  s.p.alpha = 4.0;
+  s.p.tolerance = 0.09;
+  for (int c = 0; c < 3; c++) s.p.kmax[c] = 24;
+  s.p.kmax_sq = 576;
+  rl_terms *t = ew_terms(&s, &rl_term_ewald_real, &rl_term_ewald);
+  assert_int_equal(ew_eval(t, s.sys, &ref), RL_OK);
+  rl_terms_free(t);
+  static const struct { const char *what; const rl_term_type *type; double rc, alpha; int k, order; } cases[] = {
+      {"real-space cut (rc 0.8 nm, alpha 3 /nm)", &rl_term_ewald, 0.8, 3.0, 24, 0},
+      {"k sum (kmax 9)", &rl_term_ewald, 1.5, 4.0, 9, 0},
+      {"mesh (24^3, order 5)", &rl_term_pme, 1.5, 4.0, 24, 5},
+      {"mesh (20^3, order 7)", &rl_term_pme, 1.5, 4.0, 20, 7}};
+  for (size_t j = 0; j < sizeof cases / sizeof cases[0]; j++) {
+    s.p.cutoff = cases[j].rc;
+    s.p.alpha = cases[j].alpha;
+    s.p.order = cases[j].order;
+    for (int c = 0; c < 3; c++) {
+      s.p.kmax[c] = cases[j].type == &rl_term_ewald ? cases[j].k : 0;
+      s.p.grid[c] = cases[j].type == &rl_term_pme ? cases[j].k : 0;
+    }
+    s.p.kmax_sq = 0;
+    ew_result r;
+    t = ew_terms(&s, &rl_term_ewald_real, cases[j].type);
+    assert_int_equal(ew_eval(t, s.sys, &r), RL_OK);
+    const rl_ewald_info *in = rl_ewald_term_info(rl_terms_state(t, 1));
+    double df = 0, dt = 0;
+    for (int i = 0; i < r.n; i++)
+      for (int c = 0; c < 3; c++) {
+        df += (r.f[i][c] - ref.f[i][c]) * (r.f[i][c] - ref.f[i][c]);
+        dt += (r.k[i][c] - ref.k[i][c]) * (r.k[i][c] - ref.k[i][c]);
+      }
+    df = sqrt(df / r.n);
+    dt = sqrt(dt / r.n);
+    printf("%s: force est %.3g meas %.3g, torque est %.3g meas %.3g\n", cases[j].what, in->dip_err_total, df,
+           in->dip_terr_total, dt);
+    char what[160];
+    snprintf(what, sizeof what, "%s: estimated / measured RMS force and torque within a factor 2", cases[j].what);
+    EW_CHECK_TRUE(what, in->dip_err_total >= 0.5 * df && in->dip_err_total <= 2 * df && in->dip_terr_total >= 0.5 * dt &&
+                            in->dip_terr_total <= 2 * dt);
+    rl_terms_free(t);
+    ew_result_free(&r);
+  }
+  ew_result_free(&ref);
   ew_scene_free(&s);
 }
 
@@ -269,6 +344,6 @@ int main(void)
       cmocka_unit_test_prestate(fd, (void *)&fd_cases[4]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[5]),
       cmocka_unit_test(pme_vs_ewald),                      cmocka_unit_test(alpha),
       cmocka_unit_test(threads),                           cmocka_unit_test(surface),
-      cmocka_unit_test(resolve)};
+      cmocka_unit_test(resolve),                         cmocka_unit_test(estimates)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
