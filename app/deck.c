@@ -22,7 +22,8 @@
 static const key_def keys[NKEYS] = {
     [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models), or a molecule the deck defines in a [molecule NAME] section (here or in system.molecules; see \"Molecules\" below); required"},
     [K_MOLFILE] = {"system", "molecules", K_PATH, Q_NONE, NULL, NULL, "a molecule file: [molecule NAME] sections only, in the deck's line format, so that one file serves many decks; a relative path is taken from the deck's directory (from the current directory for a deck read from a pipe)"},
-    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
+    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required (with system.model). A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
+    [K_SPECIES] = {"system", "species", K_STRING, Q_NONE, NULL, NULL, "a mixture, instead of system.model and system.count: NAME:COUNT for each species (\"spce:500 na:10 cl:10\"), each a catalogue model (with its default parameters) or a [molecule NAME] of the deck, all in one unit system; the molecules are numbered species by species in this order"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
@@ -37,6 +38,8 @@ static const key_def keys[NKEYS] = {
     [K_SWITCH] = {"interactions", "switch", K_REAL, Q_LENGTH, NULL, NULL, "switching distance for lj = switched"},
     [K_DISP] = {"interactions", "dispersion_correction", K_BOOL, Q_NONE, "no", NULL, "long-range LJ correction of energy and pressure"},
     [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting): of the charges under coulomb = rf, and of point dipoles"},
+    [K_MIXING] = {"interactions", "mixing", K_CHOICE, Q_NONE, "model", "model|lorentz-berthelot|geometric", "LJ mixing rule of unlike sites: lorentz-berthelot (sigma_ab = (sigma_a + sigma_b)/2, epsilon_ab = sqrt(epsilon_a epsilon_b)), geometric (sigma_ab = sqrt(sigma_a sigma_b)), or model: the model's own (geometric for OPLS and EPM2), in a mixture geometric only if every species' model is"},
+    [K_PAIRS] = {"interactions", "pairs", K_STRING, Q_NONE, NULL, NULL, "LJ parameters of site pairs that replace the mixing rule's, separated by commas: \"SPECIES:SITE SPECIES:SITE sigma S [unit] epsilon E [unit]\" (\"na:Na cl:Cl sigma 0.35 nm epsilon 0.5 kJ/mol\"); SPECIES is a name of system.species (or system.model), SITE one of its sites; at most 16"},
     [K_COULOMB] = {"interactions", "coulomb", K_CHOICE, Q_NONE, "rf", "rf|ewald|pme", "charges: reaction field (eps_rf), Ewald summation (a k-vector sum) or smooth particle-mesh Ewald (FFTW3), as OpenMM's NonbondedForce Ewald and PME: erfc(alpha r)/r within the cutoff (site pairs, pairs within a molecule excluded) plus the reciprocal sum; tin-foil boundary unless ewald_boundary says otherwise. Point dipoles too (the dipolar Ewald sum; interactions.dipole then plays no part); a model with quadrupoles needs rf. The run prints alpha, the grid or k vectors and the estimated RMS force error (docs/interactions.md, Ewald)"},
     [K_ETOL] = {"interactions", "ewald_tolerance", K_REAL, Q_NONE, "5e-4", NULL, "coulomb = ewald or pme: OpenMM's ewaldErrorTolerance delta, in (0, 0.1): alpha = sqrt(-ln(2 delta)) / cutoff, the PME grid max(6, ceil(2 alpha L / (3 delta^(1/5)))) and the Ewald k vectors as OpenMM 7.7 derives them; explicit values below are checked against it"},
     [K_EALPHA] = {"interactions", "ewald_alpha", K_REAL, Q_INVLENGTH, NULL, NULL, "coulomb = ewald or pme: the splitting parameter alpha (3.2 /nm, 0.32 /A; reduced: 1/sigma, bare); default from ewald_tolerance. alpha cutoff >= 1.27 (the real-space cut leaves erfc(alpha cutoff) <= 0.1)"},
@@ -964,8 +967,11 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     }
   }
   /* [system] */
-  deck_require(&r, K_COUNT);
-  d->count = (int)integer_in(&r, K_COUNT, 1, INT_MAX, 1);
+  if (!r.val[K_SPECIES]) {
+    deck_require(&r, K_COUNT);
+    d->count = (int)integer_in(&r, K_COUNT, 1, INT_MAX, 1);
+    if (d->model) d->species[0] = (rl_deck_species){d->model, d->count}, d->nspecies = 1;
+  }
   d->lattice = choice(&r, K_LATTICE) == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
   d->random_orientations = choice(&r, K_ORIENT) == 0;
   d->seed = (unsigned long)integer(&r, K_SEED, 0, 1);
@@ -974,9 +980,15 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (d->model) {
     rl_molecule m;
     if (rl_model_build(d->model, d->params, 0, &m)) model_problem(&r, d);
-    else {
+    else if (!r.val[K_SPECIES]) {
       mass = m.mass;
       if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);
+    } else { /* the mean mass of a molecule; the species built in deck_resolve_model */
+      for (int k = 0; k < d->nspecies; k++) {
+        rl_molecule mk;
+        if (!rl_model_build(d->species[k].model, NULL, 0, &mk)) mass += mk.mass * d->species[k].count;
+      }
+      mass /= d->count;
     }
   }
   if (r.bad[K_BOX] || r.bad[K_DENSITY]) {
@@ -1023,6 +1035,8 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   } else if (r.val[K_SWITCH] && !r.bad[K_LJ]) deck_problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
   d->ff.dispersion_correction = boolean(&r, K_DISP);
   d->ff.eps_rf = number(&r, K_EPSRF, u, 1, 78.3);
+  d->mixing = (rl_deck_mixing)choice(&r, K_MIXING);
+  if (r.val[K_PAIRS] && !r.bad[K_PAIRS] && d->nspecies) deck_pairs(&r, d);
   if (!(d->ff.eps_rf >= 1.0)) deck_problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
   d->ff.dipole_method = choice(&r, K_DIPOLE) ? RL_DIPOLE_SF : RL_DIPOLE_RF;
   d->ff.kernel = choice(&r, K_KERNEL) ? RL_KERNEL_GENERAL : RL_KERNEL_AUTO;
@@ -1114,6 +1128,15 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_site_model(&m))
       deck_problem(&r, r.line[K_STEPS], "run.steps = %ld: the DCD trajectory of %s (output.trajectory_every) numbers steps "
               "with 32-bit integers, at most %ld", d->steps, d->model->name, (long)INT32_MAX);
+  }
+  for (int k = 0; k < d->nspecies && d->nspecies > 1 && d->trajectory_every > 0; k++) {
+    rl_molecule m; /* the DCD's PDB topology is one molecule's */
+    if (!rl_model_build(d->species[k].model, k ? NULL : d->params, 0, &m) && rl_deck_site_model(&m)) {
+      deck_problem(&r, r.line[K_TRAJ], "output.trajectory_every: a mixture's trajectory is an XYZ of centres and "
+                   "orientations, for point dipoles and atoms only; species %s is a site model (its DCD is not "
+                   "written for mixtures yet): set output.trajectory_every = 0", d->species[k].model->name);
+      break;
+    }
   }
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
   const char *rdf = val(&r, K_RDF);
@@ -1228,4 +1251,24 @@ void rl_deck_print_keys(FILE *f, int md)
                "dipole off the molecular axis, a linear molecule with a site off its axis (beyond %g of its size), "
                "a name the catalogue has, a molecule defined twice, another section in a molecule file.\n",
             RL_MOLECULE_MAX_SITES, RL_DECK_SYMMETRIZE_RTOL, RL_INERTIA_RTOL, RL_AXIS_RTOL);
+  if (md)
+    fprintf(f, "\n## Mixtures: system.species\n\n"
+               "`system.species` replaces `system.model` and `system.count`: each species is `NAME:COUNT`, a "
+               "catalogue model (with its default parameters) or a `[molecule NAME]`, all in one unit system, at "
+               "most %d. The molecules are numbered species by species in the order given (the numbering of "
+               "checkpoints, XYZ and PDB files); on a lattice the species take the lattice sites at random "
+               "(system.seed), an XYZ start names each body's species. Unlike LJ sites mix by `interactions.mixing` "
+               "(Lorentz-Berthelot unless every species' model mixes geometrically, as OPLS and EPM2 do), and "
+               "`interactions.pairs` sets single site pairs (at most %d). The summary has one `species` line per "
+               "species (family, rotation path); the pair kernel line names the kernels of the whole mixture. For a "
+               "mixture, output.rdf names sites of the first species.\n\n"
+               "```\n[system]\nspecies = stockmayer:27 lj:81\ndensity = 0.8\nlattice = fcc\n"
+               "[molecule lj]\nunits = lj\nsite = A 0 0 0 mass 1 sigma 1.2 epsilon 0.8\n"
+               "[interactions]\ncutoff = 2.0\nmixing = lorentz-berthelot\n"
+               "pairs = stockmayer:S lj:A sigma 1.1 epsilon 0.9\n```\n\n"
+               "Refused: a species given twice or with a count below 1 (leave it out), a name that is neither a "
+               "catalogue model nor a molecule of the deck, species in real and lj units together, system.species "
+               "with system.model, system.count or [model] parameters, a pair override naming a species that is not "
+               "in the mixture or a site its molecule does not have (the message lists those it has).\n",
+            RL_DECK_MAX_SPECIES, RL_DECK_MAX_PAIRS);
 }

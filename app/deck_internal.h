@@ -22,8 +22,8 @@ typedef struct {
 } key_def;
 
 enum {
-  K_MODEL, K_MOLFILE, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
-  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
+  K_MODEL, K_MOLFILE, K_COUNT, K_SPECIES, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
+  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_MIXING, K_PAIRS, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
   K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
   K_BARO, K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING,
@@ -79,5 +79,7 @@ int deck_new_molecule(raw_deck *r, const char *name);
 /* Every [molecule] section parsed into d->molecules; system.model resolved among them first,
  * then in the catalogue. */
 void deck_resolve_model(raw_deck *r, rl_deck *d);
+/* interactions.pairs against the resolved species (units: d->units). */
+void deck_pairs(raw_deck *r, rl_deck *d);
 
 #endif

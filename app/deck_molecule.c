@@ -5,6 +5,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,10 +74,12 @@ static int user_define(const rl_model *self, const double *params, int force_gen
   return rl_molecule_build(&def, force_general, m);
 }
 
-const rl_deck_molecule *rl_deck_user_molecule(const rl_deck *d)
+const rl_deck_molecule *rl_deck_user_model(const rl_model *m)
 {
-  return d->model && d->model->define == user_define ? (const rl_deck_molecule *)d->model : NULL;
+  return m && m->define == user_define ? (const rl_deck_molecule *)m : NULL;
 }
+
+const rl_deck_molecule *rl_deck_user_molecule(const rl_deck *d) { return rl_deck_user_model(d->model); }
 
 /* The units of a site's quantities that are not deck quantities (quantity.c): mass, charge,
  * dipole, quadrupole.  1 D = 0.020819434 e nm (CODATA: 3.33564e-30 C m). */
@@ -333,6 +336,157 @@ static void read_molecule_file(raw_deck *r, const char *deck)
   r->stopped = 0;
 }
 
+/* A model by name: the deck's molecules first, then the catalogue.  NULL, reported at key k,
+ * unless the molecule is defined with problems reported already. */
+static const rl_model *find_model(raw_deck *r, rl_deck *d, const char *name, int k, const char *what, int before)
+{
+  for (int i = 0; i < d->nmolecules; i++)
+    if (!strcmp(d->molecules[i].name, name)) return &d->molecules[i].model;
+  for (int i = 0; i < r->nmol; i++)
+    if (!strcmp(r->mol[i].name, name)) return NULL; /* defined, with its problems reported */
+  if (r->val[K_MOLFILE] && before < r->problems) return NULL; /* perhaps defined in a file that did not load */
+  const rl_model *m = rl_catalog_find(name);
+  if (!m) deck_problem(r, r->line[k], "%s: %s%s", what, rl_last_error(), r->nmol ? " (or a [molecule NAME] of the deck)" : "");
+  return m;
+}
+
+/* system.species = NAME:COUNT ...: d->species, d->model (the first's) and d->count (the sum). */
+static void resolve_species(raw_deck *r, rl_deck *d, int before)
+{
+  const int line = r->line[K_SPECIES];
+  for (int k = K_MODEL; k <= K_COUNT; k += K_COUNT - K_MODEL)
+    if (r->val[k]) deck_problem(r, r->line[k], "system.%s: give system.species or system.model and system.count, not both",
+                                k == K_MODEL ? "model" : "count");
+  if (r->nmodel) deck_problem(r, r->model_line[0], "[model] parameters are for system.model; the species of system.species "
+                              "take their models' defaults (define a [molecule NAME] for other values)");
+  if (r->bad[K_SPECIES]) return;
+  char *buf = strdup(r->val[K_SPECIES]), *save;
+  if (!buf) { deck_problem(r, line, "out of memory"); return; }
+  long total = 0;
+  int ok = 1;
+  for (char *t = strtok_r(buf, " \t", &save); t; t = strtok_r(NULL, " \t", &save)) {
+    char *colon = strrchr(t, ':'), *end;
+    if (!colon || colon == t) {
+      deck_problem(r, line, "system.species: '%s' is not NAME:COUNT (spce:500 na:10 cl:10)", t);
+      ok = 0;
+      continue;
+    }
+    *colon = '\0';
+    errno = 0;
+    const long n = strtol(colon + 1, &end, 10);
+    if (end == colon + 1 || *end || errno || n < 1 || n > INT_MAX) {
+      deck_problem(r, line, "system.species: %s:%s: the count must be a whole number >= 1%s", t, colon + 1,
+                   end != colon + 1 && !*end && n == 0 ? " (leave out a species with no molecules)" : "");
+      ok = 0;
+      continue;
+    }
+    for (int k = 0; k < d->nspecies; k++)
+      if (!strcmp(d->species[k].model->name, t)) {
+        deck_problem(r, line, "system.species: %s is named twice (give one count)", t);
+        ok = 0;
+      }
+    if (d->nspecies == RL_DECK_MAX_SPECIES) {
+      deck_problem(r, line, "system.species: more than %d species", RL_DECK_MAX_SPECIES);
+      ok = 0;
+      break;
+    }
+    const rl_model *m = find_model(r, d, t, K_SPECIES, "system.species", before);
+    if (!m) { ok = 0; continue; }
+    if (d->nspecies && m->units != d->species[0].model->units) {
+      deck_problem(r, line, "system.species: %s is in %s units, %s in %s: a mixture's species share one unit system", t,
+                   m->units == RL_UNITS_LJ ? "reduced (lj)" : "real", d->species[0].model->name,
+                   d->species[0].model->units == RL_UNITS_LJ ? "reduced (lj)" : "real");
+      ok = 0;
+      continue;
+    }
+    d->species[d->nspecies].model = m;
+    d->species[d->nspecies++].count = (int)n;
+    total += n;
+  }
+  free(buf);
+  if (ok && !d->nspecies) deck_problem(r, line, "system.species: no species (spce:500 na:10 cl:10)");
+  else if (ok && total > INT_MAX) deck_problem(r, line, "system.species: %ld molecules in all, more than %d", total, INT_MAX);
+  if (!ok || !d->nspecies || total > INT_MAX) { d->nspecies = 0; return; }
+  d->model = d->species[0].model;
+  d->count = (int)total;
+}
+
+/* A reference SPECIES:SITE of interactions.pairs: 0 with the indices, or -1 reported. */
+static int site_ref(raw_deck *r, const rl_deck *d, const char *t, int *species, int *site)
+{
+  const int line = r->line[K_PAIRS];
+  const char *colon = strrchr(t, ':');
+  if (!colon || colon == t || !colon[1]) {
+    deck_problem(r, line, "interactions.pairs: '%s' is not SPECIES:SITE (na:Na)", t);
+    return -1;
+  }
+  const int n = (int)(colon - t);
+  for (int k = 0; k < d->nspecies; k++) {
+    if (strncmp(d->species[k].model->name, t, (size_t)n) || d->species[k].model->name[n]) continue;
+    rl_molecule m;
+    if (rl_model_build(d->species[k].model, k ? NULL : d->params, 0, &m)) return -1; /* reported with the model */
+    char have[RL_MOLECULE_MAX_SITES * 10] = "";
+    for (int a = 0; a < m.nsites; a++) {
+      if (!strcmp(m.site_names[a], colon + 1)) { *species = k; *site = a; return 0; }
+      snprintf(have + strlen(have), sizeof have - strlen(have), "%s%s", a ? ", " : "", m.site_names[a]);
+    }
+    deck_problem(r, line, "interactions.pairs: species %.*s has no site '%s' (its sites: %s)", n, t, colon + 1, have);
+    return -1;
+  }
+  char have[RL_DECK_MAX_SPECIES * 40] = "";
+  for (int k = 0; k < d->nspecies; k++)
+    snprintf(have + strlen(have), sizeof have - strlen(have), "%s%s", k ? ", " : "", d->species[k].model->name);
+  deck_problem(r, line, "interactions.pairs: '%.*s' is not a species of the deck (%s)", n, t, have);
+  return -1;
+}
+
+void deck_pairs(raw_deck *r, rl_deck *d)
+{
+  const int line = r->line[K_PAIRS];
+  char *buf = strdup(r->val[K_PAIRS]), *save, *tsave;
+  if (!buf) { deck_problem(r, line, "out of memory"); return; }
+  for (char *e = strtok_r(buf, ",", &save); e; e = strtok_r(NULL, ",", &save)) {
+    char *tok[8];
+    int nt = 0;
+    for (char *t = strtok_r(e, " \t", &tsave); t; t = strtok_r(NULL, " \t", &tsave)) {
+      if (nt == 8) { nt = 9; break; }
+      tok[nt++] = t;
+    }
+    if (nt < 6 || nt > 8) {
+      deck_problem(r, line, "interactions.pairs: each pair is SPECIES:SITE SPECIES:SITE sigma S [unit] epsilon E [unit]");
+      continue;
+    }
+    rl_deck_pair p;
+    if (site_ref(r, d, tok[0], &p.species[0], &p.site[0]) | site_ref(r, d, tok[1], &p.species[1], &p.site[1])) continue;
+    int i = 2, bad = 0;
+    double v[2] = {-1, -1};
+    for (int q = 0; q < 2 && !bad; q++) {
+      const char *kw = q ? "epsilon" : "sigma";
+      const char *rest;
+      if (i + 1 >= nt || strcmp(tok[i], kw) || !numeric(tok[i + 1], &rest)) {
+        deck_problem(r, line, "interactions.pairs: %s %s: expected '%s' and a number", tok[0], tok[1], kw);
+        bad = 1;
+        break;
+      }
+      const char *unit = i + 2 < nt && strcmp(tok[i + 2], "epsilon") && !numeric(tok[i + 2], &rest) ? tok[i + 2] : NULL;
+      char err[256];
+      const int st = site_value(tok[i + 1], unit, q ? SQ_ENERGY : SQ_LENGTH, d->units, &v[q], err, sizeof err);
+      if (st || !(v[q] >= 0)) {
+        deck_problem(r, line, "interactions.pairs: %s %s: %s: %s", tok[0], tok[1], kw, st ? err : "must be >= 0");
+        bad = 1;
+      }
+      i += unit ? 3 : 2;
+    }
+    if (bad) continue;
+    if (i != nt) { deck_problem(r, line, "interactions.pairs: %s %s: '%s' is left over", tok[0], tok[1], tok[i]); continue; }
+    if (d->npairs == RL_DECK_MAX_PAIRS) { deck_problem(r, line, "interactions.pairs: more than %d pairs", RL_DECK_MAX_PAIRS); break; }
+    p.sigma = v[0];
+    p.epsilon = v[1];
+    d->pairs[d->npairs++] = p;
+  }
+  free(buf);
+}
+
 /* Every [molecule] section parsed into d->molecules; system.model resolved among them first,
  * then in the catalogue. */
 void deck_resolve_model(raw_deck *r, rl_deck *d)
@@ -341,6 +495,7 @@ void deck_resolve_model(raw_deck *r, rl_deck *d)
   if (r->val[K_MOLFILE] && !r->bad[K_MOLFILE]) read_molecule_file(r, d->path);
   for (int i = 0; i < r->nmol; i++)
     if (!parse_molecule(r, i, &d->molecules[d->nmolecules])) d->nmolecules++;
+  if (r->val[K_SPECIES]) { resolve_species(r, d, before); return; }
   deck_require(r, K_MODEL);
   if (!r->val[K_MODEL] || r->bad[K_MODEL]) return;
   for (int i = 0; i < d->nmolecules; i++)
