@@ -58,6 +58,12 @@ check "summary: one line per species with its path" 'grep -q "^species = stockma
 check "checkpoint records the species" 'strings mix.chk | grep -q "system.species = stockmayer:27 lj:81"'
 check "energy conserved over 50 steps (calE < 1e-3)" 'awk -F" = " "/^calE =/ {split(\$2, a, \" \"); exit !(a[1] + 0 < 1e-3)}" mix.summary.txt'
 
+# --- a mixture's checkpoint continues the run bit for bit ------------------------------------
+"$rotleap" run mix.ini --set output.prefix=full --set output.checkpoint_every=25 > /dev/null 2>&1
+"$rotleap" run mix.ini --set output.prefix=half --set run.steps=25 > /dev/null 2>&1
+"$rotleap" run mix.ini --set output.prefix=half --set system.start=half.chk > /dev/null 2>&1; code=$?
+check "a mixture continued from its checkpoint ends bit for bit as one run" '[ $code = 0 ] && cmp -s full.chk half.chk && cmp -s full.thermo.csv half.thermo.csv'
+
 # --- one species through system.species is system.model + count, byte for byte --------------
 sed 's/^species = .*/model = stockmayer\ncount = 108/' mix.ini > one.ini
 sed 's/^species = .*/species = stockmayer:108/' mix.ini > one_sp.ini
