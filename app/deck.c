@@ -27,7 +27,7 @@ static const key_def keys[NKEYS] = {
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
-    [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
+    [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc|random", "starting lattice; random: centres inserted at random (system.seed) where no LJ site pair of two molecules comes closer than 0.7 of its sigma (Lorentz-Berthelot), up to 10000 tries per molecule"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
     [K_TEMP] = {"system", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "Maxwell-Boltzmann temperature of the start; default: the thermostat temperature, else required"},
@@ -972,7 +972,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     d->count = (int)integer_in(&r, K_COUNT, 1, INT_MAX, 1);
     if (d->model) d->species[0] = (rl_deck_species){d->model, d->count}, d->nspecies = 1;
   }
-  d->lattice = choice(&r, K_LATTICE) == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
+  const int lattice = choice(&r, K_LATTICE);
+  d->lattice = lattice == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
+  d->insert = lattice == 2;
   d->random_orientations = choice(&r, K_ORIENT) == 0;
   d->seed = (unsigned long)integer(&r, K_SEED, 0, 1);
   d->force_general = boolean(&r, K_GENERAL);
@@ -1257,7 +1259,7 @@ void rl_deck_print_keys(FILE *f, int md)
                "catalogue model (with its default parameters) or a `[molecule NAME]`, all in one unit system, at "
                "most %d. The molecules are numbered species by species in the order given (the numbering of "
                "checkpoints, XYZ and PDB files); on a lattice the species take the lattice sites at random "
-               "(system.seed), an XYZ start names each body's species. Unlike LJ sites mix by `interactions.mixing` "
+               "(system.seed), `system.lattice = random` inserts the molecules at random centres, an XYZ start names each body's species. Unlike LJ sites mix by `interactions.mixing` "
                "(Lorentz-Berthelot unless every species' model mixes geometrically, as OPLS and EPM2 do), and "
                "`interactions.pairs` sets single site pairs (at most %d). The summary has one `species` line per "
                "species (family, rotation path); the pair kernel line names the kernels of the whole mixture. For a "

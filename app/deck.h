@@ -77,6 +77,7 @@ typedef struct {
   int count;               /* all molecules (the sum of the species' counts)               */
   double box[3];            /* resolved: from `box` or from `density`                   */
   rl_lattice lattice;
+  int insert;               /* system.lattice = random: random insertion (scene.c)         */
   int random_orientations;
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */

@@ -32,6 +32,58 @@ static int shuffle_species(rl_system *sys, unsigned long seed)
   return 0;
 }
 
+/* system.lattice = random: each body in turn at a random centre (its orientation the lattice's),
+ * refused while an LJ site pair with a body placed before is closer than 0.8 sigma_ab.  1 with a
+ * message naming the body that did not fit. */
+#define SCENE_INSERT_TRIES 10000
+#define SCENE_INSERT_SIGMA 0.7
+static int insert_random(rl_system *sys, const rl_molecule *mols, unsigned long seed)
+{
+  const int n = rl_system_count(sys), ns = rl_system_site_offset(sys, n - 1) + mols[rl_system_species_of(sys, n - 1)].nsites;
+  double (*x)[3] = malloc((size_t)ns * sizeof *x);
+  if (!x) return rl_error(RL_ENOMEM, "out of memory for the random insertion");
+  uint64_t st = (uint64_t)seed ^ 0x1A5E27ull;
+  double L[3];
+  rl_system_box(sys, L);
+  for (int i = 0; i < n; i++) {
+    const rl_molecule *mi = &mols[rl_system_species_of(sys, i)];
+    const int oi = rl_system_site_offset(sys, i);
+    int ok = 0;
+    for (int t = 0; t < SCENE_INSERT_TRIES && !ok; t++) {
+      double r[3];
+      for (int c = 0; c < 3; c++) r[c] = L[c] * (double)(splitmix64(&st) >> 11) * 0x1.0p-53;
+      if (rl_system_set_position(sys, i, r)) { free(x); return 1; }
+      rl_system_site_positions_of(sys, i, i + 1, x);
+      ok = 1;
+      for (int j = 0; j < i && ok; j++) {
+        const rl_molecule *mj = &mols[rl_system_species_of(sys, j)];
+        const int oj = rl_system_site_offset(sys, j);
+        for (int a = 0; a < mi->nsites && ok; a++)
+          for (int b = 0; b < mj->nsites && ok; b++) {
+            if (!(mi->epsilon[a] > 0 && mj->epsilon[b] > 0)) continue;
+            double r2 = 0.0;
+            for (int c = 0; c < 3; c++) {
+              double dx = x[oi + a][c] - x[oj + b][c];
+              dx -= L[c] * nearbyint(dx / L[c]);
+              r2 += dx * dx;
+            }
+            const double dmin = SCENE_INSERT_SIGMA * 0.5 * (mi->sigma[a] + mj->sigma[b]);
+            ok = r2 >= dmin * dmin;
+          }
+      }
+    }
+    if (!ok) {
+      free(x);
+      return rl_error(RL_EINVAL, "system.lattice = random: molecule %d of %d (%s) found no place in %d tries where "
+                      "no LJ site pair comes closer than %g sigma: the box is too full for random insertion (lower "
+                      "the density, or use system.lattice = sc or fcc)", i + 1, n, mi->name, SCENE_INSERT_TRIES,
+                      SCENE_INSERT_SIGMA);
+    }
+  }
+  free(x);
+  return 0;
+}
+
 int scene_build(const rl_deck *d, scene *s)
 {
   memset(s, 0, sizeof *s);
@@ -51,7 +103,8 @@ int scene_build(const rl_deck *d, scene *s)
   double box[3] = {0, 0, 0};
   if (!d->start[0]) {
     if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed) ||
-        (d->nspecies > 1 && shuffle_species(s->sys, d->seed))) return 1;
+        (d->nspecies > 1 && !d->insert && shuffle_species(s->sys, d->seed))) return 1;
+    if (d->insert && (rl_system_set_box(s->sys, d->box) || insert_random(s->sys, s->mols, d->seed))) return 1;
   } else if (!strcmp(ext, ".chk")) {
     rl_checkpoint_meta meta;
     memset(&meta, 0, sizeof meta);

@@ -131,6 +131,11 @@ progress = no
 DECK
 "$rotleap" run salt.ini > salt.out 2>&1; code=$?
 check "SPC/E with Na+ and Cl- runs (real units)" '[ $code = 0 ] && grep -q "^species = na-spce x 2: point, 3+0 dof" salt.summary.txt && grep -q "^molecules = 68$" salt.summary.txt'
+"$rotleap" run salt.ini --set system.lattice=random --set output.prefix=ins1 > /dev/null 2>&1; code=$?
+"$rotleap" run salt.ini --set system.lattice=random --set output.prefix=ins2 > /dev/null 2>&1
+check "random insertion start runs, the same for the same seed" '[ $code = 0 ] && grep -q "^status = ok" ins1.summary.txt && cmp -s ins1.thermo.csv ins2.thermo.csv && ! cmp -s ins1.thermo.csv salt.thermo.csv'
+code=$(err mix.ini --set system.lattice=random --set system.density=2.5 --set interactions.cutoff=1.5)
+check "random insertion in a box too full: a clear error" '[ $code = 1 ] && grep -q "system.lattice = random: molecule [0-9]* of 108 (.*) found no place in 10000 tries" e.err'
 code=$(err salt.ini --set output.trajectory_every=5)
 check "a site model's DCD trajectory in a mixture refused" '[ $code = 2 ] && grep -q "species spc-e is a site model" e.err'
 "$rotleap" scan salt.ini > e.out 2> e.err; code=$?
