@@ -45,7 +45,7 @@ struct analysis {
   char rdf_name[MAX_RDF][24];
   rl_vec_series *axis, *vel, *omega, *pos;
   double (*unwrapped)[3], (*buf)[3], (*dip)[3]; /* unwrapped: the centres of the last sample */
-  rl_species_ff sff;
+  rl_species_ff sff[RL_DECK_MAX_SPECIES]; /* each species', d->nspecies of them */
   int dipolar;       /* the molecules have a net dipole: M, its fluctuation, the dielectric constant */
   int orient;        /* the vector of P1/P2: ORIENT_DIPOLE, ORIENT_AXIS or ORIENT_NONE              */
   char orient_text[240]; /* results.txt's orientation_vector: which vector, or n/a and why          */
@@ -254,8 +254,9 @@ static int header_check(const jheader *got, const jheader *want, const char *pat
 
 /* ------------------------------------------------------------------ alloc, free */
 
-analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
+analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mols, const rl_system *sys)
 {
+  const rl_molecule *mol = &mols[0];
   analysis *a = calloc(1, sizeof *a);
   if (!a) { rl_error(RL_ENOMEM, "out of memory for the analysis"); return NULL; }
   a->d = d;
@@ -305,9 +306,11 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_syst
     rl_error(RL_ENOMEM, "out of memory for the analysis of %d molecules", rl_system_count(sys));
     return NULL;
   }
-  a->sff = rl_molecule_ff(mol);
-  for (int s = 0; s < mol->nsites; s++) a->point_dipoles |= mol->dipole[s] != 0.0;
-  a->dipolar = net_dipole(mol);
+  for (int k = 0; k < d->nspecies; k++) {
+    a->sff[k] = rl_molecule_ff(&mols[k]);
+    for (int s = 0; s < mols[k].nsites; s++) a->point_dipoles |= mols[k].dipole[s] != 0.0;
+    a->dipolar |= net_dipole(&mols[k]);
+  }
   choose_orientation(a, d->model ? d->model->name : mol->name);
   return a;
 }
@@ -570,7 +573,7 @@ int analysis_sample(analysis *a, const rl_system *sys)
   }
   if (a->dipolar) {
     double M[3];
-    if ((st = rl_system_dipoles(sys, &a->sff, 1, a->dip, M))) return st;
+    if ((st = rl_system_dipoles(sys, a->sff, a->d->nspecies, a->dip, M))) return st;
     memcpy(p, M, sizeof M);
     p += sizeof M;
   }

@@ -23,7 +23,7 @@
 typedef struct analysis analysis;
 
 /* NULL with a message (rl_last_error) on a bad output.rdf pair name or out of memory. */
-analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
+analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mols, const rl_system *sys); /* mols[d->nspecies] */
 void analysis_free(analysis *a);
 /* Every step with energies: on-step values at t (info: t, potential, temperatures, total,
  * conserved, kinetic energies), pressure at t, forces and torques at t, and the box edges at t

@@ -3,6 +3,7 @@
  * fixes the unit system, converts and checks every value and the combinations.  All problems are
  * reported before anything runs. */
 #include "deck.h"
+#include "deck_internal.h"
 #include "quantity.h"
 
 #include <ctype.h>
@@ -17,35 +18,16 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef enum { K_STRING, K_PATH, K_INT, K_REAL, K_BOOL, K_CHOICE, K_INTS } key_type; /* K_PATH: any path the system accepts;
-                                                                                 K_INTS: one whole number or three */
-
-typedef struct {
-  const char *section, *name;
-  key_type type;
-  rl_dim dim;
-  const char *def;       /* default as text; NULL = required or no default            */
-  const char *choices;   /* K_CHOICE: "a|b|c"                                          */
-  const char *help;
-} key_def;
-
-enum {
-  K_MODEL, K_MOLFILE, K_COUNT, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL,
-  K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
-  K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
-  K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TAUROT, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
-  K_BARO, K_PRESSURE, K_BINTERVAL, K_TAUP, K_COMPRESS, K_BCOUPLING,
-  K_PREFIX, K_THERMO, K_ENERGY, K_CHECKPOINT, K_TRAJ, K_SAMPLE, K_RDF, K_DISCARD, K_TCONF, K_PROGRESS, NKEYS
-};
 
 static const key_def keys[NKEYS] = {
     [K_MODEL] = {"system", "model", K_STRING, Q_NONE, NULL, NULL, "catalogue model (rotleap models), or a molecule the deck defines in a [molecule NAME] section (here or in system.molecules; see \"Molecules\" below); required"},
     [K_MOLFILE] = {"system", "molecules", K_PATH, Q_NONE, NULL, NULL, "a molecule file: [molecule NAME] sections only, in the deck's line format, so that one file serves many decks; a relative path is taken from the deck's directory (from the current directory for a deck read from a pipe)"},
-    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required. A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
+    [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required (with system.model). A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
+    [K_SPECIES] = {"system", "species", K_STRING, Q_NONE, NULL, NULL, "a mixture, instead of system.model and system.count: NAME:COUNT for each species (\"spce:500 na:10 cl:10\"), each a catalogue model (with its default parameters) or a [molecule NAME] of the deck, all in one unit system; the molecules are numbered species by species in this order"},
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
-    [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc", "starting lattice"},
+    [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc|random", "starting lattice; random: centres inserted at random (system.seed) where no LJ site pair of two molecules comes closer than 0.7 of its sigma (Lorentz-Berthelot), up to 10000 tries per molecule"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
     [K_TEMP] = {"system", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "Maxwell-Boltzmann temperature of the start; default: the thermostat temperature, else required"},
@@ -56,6 +38,8 @@ static const key_def keys[NKEYS] = {
     [K_SWITCH] = {"interactions", "switch", K_REAL, Q_LENGTH, NULL, NULL, "switching distance for lj = switched"},
     [K_DISP] = {"interactions", "dispersion_correction", K_BOOL, Q_NONE, "no", NULL, "long-range LJ correction of energy and pressure"},
     [K_EPSRF] = {"interactions", "eps_rf", K_REAL, Q_NONE, "78.3", NULL, "reaction-field dielectric (>= 1; inf = conducting): of the charges under coulomb = rf, and of point dipoles"},
+    [K_MIXING] = {"interactions", "mixing", K_CHOICE, Q_NONE, "model", "model|lorentz-berthelot|geometric", "LJ mixing rule of unlike sites: lorentz-berthelot (sigma_ab = (sigma_a + sigma_b)/2, epsilon_ab = sqrt(epsilon_a epsilon_b)), geometric (sigma_ab = sqrt(sigma_a sigma_b)), or model: the model's own (geometric for OPLS and EPM2), in a mixture geometric only if every species' model is"},
+    [K_PAIRS] = {"interactions", "pairs", K_STRING, Q_NONE, NULL, NULL, "LJ parameters of site pairs that replace the mixing rule's, separated by commas: \"SPECIES:SITE SPECIES:SITE sigma S [unit] epsilon E [unit]\" (\"na:Na cl:Cl sigma 0.35 nm epsilon 0.5 kJ/mol\"); SPECIES is a name of system.species (or system.model), SITE one of its sites; at most 16"},
     [K_COULOMB] = {"interactions", "coulomb", K_CHOICE, Q_NONE, "rf", "rf|ewald|pme", "charges: reaction field (eps_rf), Ewald summation (a k-vector sum) or smooth particle-mesh Ewald (FFTW3), as OpenMM's NonbondedForce Ewald and PME: erfc(alpha r)/r within the cutoff (site pairs, pairs within a molecule excluded) plus the reciprocal sum; tin-foil boundary unless ewald_boundary says otherwise. Point dipoles too (the dipolar Ewald sum; interactions.dipole is then refused); a model with quadrupoles needs rf. The run prints alpha, the grid or k vectors and the estimated RMS force error (docs/interactions.md, Ewald)"},
     [K_ETOL] = {"interactions", "ewald_tolerance", K_REAL, Q_NONE, "5e-4", NULL, "coulomb = ewald or pme: OpenMM's ewaldErrorTolerance delta, in (0, 0.1): alpha = sqrt(-ln(2 delta)) / cutoff, the PME grid max(6, ceil(2 alpha L / (3 delta^(1/5)))) and the Ewald k vectors as OpenMM 7.7 derives them; explicit values below are checked against it"},
     [K_EALPHA] = {"interactions", "ewald_alpha", K_REAL, Q_INVLENGTH, NULL, NULL, "coulomb = ewald or pme: the splitting parameter alpha (3.2 /nm, 0.32 /A; reduced: 1/sigma, bare); default from ewald_tolerance. alpha cutoff >= 1.27 (the real-space cut leaves erfc(alpha cutoff) <= 0.1)"},
@@ -169,28 +153,6 @@ int rl_deck_integrator_lookup(const char *name)
   return -1;
 }
 
-typedef struct {
-  char *val[NKEYS];
-  int line[NKEYS];                  /* 0 = default, -1 = --set                                */
-  int bad[NKEYS];                   /* reported already (no value, or one that could not be
-                                       parsed): skip the checks built on it                   */
-  char *model_key[RL_MODEL_MAX_PARAMS], *model_val[RL_MODEL_MAX_PARAMS];
-  int model_line[RL_MODEL_MAX_PARAMS], nmodel;
-  const char *path;
-  int lineno, problems;
-  long bytes;                       /* read so far                                            */
-  char *section;                    /* the current [section]; NULL before the first           */
-  int section_bad;                  /* its header was refused: its keys are skipped           */
-  int stopped;                      /* reading was stopped: the file is not a deck            */
-  FILE *err;
-  /* [molecule NAME] sections: their headers and key lines, in order, with file and line */
-  struct { char *name; const char *file; int line; } mol[RL_DECK_MAX_MOLECULES];
-  int nmol;
-  struct { int mol; char *key, *val; const char *file; int line; } *ml;
-  int nml, cap_ml;
-  int molfile;                      /* reading system.molecules: [molecule] sections only      */
-  char *molpath;                    /* its path as opened (messages name it)                  */
-} raw_deck;
 
 static void vproblem(raw_deck *r, const char *file, int line, const char *fmt, va_list ap)
 {
@@ -202,7 +164,7 @@ static void vproblem(raw_deck *r, const char *file, int line, const char *fmt, v
   r->problems++;
 }
 
-static void problem(raw_deck *r, int line, const char *fmt, ...)
+void deck_problem(raw_deck *r, int line, const char *fmt, ...)
 {
   va_list ap;
   va_start(ap, fmt);
@@ -211,7 +173,7 @@ static void problem(raw_deck *r, int line, const char *fmt, ...)
 }
 
 /* A problem at a line of another file (a molecule file). */
-static void problem_at(raw_deck *r, const char *file, int line, const char *fmt, ...)
+void deck_problem_at(raw_deck *r, const char *file, int line, const char *fmt, ...)
 {
   va_list ap;
   va_start(ap, fmt);
@@ -248,13 +210,8 @@ static int find_key(const char *section, const char *name)
  *  - The deck is a regular file or a pipe, of at most DECK_BYTES_MAX bytes and no NUL byte; a
  *    UTF-8 byte-order mark before the first line is skipped.  Reading stops after
  *    DECK_READ_PROBLEMS_MAX problems: the file is not a deck. */
-#define DECK_LINE_MAX 199 /* libinih's INI_MAX_LINE (200) less its terminator */
-#define DECK_SECTION_MAX 49 /* libinih's MAX_SECTION (50) less its terminator */
-#define DECK_BYTES_MAX 1048576L
-#define DECK_READ_PROBLEMS_MAX 100
-#define DECK_KEEP (RL_DECK_PATH_MAX + 64) /* characters kept of a line: a path key's */
 
-static const char *file_kind(mode_t m)
+const char *deck_file_kind(mode_t m)
 {
   return S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
        : S_ISFIFO(m) ? "a pipe" : S_ISSOCK(m) ? "a socket" : "not a plain file";
@@ -283,27 +240,17 @@ static const char *default_text(int k)
   return !keys[k].def ? NULL : keys[k].def[0] ? keys[k].def : "none";
 }
 
-/* The molecule a [molecule NAME] section defines: its index, or -1 if section is not one. */
-static int molecule_section(const raw_deck *r, const char *section)
-{
-  if (strncmp(section, "molecule", 8) || (section[8] && !isspace((unsigned char)section[8]))) return -1;
-  const char *name = section + 8;
-  while (isspace((unsigned char)*name)) name++;
-  for (int i = r->nmol - 1; i >= 0; i--)
-    if (!strcmp(r->mol[i].name, name)) return i;
-  return -1;
-}
 
 static void store(raw_deck *r, const char *section, const char *name, const char *value, int line)
 {
-  const int mi = molecule_section(r, section);
+  const int mi = deck_molecule_section(r, section);
   if (mi >= 0 || !strncmp(section, "molecule ", 9)) {
-    if (line < 0) { problem(r, line, "[%s] %s: a molecule is defined in its section, not from the command line", section, name); return; }
+    if (line < 0) { deck_problem(r, line, "[%s] %s: a molecule is defined in its section, not from the command line", section, name); return; }
     if (mi < 0) return; /* its header was refused */
     if (r->nml == r->cap_ml) {
       const int cap = r->cap_ml ? 2 * r->cap_ml : 32;
       void *t = realloc(r->ml, (size_t)cap * sizeof *r->ml);
-      if (!t) { problem(r, line, "out of memory"); return; }
+      if (!t) { deck_problem(r, line, "out of memory"); return; }
       r->ml = t;
       r->cap_ml = cap;
     }
@@ -313,14 +260,14 @@ static void store(raw_deck *r, const char *section, const char *name, const char
     r->ml[r->nml].file = r->path;
     r->ml[r->nml].line = line;
     if (r->ml[r->nml].key && r->ml[r->nml].val) r->nml++;
-    else { free(r->ml[r->nml].key); free(r->ml[r->nml].val); problem(r, line, "out of memory"); }
+    else { free(r->ml[r->nml].key); free(r->ml[r->nml].val); deck_problem(r, line, "out of memory"); }
     return;
   }
-  if (r->molfile) { problem(r, line, "[%s]: a molecule file holds [molecule NAME] sections only", section); return; }
+  if (r->molfile) { deck_problem(r, line, "[%s]: a molecule file holds [molecule NAME] sections only", section); return; }
   if (!strcmp(section, "model")) { /* model parameters, checked once the model is known */
     for (int i = 0; i < r->nmodel; i++)
       if (!strcmp(r->model_key[i], name)) {
-        if (line > 0 && r->model_line[i] > 0) problem(r, line, "[model] %s given twice (first at line %d)", name, r->model_line[i]);
+        if (line > 0 && r->model_line[i] > 0) deck_problem(r, line, "[model] %s given twice (first at line %d)", name, r->model_line[i]);
         if (line < 0 && !value[0]) { /* --set model.name= : back to the default */
           free(r->model_key[i]);
           free(r->model_val[i]);
@@ -336,7 +283,7 @@ static void store(raw_deck *r, const char *section, const char *name, const char
         return;
       }
     if (line < 0 && !value[0]) return;
-    if (r->nmodel == RL_MODEL_MAX_PARAMS) { problem(r, line, "[model] too many parameters (%s)", name); return; }
+    if (r->nmodel == RL_MODEL_MAX_PARAMS) { deck_problem(r, line, "[model] too many parameters (%s)", name); return; }
     r->model_key[r->nmodel] = strdup(name);
     r->model_val[r->nmodel] = strdup(value);
     r->model_line[r->nmodel++] = line;
@@ -346,11 +293,11 @@ static void store(raw_deck *r, const char *section, const char *name, const char
   if (k < 0) {
     int sec_known = 0;
     for (int j = 0; j < NKEYS; j++) sec_known |= !strcmp(keys[j].section, section);
-    if (!sec_known) problem(r, line, "unknown section [%s] (sections: system, model, molecule NAME, interactions, run, output)", section);
-    else problem(r, line, "unknown key '%s' in [%s] (see rotleap run --help)", name, section);
+    if (!sec_known) deck_problem(r, line, "unknown section [%s] (sections: system, model, molecule NAME, interactions, run, output)", section);
+    else deck_problem(r, line, "unknown key '%s' in [%s] (see rotleap run --help)", name, section);
     return;
   }
-  if (line > 0 && r->line[k] > 0) problem(r, line, "%s.%s given twice (first at line %d)", section, name, r->line[k]);
+  if (line > 0 && r->line[k] > 0) deck_problem(r, line, "%s.%s given twice (first at line %d)", section, name, r->line[k]);
   free(r->val[k]);
   r->val[k] = NULL;
   r->line[k] = 0;
@@ -361,11 +308,11 @@ static void store(raw_deck *r, const char *section, const char *name, const char
   if (!value[0]) { /* a deck line "key =" */
     const char *def = default_text(k);
     if (k == K_PREFIX)
-      problem(r, line, "output.prefix has no value: write a path prefix such as out or results/run1 (for "
+      deck_problem(r, line, "output.prefix has no value: write a path prefix such as out or results/run1 (for "
               "out.thermo.csv, ...), or remove the line for the default (%s)", def);
     else if (def)
-      problem(r, line, "%s.%s has no value: write one, or remove the line for the default (%s)", section, name, def);
-    else problem(r, line, "%s.%s has no value: write one (%s)", section, name, keys[k].help);
+      deck_problem(r, line, "%s.%s has no value: write one, or remove the line for the default (%s)", section, name, def);
+    else deck_problem(r, line, "%s.%s has no value: write one (%s)", section, name, keys[k].help);
     r->bad[k] = 1;
   }
 }
@@ -379,18 +326,18 @@ static int read_line(FILE *f, raw_deck *r, char *buf, size_t keep, size_t *len)
   int c;
   while ((c = getc(f)) != EOF) {
     if (++r->bytes > DECK_BYTES_MAX) {
-      problem(r, 0, "is longer than %ld bytes (1 MiB), the most a deck may have", DECK_BYTES_MAX);
+      deck_problem(r, 0, "is longer than %ld bytes (1 MiB), the most a deck may have", DECK_BYTES_MAX);
       return -1;
     }
     if (c == '\n') break;
     if (c == '\0') { /* a DCD given by mistake, or /dev/zero through a pipe: its "keys" would fill screens */
-      problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno + 1);
+      deck_problem(r, 0, "is not a text file (a NUL byte on line %d): a deck is an INI text file", r->lineno + 1);
       return -1;
     }
     if (n < keep) buf[n] = (char)c;
     n++;
   }
-  if (ferror(f)) { problem(r, 0, "cannot read the deck: %s", strerror(errno)); return -1; }
+  if (ferror(f)) { deck_problem(r, 0, "cannot read the deck: %s", strerror(errno)); return -1; }
   if (c == EOF && n == 0) return 0;
   buf[n < keep ? n : keep] = '\0';
   *len = n;
@@ -398,43 +345,6 @@ static int read_line(FILE *f, raw_deck *r, char *buf, size_t keep, size_t *len)
   return 1;
 }
 
-/* A section header [name]: 1 if its keys are to be read.  [molecule NAME] registers a molecule
- * (a name of letters, digits and _ + - . at most 31 characters, defined once, not a catalogue
- * model's); in a molecule file no other section is allowed. */
-static int new_molecule(raw_deck *r, const char *name)
-{
-  if (strncmp(name, "molecule", 8) || (name[8] && !isspace((unsigned char)name[8]))) {
-    if (r->molfile) { problem(r, r->lineno, "[%s]: a molecule file holds [molecule NAME] sections only", name); return 0; }
-    return 1;
-  }
-  const char *mn = name + 8;
-  while (isspace((unsigned char)*mn)) mn++;
-  size_t n = strlen(mn), ok = n > 0 && n < sizeof ((rl_deck_molecule *)0)->name;
-  for (size_t i = 0; i < n && ok; i++) ok = isalnum((unsigned char)mn[i]) || strchr("_+-.", mn[i]);
-  if (!ok) {
-    problem(r, r->lineno, "[%s]: a molecule's name is 1 to %zu letters, digits or _ + - . ([molecule water])", name,
-            sizeof ((rl_deck_molecule *)0)->name - 1);
-    return 0;
-  }
-  for (int i = 0; i < r->nmol; i++)
-    if (!strcmp(r->mol[i].name, mn)) {
-      problem(r, r->lineno, "[molecule %s] is defined twice (first at %s:%d)", mn, r->mol[i].file, r->mol[i].line);
-      return 0;
-    }
-  for (int i = 0; i < rl_catalog_count(); i++)
-    if (!strcmp(rl_catalog_get(i)->name, mn)) {
-      problem(r, r->lineno, "[molecule %s]: the catalogue has a model of that name (rotleap models): give yours another", mn);
-      return 0;
-    }
-  if (r->nmol == RL_DECK_MAX_MOLECULES) {
-    problem(r, r->lineno, "[molecule %s]: more than %d molecules defined", mn, RL_DECK_MAX_MOLECULES);
-    return 0;
-  }
-  if (!(r->mol[r->nmol].name = strdup(mn))) { problem(r, r->lineno, "out of memory"); return 0; }
-  r->mol[r->nmol].file = r->path;
-  r->mol[r->nmol++].line = r->lineno;
-  return 1;
-}
 
 /* One raw line of `len` characters (the first `keep` of them in buf, modified) checked against the
  * rules above; what libinih is to parse of it is left in *out ("" for nothing: a blank line, a
@@ -456,16 +366,16 @@ static void check_line(raw_deck *r, char *buf, size_t len, size_t keep, const ch
   if (*p == '[') {
     char *close = strchr(p, ']');
     r->section_bad = 1; /* until the header is found good: the keys under a bad one are skipped */
-    if (n > DECK_LINE_MAX) problem(r, r->lineno, "this line has %zu characters, a deck line at most %d", n, DECK_LINE_MAX);
-    else if (!close) problem(r, r->lineno, "a section header needs its closing ']' (e.g. [system])");
+    if (n > DECK_LINE_MAX) deck_problem(r, r->lineno, "this line has %zu characters, a deck line at most %d", n, DECK_LINE_MAX);
+    else if (!close) deck_problem(r, r->lineno, "a section header needs its closing ']' (e.g. [system])");
     else {
       const char *after = trim(close + 1);
       *close = '\0';
       char *name = trim(p + 1);
       if (strlen(name) > DECK_SECTION_MAX)
-        problem(r, r->lineno, "the section name [%.20s...] has %zu characters, at most %d", name, strlen(name), DECK_SECTION_MAX);
-      else if (*after) problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", name);
-      else if (new_molecule(r, name)) {
+        deck_problem(r, r->lineno, "the section name [%.20s...] has %zu characters, at most %d", name, strlen(name), DECK_SECTION_MAX);
+      else if (*after) deck_problem(r, r->lineno, "text after [%s]: a section header stands alone on its line", name);
+      else if (deck_new_molecule(r, name)) {
         r->section_bad = 0;
         free(r->section);
         r->section = strdup(name);
@@ -481,22 +391,22 @@ static void check_line(raw_deck *r, char *buf, size_t len, size_t keep, const ch
   char *eq = strpbrk(p, "=:");
   if (!eq) {
     if (indented)
-      problem(r, r->lineno, "an indented line does not continue the value of the line before it: a deck value "
+      deck_problem(r, r->lineno, "an indented line does not continue the value of the line before it: a deck value "
               "is written whole on its key's line (key = value)");
-    else problem(r, r->lineno, "not a valid deck line (expected [section], key = value or a comment)");
+    else deck_problem(r, r->lineno, "not a valid deck line (expected [section], key = value or a comment)");
     return;
   }
   const char sep = *eq;
   *eq = '\0';
   char *name = trim(p), *value = trim(eq + 1);
   const int k = *name && r->section ? find_key(r->section, name) : -1;
-  if (!*name) { problem(r, r->lineno, "a key is missing before the '%c'", sep); return; }
+  if (!*name) { deck_problem(r, r->lineno, "a key is missing before the '%c'", sep); return; }
   if (r->section_bad) return;
-  if (!r->section) { problem(r, r->lineno, "key '%s' outside any [section]", name); return; }
+  if (!r->section) { deck_problem(r, r->lineno, "key '%s' outside any [section]", name); return; }
   if (n > DECK_LINE_MAX) {
     if (whole && k >= 0 && keys[k].type == K_PATH) store(r, r->section, name, value, r->lineno); /* beyond libinih's buffer */
     else
-      problem(r, r->lineno, "this line has %zu characters, a deck line at most %d (only a comment, or the path of "
+      deck_problem(r, r->lineno, "this line has %zu characters, a deck line at most %d (only a comment, or the path of "
               "system.start or output.prefix, may be longer)", n, DECK_LINE_MAX);
     return;
   }
@@ -520,7 +430,7 @@ static char *deck_reader(char *str, int num, void *stream)
   size_t len;
   if (r->stopped || r->problems >= DECK_READ_PROBLEMS_MAX) {
     if (!r->stopped && r->problems >= DECK_READ_PROBLEMS_MAX)
-      problem(r, 0, "stopped reading at line %d after %d problems: is this a deck?", r->lineno, r->problems);
+      deck_problem(r, 0, "stopped reading at line %d after %d problems: is this a deck?", r->lineno, r->problems);
     r->stopped = 1;
     return NULL;
   }
@@ -544,12 +454,12 @@ static int deck_handler(void *user, const char *section, const char *name, const
 
 /* Phase 1 for the deck file f: every line stored or reported.  0, or -1 when reading stopped
  * (the file is not a deck: its lines are not worth checking further). */
-static int read_deck(FILE *f, raw_deck *r)
+int deck_read(FILE *f, raw_deck *r)
 {
   void *stream[2] = {f, r};
   const int line = ini_parse_stream(deck_reader, stream, deck_handler, r);
   if (line > 0 && !r->stopped) /* a line libinih could not parse after the checks: cannot happen, but said */
-    problem(r, line, "not a valid deck line");
+    deck_problem(r, line, "not a valid deck line");
   return r->stopped ? -1 : 0;
 }
 
@@ -569,7 +479,7 @@ static int choice(raw_deck *r, int k)
     if (!e) break;
     p = e + 1;
   }
-  problem(r, r->line[k], "%s.%s: '%s' is not one of %s", keys[k].section, keys[k].name, v, c);
+  deck_problem(r, r->line[k], "%s.%s: '%s' is not one of %s", keys[k].section, keys[k].name, v, c);
   r->bad[k] = 1;
   return 0;
 }
@@ -581,7 +491,7 @@ static double number(raw_deck *r, int k, rl_units u, int allow_inf, double fallb
   double x;
   char msg[256];
   if (rl_parse_quantity(v, keys[k].dim, u, allow_inf, &x, msg, sizeof msg)) {
-    problem(r, r->line[k], "%s.%s: %s", keys[k].section, keys[k].name, msg);
+    deck_problem(r, r->line[k], "%s.%s: %s", keys[k].section, keys[k].name, msg);
     r->bad[k] = 1;
     return fallback;
   }
@@ -597,10 +507,10 @@ static long integer_in(raw_deck *r, int k, long lo, long hi, long fallback)
   long x = strtol(v, &end, 10);
   const int range = errno == ERANGE;
   while (*end == ' ' || *end == '\t') end++;
-  if (end == v || *end) { problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); r->bad[k] = 1; return fallback; }
-  if (range && x == LONG_MIN) { problem(r, r->line[k], "%s.%s: %s is below the minimum %ld", keys[k].section, keys[k].name, v, lo); r->bad[k] = 1; return fallback; }
-  if (range || x > hi) { problem(r, r->line[k], "%s.%s: %s is above the maximum %ld", keys[k].section, keys[k].name, v, hi); r->bad[k] = 1; return fallback; }
-  if (x < lo) { problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); r->bad[k] = 1; return fallback; }
+  if (end == v || *end) { deck_problem(r, r->line[k], "%s.%s: '%s' is not a whole number", keys[k].section, keys[k].name, v); r->bad[k] = 1; return fallback; }
+  if (range && x == LONG_MIN) { deck_problem(r, r->line[k], "%s.%s: %s is below the minimum %ld", keys[k].section, keys[k].name, v, lo); r->bad[k] = 1; return fallback; }
+  if (range || x > hi) { deck_problem(r, r->line[k], "%s.%s: %s is above the maximum %ld", keys[k].section, keys[k].name, v, hi); r->bad[k] = 1; return fallback; }
+  if (x < lo) { deck_problem(r, r->line[k], "%s.%s: %ld is below the minimum %ld", keys[k].section, keys[k].name, x, lo); r->bad[k] = 1; return fallback; }
   return x;
 }
 
@@ -612,14 +522,14 @@ static int boolean(raw_deck *r, int k)
   if (r->bad[k]) return 0;
   if (!strcmp(v, "yes") || !strcmp(v, "true") || !strcmp(v, "1") || !strcmp(v, "on")) return 1;
   if (!strcmp(v, "no") || !strcmp(v, "false") || !strcmp(v, "0") || !strcmp(v, "off")) return 0;
-  problem(r, r->line[k], "%s.%s: '%s' is not yes or no", keys[k].section, keys[k].name, v);
+  deck_problem(r, r->line[k], "%s.%s: '%s' is not yes or no", keys[k].section, keys[k].name, v);
   r->bad[k] = 1;
   return 0;
 }
 
-static void require(raw_deck *r, int k)
+void deck_require(raw_deck *r, int k)
 {
-  if (!r->val[k]) problem(r, 0, "%s.%s is required (%s)", keys[k].section, keys[k].name, keys[k].help);
+  if (!r->val[k]) deck_problem(r, 0, "%s.%s is required (%s)", keys[k].section, keys[k].name, keys[k].help);
 }
 
 int rl_deck_site_model(const rl_molecule *m)
@@ -637,10 +547,10 @@ static void count_fits(raw_deck *r, int count, const rl_molecule *m)
   const double need = (double)count * (160.0 + 130.0 * ns);
   const double have = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
   if ((double)count * ns > INT_MAX)
-    problem(r, r->line[K_COUNT], "system.count = %d: %.3g sites (%d per molecule of %s), more than the %d the "
+    deck_problem(r, r->line[K_COUNT], "system.count = %d: %.3g sites (%d per molecule of %s), more than the %d the "
             "library counts", count, (double)count * ns, ns, m->name, INT_MAX);
   else if (have > 0 && need > have)
-    problem(r, r->line[K_COUNT], "system.count = %d needs at least %.3g GB of memory (%.0f bytes per molecule of %s), "
+    deck_problem(r, r->line[K_COUNT], "system.count = %d needs at least %.3g GB of memory (%.0f bytes per molecule of %s), "
             "more than this machine's %.3g GB", count, need * 1e-9, need / count, m->name, have * 1e-9);
 }
 
@@ -662,13 +572,13 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
   char *tmp = strdup(r->val[K_BOX]), *save, *num[3] = {NULL, NULL, NULL};
   const char *unit[3] = {NULL, NULL, NULL}; /* an edge's unit: a token of its own, or its number's suffix */
   int suffix[3] = {0, 0, 0};                /* the unit is the number's suffix: num[c] is the quantity */
-  if (!tmp) { problem(r, r->line[K_BOX], "system.box: out of memory"); return; }
+  if (!tmp) { deck_problem(r, r->line[K_BOX], "system.box: out of memory"); return; }
   int n = 0, bad = 0;
   for (char *tok = strtok_r(tmp, " \t", &save); tok && !bad; tok = strtok_r(NULL, " \t", &save)) {
     char *end;
     (void)strtod(tok, &end);
     if (end != tok && n == 3) { /* a number (nan and inf too: refused below, by name) starts an edge */
-      problem(r, r->line[K_BOX], "system.box: more than three edges");
+      deck_problem(r, r->line[K_BOX], "system.box: more than three edges");
       bad = 1;
     } else if (end != tok) {
       num[n] = tok;
@@ -678,30 +588,30 @@ static void box_edges(raw_deck *r, rl_units u, double box[3])
     } else if (n > 0 && !unit[n - 1]) { /* the unit of the number before it */
       unit[n - 1] = tok;
     } else {
-      problem(r, r->line[K_BOX], "system.box: '%s' is not a number%s", tok,
+      deck_problem(r, r->line[K_BOX], "system.box: '%s' is not a number%s", tok,
               n > 0 ? " (one unit per edge: \"1.8 nm 1.8 nm 2 nm\" or \"1.8 1.8 2 nm\")" : "");
       bad = 1;
     }
   }
-  if (!bad && n != 1 && n != 3) { problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); bad = 1; }
+  if (!bad && n != 1 && n != 3) { deck_problem(r, r->line[K_BOX], "system.box: give one edge or three (got %d)", n); bad = 1; }
   double L[3];
   for (int c = 0; c < n && !bad; c++) {
     const char *un = suffix[c] ? "" : unit[c] ? unit[c] : unit[n - 1] ? unit[n - 1] : ""; /* bare: the last edge's */
     char msg[256], *q = malloc(strlen(num[c]) + strlen(un) + 2);
-    if (!q) { problem(r, r->line[K_BOX], "system.box: out of memory"); bad = 1; break; }
+    if (!q) { deck_problem(r, r->line[K_BOX], "system.box: out of memory"); bad = 1; break; }
     sprintf(q, "%s%s%s", num[c], *un ? " " : "", un);
     if (rl_parse_quantity(q, Q_LENGTH, u, 0, &L[c], msg, sizeof msg)) {
-      problem(r, r->line[K_BOX], "system.box: %s", msg);
+      deck_problem(r, r->line[K_BOX], "system.box: %s", msg);
       bad = 1;
     } else if (!(L[c] > 0)) {
-      problem(r, r->line[K_BOX], "system.box: %s%g must be positive", n == 1 ? "edge " : c == 0 ? "x edge "
+      deck_problem(r, r->line[K_BOX], "system.box: %s%g must be positive", n == 1 ? "edge " : c == 0 ? "x edge "
               : c == 1 ? "y edge " : "z edge ", L[c]);
       bad = 1;
     }
     free(q);
   }
   if (!bad && !(isfinite(L[0] * L[1 % n] * L[2 % n]) && L[0] * L[1 % n] * L[2 % n] > 0)) {
-    problem(r, r->line[K_BOX], "system.box: the volume of %s is out of range", r->val[K_BOX]);
+    deck_problem(r, r->line[K_BOX], "system.box: the volume of %s is out of range", r->val[K_BOX]);
     bad = 1;
   }
   if (!bad)
@@ -725,9 +635,9 @@ static void model_problem(raw_deck *r, const rl_deck *d)
     if (!rl_model_build(d->model, p, 0, &m)) culprit = i;
   }
   if (culprit >= 0)
-    problem(r, r->model_line[culprit], "[model] %s: model %s: %s", r->model_key[culprit], d->model->name,
+    deck_problem(r, r->model_line[culprit], "[model] %s: model %s: %s", r->model_key[culprit], d->model->name,
             msg ? msg : "does not build");
-  else problem(r, 0, "model %s: %s", d->model->name, msg ? msg : "does not build");
+  else deck_problem(r, 0, "model %s: %s", d->model->name, msg ? msg : "does not build");
   free(msg);
 }
 
@@ -736,7 +646,7 @@ static void step_resolves_rotation(raw_deck *r, const rl_deck *d, int k, double 
 {
   const double hw = h * thermal_omega_at(d, T);
   if (hw > 1.0)
-    problem(r, r->line[k], "%s.%s %g %s is too large for %s at %g %s%s: h times the thermal angular velocity "
+    deck_problem(r, r->line[k], "%s.%s %g %s is too large for %s at %g %s%s: h times the thermal angular velocity "
             "is %.3g > 1, no step can follow the rotation", keys[k].section, keys[k].name, h,
             rl_dim_unit(Q_TIME, d->units), d->model->name, T, rl_dim_unit(Q_TEMPERATURE, d->units), tkey, hw);
 }
@@ -757,7 +667,7 @@ static int ints3(raw_deck *r, int k, int lo, int hi, int out[3])
     errno = 0;
     const long y = strtol(p, &end, 10);
     if (end == p || (*end && !isspace((unsigned char)*end)) || n == 3) {
-      problem(r, r->line[k], "%s.%s: '%s' is not one whole number or three (\"%s = 24\" or \"24 24 32\")", keys[k].section,
+      deck_problem(r, r->line[k], "%s.%s: '%s' is not one whole number or three (\"%s = 24\" or \"24 24 32\")", keys[k].section,
               keys[k].name, v, keys[k].name);
       r->bad[k] = 1;
       return 0;
@@ -766,14 +676,14 @@ static int ints3(raw_deck *r, int k, int lo, int hi, int out[3])
     p = end + strspn(end, " \t");
   }
   if (n == 2) {
-    problem(r, r->line[k], "%s.%s: '%s' has two numbers: give one for all three axes, or three", keys[k].section, keys[k].name, v);
+    deck_problem(r, r->line[k], "%s.%s: '%s' has two numbers: give one for all three axes, or three", keys[k].section, keys[k].name, v);
     r->bad[k] = 1;
     return 0;
   }
   for (int c = 0; c < 3; c++) {
     const long y = x[n == 1 ? 0 : c];
     if (y < lo || y > hi) {
-      problem(r, r->line[k], "%s.%s: %ld is outside %d..%d", keys[k].section, keys[k].name, y, lo, hi);
+      deck_problem(r, r->line[k], "%s.%s: %ld is outside %d..%d", keys[k].section, keys[k].name, y, lo, hi);
       r->bad[k] = 1;
       return 0;
     }
@@ -816,35 +726,35 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
   const char *cv = val(r, K_COULOMB);
   for (size_t i = 0; i < sizeof either / sizeof either[0]; i++)
     if (r->val[either[i]] && d->coulomb == RL_DECK_COULOMB_RF)
-      problem(r, r->line[either[i]], "interactions.%s is only used with coulomb = ewald or pme (coulomb = rf here)", keys[either[i]].name);
+      deck_problem(r, r->line[either[i]], "interactions.%s is only used with coulomb = ewald or pme (coulomb = rf here)", keys[either[i]].name);
   for (size_t i = 0; i < 2; i++) {
     if (r->val[pme_only[i]] && d->coulomb != RL_DECK_COULOMB_PME)
-      problem(r, r->line[pme_only[i]], "interactions.%s is only used with coulomb = pme (coulomb = %s here)", keys[pme_only[i]].name, cv);
+      deck_problem(r, r->line[pme_only[i]], "interactions.%s is only used with coulomb = pme (coulomb = %s here)", keys[pme_only[i]].name, cv);
     if (r->val[ewald_only[i]] && d->coulomb != RL_DECK_COULOMB_EWALD)
-      problem(r, r->line[ewald_only[i]], "interactions.%s is only used with coulomb = ewald (coulomb = %s here)", keys[ewald_only[i]].name, cv);
+      deck_problem(r, r->line[ewald_only[i]], "interactions.%s is only used with coulomb = ewald (coulomb = %s here)", keys[ewald_only[i]].name, cv);
   }
   if (d->coulomb == RL_DECK_COULOMB_RF) return;
   if (r->val[K_EPSRF])
-    problem(r, r->line[K_EPSRF], "interactions.eps_rf is only used with coulomb = rf (coulomb = %s here: the Ewald sum's "
+    deck_problem(r, r->line[K_EPSRF], "interactions.eps_rf is only used with coulomb = rf (coulomb = %s here: the Ewald sum's "
             "surroundings are interactions.ewald_boundary)", cv);
   if (r->val[K_DIPOLE])
-    problem(r, r->line[K_DIPOLE], "interactions.dipole is only used with coulomb = rf (coulomb = %s here: the point dipoles "
+    deck_problem(r, r->line[K_DIPOLE], "interactions.dipole is only used with coulomb = rf (coulomb = %s here: the point dipoles "
             "are in the Ewald sum, real and reciprocal parts, with no reaction field or shifted force)", cv);
   if (d->ff.scheme == RL_CUTOFF_MOLECULE && !r->bad[K_SCHEME])
-    problem(r, r->line[K_SCHEME], "interactions.scheme = molecule does not go with coulomb = %s: the real-space Ewald sum "
+    deck_problem(r, r->line[K_SCHEME], "interactions.scheme = molecule does not go with coulomb = %s: the real-space Ewald sum "
             "cuts every site pair by its own distance (scheme = site)", cv);
   const int before = r->problems;
   d->ewald.tolerance = number(r, K_ETOL, u, 0, 5e-4);
   if (r->val[K_EALPHA]) {
     d->ewald.alpha = number(r, K_EALPHA, u, 0, 0.0);
-    if (!r->bad[K_EALPHA] && !(d->ewald.alpha > 0)) problem(r, r->line[K_EALPHA], "interactions.ewald_alpha must be positive");
+    if (!r->bad[K_EALPHA] && !(d->ewald.alpha > 0)) deck_problem(r, r->line[K_EALPHA], "interactions.ewald_alpha must be positive");
   }
   ints3(r, K_PGRID, 1, 4096, d->ewald.grid);
   d->ewald.order = (int)integer_in(r, K_PORDER, 3, 12, 5);
   ints3(r, K_EKMAX, 1, 4096, d->ewald.kmax);
   if (r->val[K_EKMAX2]) {
     d->ewald.kmax_sq = number(r, K_EKMAX2, u, 0, 0.0);
-    if (!r->bad[K_EKMAX2] && !(d->ewald.kmax_sq >= 1)) problem(r, r->line[K_EKMAX2], "interactions.ewald_kmax2 must be >= 1 (it bounds nx^2 + ny^2 + nz^2)");
+    if (!r->bad[K_EKMAX2] && !(d->ewald.kmax_sq >= 1)) deck_problem(r, r->line[K_EKMAX2], "interactions.ewald_kmax2 must be >= 1 (it bounds nx^2 + ny^2 + nz^2)");
   }
   const char *b = val(r, K_EBOUND);
   if (!strcmp(b, "tinfoil")) d->ewald.eps_surface = INFINITY;
@@ -852,7 +762,7 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
   else {
     char msg[256];
     if (rl_parse_quantity(b, Q_NONE, u, 1, &d->ewald.eps_surface, msg, sizeof msg) || !(d->ewald.eps_surface >= 1.0))
-      problem(r, r->line[K_EBOUND], "interactions.ewald_boundary: '%s' is not tinfoil, vacuum or a dielectric constant >= 1", b);
+      deck_problem(r, r->line[K_EBOUND], "interactions.ewald_boundary: '%s' is not tinfoil, vacuum or a dielectric constant >= 1", b);
   }
   if (r->problems > before || !d->model || !(d->box[0] > 0) || !(d->ff.cutoff > 0) || r->bad[K_CUTOFF] ||
       d->ff.cutoff > 0.5 * fmin(d->box[0], fmin(d->box[1], d->box[2])))
@@ -876,9 +786,9 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
     const char *msg = rl_last_error(), *tail = strstr(msg, ": ");
     const int k = ewald_message_key(r, msg);
     if (k == K_COULOMB)
-      problem(r, r->line[k], "interactions.coulomb = %s needs point charges: model %s: %s", cv, d->model->name, tail ? tail + 2 : msg);
-    else if (r->val[k]) problem(r, r->line[k], "interactions.%s = %s: %s", keys[k].name, r->val[k], tail ? tail + 2 : msg);
-    else problem(r, r->line[k], "interactions.%s (default %s): %s", keys[k].name, default_text(k), tail ? tail + 2 : msg);
+      deck_problem(r, r->line[k], "interactions.coulomb = %s needs point charges: model %s: %s", cv, d->model->name, tail ? tail + 2 : msg);
+    else if (r->val[k]) deck_problem(r, r->line[k], "interactions.%s = %s: %s", keys[k].name, r->val[k], tail ? tail + 2 : msg);
+    else deck_problem(r, r->line[k], "interactions.%s (default %s): %s", keys[k].name, default_text(k), tail ? tail + 2 : msg);
   }
   rl_system_free(sys);
 }
@@ -893,7 +803,7 @@ static void output_prefix(raw_deck *r, rl_deck *d, const char *path)
   size_t n = v ? strlen(v) : strlen(path);
   if (!v && n > 4 && !strcmp(path + n - 4, ".ini")) n -= 4;
   if (n > RL_DECK_PATH_MAX - 1 - RL_DECK_SUFFIX_MAX) {
-    problem(r, line, "%s has %zu characters: with the suffixes of its outputs (up to %d characters) their paths would "
+    deck_problem(r, line, "%s has %zu characters: with the suffixes of its outputs (up to %d characters) their paths would "
             "pass the system's limit of %d; give a shorter one", what, n, RL_DECK_SUFFIX_MAX, RL_DECK_PATH_MAX - 1);
     return;
   }
@@ -901,11 +811,11 @@ static void output_prefix(raw_deck *r, rl_deck *d, const char *path)
   d->prefix[n] = '\0';
   const char *slash = strrchr(d->prefix, '/'), *base = slash ? slash + 1 : d->prefix;
   if (!*base || !strcmp(base, ".") || !strcmp(base, ".."))
-    problem(r, line, "%s '%s' names a directory: the outputs would be hidden files (%s.thermo.csv); write %s%sNAME "
+    deck_problem(r, line, "%s '%s' names a directory: the outputs would be hidden files (%s.thermo.csv); write %s%sNAME "
             "for NAME.thermo.csv, ... there", what, d->prefix, d->prefix, d->prefix,
             *base && (!slash || slash[1]) ? "/" : "");
   else if (strlen(base) + RL_DECK_SUFFIX_MAX > RL_DECK_NAME_MAX)
-    problem(r, line, "%s: its last part has %zu characters: with the suffixes of its outputs (up to %d characters) "
+    deck_problem(r, line, "%s: its last part has %zu characters: with the suffixes of its outputs (up to %d characters) "
             "their file names would pass the system's limit of %d; give a shorter one", what, strlen(base),
             RL_DECK_SUFFIX_MAX, RL_DECK_NAME_MAX);
 }
@@ -917,7 +827,7 @@ static void start_file(raw_deck *r, rl_deck *d, const char *v)
   const int line = r->line[K_START];
   const size_t n = strlen(v);
   if (n >= sizeof d->start) {
-    problem(r, line, "system.start: the path has %zu characters, more than the system's limit of %d", n,
+    deck_problem(r, line, "system.start: the path has %zu characters, more than the system's limit of %d", n,
             RL_DECK_PATH_MAX - 1);
     return;
   }
@@ -926,11 +836,11 @@ static void start_file(raw_deck *r, rl_deck *d, const char *v)
   struct stat sb;
   FILE *t;
   if (strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk"))
-    problem(r, line, "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
-  else if (stat(d->start, &sb)) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
+    deck_problem(r, line, "system.start: '%s' is not lattice or a .pdb, .xyz or .chk file", d->start);
+  else if (stat(d->start, &sb)) deck_problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
   else if (!S_ISREG(sb.st_mode))
-    problem(r, line, "system.start: %s is not a regular file (%s)", d->start, file_kind(sb.st_mode));
-  else if (!(t = fopen(d->start, "rb"))) problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
+    deck_problem(r, line, "system.start: %s is not a regular file (%s)", d->start, deck_file_kind(sb.st_mode));
+  else if (!(t = fopen(d->start, "rb"))) deck_problem(r, line, "system.start: cannot open %s: %s", d->start, strerror(errno));
   else fclose(t);
 }
 
@@ -958,330 +868,37 @@ static void baro_keys(raw_deck *r, rl_deck *d, rl_units u, int ens, int ens_ok)
   if (!d->barostat) {
     for (size_t k = 0; k < sizeof their / sizeof their[0]; k++)
       if (r->val[their[k]])
-        problem(r, r->line[their[k]], "run.%s is only used with a barostat (run.barostat = mc or c-rescale)", keys[their[k]].name);
+        deck_problem(r, r->line[their[k]], "run.%s is only used with a barostat (run.barostat = mc or c-rescale)", keys[their[k]].name);
     return;
   }
   if (ens_ok && ens < 2)
-    problem(r, r->line[K_BARO] ? r->line[K_BARO] : r->line[K_ENSEMBLE], "run.barostat = %s needs a stochastic thermostat "
+    deck_problem(r, r->line[K_BARO] ? r->line[K_BARO] : r->line[K_ENSEMBLE], "run.barostat = %s needs a stochastic thermostat "
             "(run.ensemble = nvt-bussi or nvt-langevin[-dot[-obabo]]): the barostat samples at run.temperature", val(r, K_BARO));
-  if (!r->val[K_PRESSURE]) problem(r, r->line[K_BARO], "run.barostat = %s needs run.pressure", val(r, K_BARO));
+  if (!r->val[K_PRESSURE]) deck_problem(r, r->line[K_BARO], "run.barostat = %s needs run.pressure", val(r, K_BARO));
   d->pressure = number(r, K_PRESSURE, u, 0, 0.0);
   /* beyond 10 GPa (1e3 reduced) no rigid-molecule model applies: most likely a unit left out
    * (101325 read as bar, not Pa) */
   const double pmax = lj ? 1e3 : 1e5 * 0.0602214076;
   if (r->val[K_PRESSURE] && !r->bad[K_PRESSURE] && !(fabs(d->pressure) <= pmax))
-    problem(r, r->line[K_PRESSURE], "run.pressure = %s is beyond %s: no rigid-molecule model holds there (a pressure in "
+    deck_problem(r, r->line[K_PRESSURE], "run.pressure = %s is beyond %s: no rigid-molecule model holds there (a pressure in "
             "Pa or atm needs its unit: \"101325 Pa\", \"1 atm\")", val(r, K_PRESSURE), lj ? "+-1000 (reduced)" : "+-1e5 bar (10 GPa)");
   d->baro_interval = integer(r, K_BINTERVAL, 1, mc ? 25 : 10);
   if (!mc && !r->bad[K_BINTERVAL] && d->energy_every > 0 && d->baro_interval % d->energy_every)
-    problem(r, r->line[K_BINTERVAL] ? r->line[K_BINTERVAL] : r->line[K_ENERGY], "run.barostat_interval = %ld must be a "
+    deck_problem(r, r->line[K_BINTERVAL] ? r->line[K_BINTERVAL] : r->line[K_ENERGY], "run.barostat_interval = %ld must be a "
             "multiple of output.energy_every = %ld (C-rescale needs the virial on its steps)", d->baro_interval, d->energy_every);
   d->tau_p = number(r, K_TAUP, u, 0, lj ? 1000.0 * d->timestep : 1.0);
-  if (r->val[K_TAUP] && mc) problem(r, r->line[K_TAUP], "run.tau_p is only used with run.barostat = c-rescale");
-  else if (!r->bad[K_TAUP] && !(d->tau_p > 0)) problem(r, r->line[K_TAUP], "run.tau_p must be positive");
+  if (r->val[K_TAUP] && mc) deck_problem(r, r->line[K_TAUP], "run.tau_p is only used with run.barostat = c-rescale");
+  else if (!r->bad[K_TAUP] && !(d->tau_p > 0)) deck_problem(r, r->line[K_TAUP], "run.tau_p must be positive");
   d->compressibility = number(r, K_COMPRESS, u, 0, lj ? 0.1 : 4.5e-5 / 0.0602214076);
-  if (r->val[K_COMPRESS] && mc) problem(r, r->line[K_COMPRESS], "run.compressibility is only used with run.barostat = c-rescale");
-  else if (!r->bad[K_COMPRESS] && !(d->compressibility > 0)) problem(r, r->line[K_COMPRESS], "run.compressibility must be positive");
+  if (r->val[K_COMPRESS] && mc) deck_problem(r, r->line[K_COMPRESS], "run.compressibility is only used with run.barostat = c-rescale");
+  else if (!r->bad[K_COMPRESS] && !(d->compressibility > 0)) deck_problem(r, r->line[K_COMPRESS], "run.compressibility must be positive");
   d->baro_aniso = choice(r, K_BCOUPLING);
   if (d->baro_aniso == 1 && !mc)
-    problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = anisotropic needs run.barostat = mc (C-rescale is isotropic or semiisotropic)");
+    deck_problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = anisotropic needs run.barostat = mc (C-rescale is isotropic or semiisotropic)");
   if (d->baro_aniso == 2 && mc)
-    problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = semiisotropic needs run.barostat = c-rescale (mc is isotropic or anisotropic)");
+    deck_problem(r, r->line[K_BCOUPLING], "run.barostat_coupling = semiisotropic needs run.barostat = c-rescale (mc is isotropic or anisotropic)");
 }
 
-/* ---- molecules a deck defines ([molecule NAME]) -------------------------------------------- */
-
-static int user_define(const rl_model *self, const double *params, int force_general, rl_molecule *m)
-{
-  (void)params;
-  const rl_deck_molecule *u = (const rl_deck_molecule *)self; /* model is its first member */
-  const char *names[RL_MOLECULE_MAX_SITES];
-  for (int a = 0; a < u->nsites; a++) names[a] = u->site_names[a];
-  const rl_molecule_def def = {u->name, u->nsites, names, &u->pos[0][0], u->mass, u->sigma, u->epsilon, u->charge,
-                               &u->dipole[0][0], u->quadrupole, {u->inertia[0], u->inertia[1], u->inertia[2]},
-                               u->symmetrize ? RL_DECK_SYMMETRIZE_RTOL : 0.0};
-  return rl_molecule_build(&def, force_general, m);
-}
-
-const rl_deck_molecule *rl_deck_user_molecule(const rl_deck *d)
-{
-  return d->model && d->model->define == user_define ? (const rl_deck_molecule *)d->model : NULL;
-}
-
-/* The units of a site's quantities that are not deck quantities (quantity.c): mass, charge,
- * dipole, quadrupole.  1 D = 0.020819434 e nm (CODATA: 3.33564e-30 C m). */
-typedef enum { SQ_LENGTH, SQ_ENERGY, SQ_MASS, SQ_CHARGE, SQ_DIPOLE, SQ_QUADRUPOLE } site_qty;
-static const struct { site_qty q; const char *suffix; double factor; } site_units[] = {
-    {SQ_MASS, "amu", 1.0},        {SQ_MASS, "u", 1.0},           {SQ_MASS, "g/mol", 1.0},
-    {SQ_CHARGE, "e", 1.0},        {SQ_DIPOLE, "e*nm", 1.0},      {SQ_DIPOLE, "D", 0.020819434},
-    {SQ_DIPOLE, "e*A", 0.1},      {SQ_QUADRUPOLE, "e*nm^2", 1.0}, {SQ_QUADRUPOLE, "D*A", 0.0020819434},
-    {SQ_QUADRUPOLE, "e*A^2", 0.01}};
-static const char *const site_keywords[] = {"mass", "charge", "sigma", "epsilon", "dipole", "quadrupole"};
-
-static int site_keyword(const char *t)
-{
-  for (int k = 0; k < 6; k++)
-    if (!strcmp(t, site_keywords[k])) return k;
-  return -1;
-}
-
-/* 1 if token t starts with a number; the rest (an attached unit) in *rest. */
-static int numeric(const char *t, const char **rest)
-{
-  char *end;
-  (void)strtod(t, &end);
-  *rest = end;
-  return end != t;
-}
-
-/* One value of a site: the number `num` (with an attached unit, or `unit` from the token after
- * the numbers, or bare) as quantity q in units u.  0, or -1 with a message in err. */
-static int site_value(const char *num, const char *unit, site_qty q, rl_units u, double *out, char *err, size_t n)
-{
-  const char *att;
-  numeric(num, &att);
-  const char *un = *att ? att : unit ? unit : "";
-  if (q == SQ_LENGTH || q == SQ_ENERGY) {
-    char buf[DECK_LINE_MAX + 32]; /* a token of a line: never cut */
-    snprintf(buf, sizeof buf, "%.*s%s%s", (int)(att - num), num, *un ? " " : "", un);
-    return rl_parse_quantity(buf, q == SQ_LENGTH ? Q_LENGTH : Q_ENERGY, u, 0, out, err, n);
-  }
-  char *end;
-  const double x = strtod(num, &end);
-  if (!isfinite(x)) { snprintf(err, n, "'%s' is not a finite number", num); return -1; }
-  double f = 1.0;
-  if (*un) {
-    if (u == RL_UNITS_LJ) { snprintf(err, n, "reduced (lj) units take no unit suffix (got '%s')", un); return -1; }
-    int found = 0;
-    for (size_t k = 0; k < sizeof site_units / sizeof site_units[0] && !found; k++)
-      if (site_units[k].q == q && !strcmp(site_units[k].suffix, un)) { f = site_units[k].factor; found = 1; }
-    if (!found) {
-      snprintf(err, n, "unit '%s' is not known here (mass: amu; charge: e; dipole: D, e*nm, e*A; quadrupole: D*A, "
-               "e*nm^2, e*A^2; bare numbers are in the first)", un);
-      return -1;
-    }
-  }
-  *out = x * f;
-  return 0;
-}
-
-/* A site line: "NAME x y z [UNIT] mass M [charge Q] [sigma S [UNIT]] [epsilon E [UNIT]]
- * [dipole dx dy dz [UNIT]] [quadrupole Q [UNIT]]" into site a of dm.  0, or -1 reported. */
-static int site_line(raw_deck *r, const char *file, int line, const char *text, rl_deck_molecule *dm, int a)
-{
-  char *buf = strdup(text), *save, *tok[64];
-  if (!buf) { problem_at(r, file, line, "out of memory"); return -1; }
-  int nt = 0, st = 0;
-  for (char *t = strtok_r(buf, " \t", &save); t; t = strtok_r(NULL, " \t", &save)) {
-    if (nt == 64) { problem_at(r, file, line, "site: too many words"); free(buf); return -1; }
-    tok[nt++] = t;
-  }
-  const char *rest;
-  char err[256];
-  int given[6] = {0};
-#define SITE_FAIL(...) do { problem_at(r, file, line, __VA_ARGS__); st = -1; goto done; } while (0)
-  if (nt < 4) SITE_FAIL("site = NAME x y z [unit] mass M ...: give a name and three coordinates (got '%s')", text);
-  if (numeric(tok[0], &rest) || strlen(tok[0]) >= sizeof dm->site_names[0] || site_keyword(tok[0]) >= 0)
-    SITE_FAIL("site: '%s' is not a site name (1 to %zu characters, not a number or a keyword)", tok[0],
-              sizeof dm->site_names[0] - 1);
-  for (int b = 0; b < a; b++)
-    if (!strcmp(dm->site_names[b], tok[0])) SITE_FAIL("site %s: two sites of one name (RDFs and pair overrides name sites)", tok[0]);
-  snprintf(dm->site_names[a], sizeof dm->site_names[a], "%s", tok[0]);
-  int i = 1;
-  /* groups: the position (3 numbers), then keyword + 1 or 3 numbers, each with an optional unit */
-  for (int g = -1; i < nt || g < 0; g++) {
-    int kw = -1, nnum = 3;
-    if (g >= 0) {
-      kw = site_keyword(tok[i]);
-      if (kw < 0) SITE_FAIL("site %s: '%s' is not one of mass, charge, sigma, epsilon, dipole, quadrupole", tok[0], tok[i]);
-      if (given[kw]) SITE_FAIL("site %s: %s given twice", tok[0], tok[i]);
-      given[kw] = 1;
-      nnum = kw == 4 ? 3 : 1;
-      i++;
-    }
-    const char *what = kw < 0 ? "position" : site_keywords[kw];
-    const int first = i;
-    for (int k = 0; k < nnum; k++, i++)
-      if (i >= nt || !numeric(tok[i], &rest)) SITE_FAIL("site %s: %s needs %d number%s", tok[0], what, nnum, nnum > 1 ? "s" : "");
-    const char *unit = i < nt && site_keyword(tok[i]) < 0 && !numeric(tok[i], &rest) ? tok[i++] : NULL;
-    static const site_qty qty[6] = {SQ_MASS, SQ_CHARGE, SQ_LENGTH, SQ_ENERGY, SQ_DIPOLE, SQ_QUADRUPOLE};
-    const site_qty q = kw < 0 ? SQ_LENGTH : qty[kw];
-    double v[3];
-    for (int k = 0; k < nnum; k++)
-      if (site_value(tok[first + k], unit, q, dm->model.units, &v[k], err, sizeof err)) SITE_FAIL("site %s: %s: %s", tok[0], what, err);
-    if ((kw == 0 || kw == 2 || kw == 3) && !(v[0] >= 0))
-      SITE_FAIL("site %s: %s %g must be >= 0", tok[0], what, v[0]);
-    switch (kw) {
-    case -1: memcpy(dm->pos[a], v, sizeof dm->pos[a]); break;
-    case 0: dm->mass[a] = v[0]; break;
-    case 1: dm->charge[a] = v[0]; break;
-    case 2: dm->sigma[a] = v[0]; break;
-    case 3: dm->epsilon[a] = v[0]; break;
-    case 4: memcpy(dm->dipole[a], v, sizeof dm->dipole[a]); break;
-    default: dm->quadrupole[a] = v[0]; break;
-    }
-  }
-  if (!given[0]) SITE_FAIL("site %s has no mass: write mass M (mass 0 for a massless site, like TIP4P's M)", tok[0]);
-  if (given[2] != given[3]) SITE_FAIL("site %s: give sigma and epsilon together (an LJ site needs both)", tok[0]);
-#undef SITE_FAIL
-done:
-  free(buf);
-  return st;
-}
-
-/* The molecule i's lines into dm, checked; then built (rl_molecule_build), its messages at the
- * line of the site they name.  0, or the number of problems reported. */
-static int parse_molecule(raw_deck *r, int i, rl_deck_molecule *dm)
-{
-  const int before = r->problems;
-  const char *file = r->mol[i].file;
-  memset(dm, 0, sizeof *dm);
-  snprintf(dm->name, sizeof dm->name, "%s", r->mol[i].name);
-  dm->model.name = dm->name;
-  dm->model.description = "a molecule defined in a deck";
-  dm->model.reference = "the deck's [molecule] section";
-  dm->model.units = RL_UNITS_REAL;
-  dm->model.define = user_define;
-  int site_line_no[RL_MOLECULE_MAX_SITES], seen_units = 0, seen[4] = {0};
-  /* units first: the sites' values depend on them */
-  for (int j = 0; j < r->nml; j++)
-    if (r->ml[j].mol == i && !strcmp(r->ml[j].key, "units")) {
-      if (seen_units) problem_at(r, r->ml[j].file, r->ml[j].line, "[molecule %s] units given twice", dm->name);
-      seen_units = 1;
-      if (!strcmp(r->ml[j].val, "lj")) dm->model.units = RL_UNITS_LJ;
-      else if (strcmp(r->ml[j].val, "real"))
-        problem_at(r, r->ml[j].file, r->ml[j].line, "[molecule %s] units: '%s' is not real or lj", dm->name, r->ml[j].val);
-    }
-  for (int j = 0; j < r->nml; j++) {
-    if (r->ml[j].mol != i) continue;
-    const char *k = r->ml[j].key, *v = r->ml[j].val, *f = r->ml[j].file;
-    const int ln = r->ml[j].line;
-    static const char *const single[4] = {"inertia", "symmetrize", "mixing", "description"};
-    for (int s = 0; s < 4; s++)
-      if (!strcmp(k, single[s]) && seen[s]++) problem_at(r, f, ln, "[molecule %s] %s given twice", dm->name, k);
-    if (!strcmp(k, "units")) continue;
-    if (!strcmp(k, "site")) {
-      if (dm->nsites == RL_MOLECULE_MAX_SITES) {
-        problem_at(r, f, ln, "[molecule %s]: more than %d sites", dm->name, RL_MOLECULE_MAX_SITES);
-        continue;
-      }
-      if (!site_line(r, f, ln, v, dm, dm->nsites)) site_line_no[dm->nsites++] = ln;
-    } else if (!strcmp(k, "inertia")) { /* a single-centre dipole's moment I (or I I I) */
-      char *end;
-      double x[3];
-      int n = 0;
-      const char *p = v;
-      while (n < 3 && *p) {
-        x[n] = strtod(p, &end);
-        if (end == p) break;
-        n++;
-        p = end + strspn(end, " \t");
-      }
-      if (*p || (n != 1 && n != 3) || !isfinite(x[0]) || !(x[0] > 0) || (n == 3 && (!isfinite(x[1]) || !isfinite(x[2]))))
-        problem_at(r, f, ln, "[molecule %s] inertia: '%s' is not one positive number or three (%s)", dm->name, v,
-                   dm->model.units == RL_UNITS_LJ ? "m sigma^2" : "amu nm^2");
-      else for (int c = 0; c < 3; c++) dm->inertia[c] = x[n == 1 ? 0 : c];
-    } else if (!strcmp(k, "symmetrize")) {
-      if (!strcmp(v, "yes")) dm->symmetrize = 1;
-      else if (strcmp(v, "no")) problem_at(r, f, ln, "[molecule %s] symmetrize: '%s' is not yes or no", dm->name, v);
-    } else if (!strcmp(k, "mixing")) {
-      if (!strcmp(v, "geometric")) dm->model.geometric_mixing = 1;
-      else if (strcmp(v, "lorentz-berthelot"))
-        problem_at(r, f, ln, "[molecule %s] mixing: '%s' is not lorentz-berthelot or geometric", dm->name, v);
-    } else if (strcmp(k, "description"))
-      problem_at(r, f, ln, "[molecule %s]: unknown key '%s' (site, units, inertia, symmetrize, mixing, description)", dm->name, k);
-  }
-  if (r->problems > before) return r->problems - before;
-  if (!dm->nsites) {
-    problem_at(r, file, r->mol[i].line, "[molecule %s] has no sites (site = NAME x y z mass M ...)", dm->name);
-    return r->problems - before;
-  }
-  /* coincident sites: one site carries all of a point's parameters */
-  double ext = 0.0;
-  for (int a = 0; a < dm->nsites; a++)
-    for (int b = 0; b < a; b++)
-      ext = fmax(ext, hypot(hypot(dm->pos[a][0] - dm->pos[b][0], dm->pos[a][1] - dm->pos[b][1]), dm->pos[a][2] - dm->pos[b][2]));
-  for (int a = 0; a < dm->nsites; a++)
-    for (int b = 0; b < a; b++) {
-      const double dist = hypot(hypot(dm->pos[a][0] - dm->pos[b][0], dm->pos[a][1] - dm->pos[b][1]), dm->pos[a][2] - dm->pos[b][2]);
-      if (dist <= 1e-9 * ext || dist == 0.0) {
-        problem_at(r, file, site_line_no[a], "[molecule %s] sites %s and %s coincide: give one site all of the "
-                   "point's parameters", dm->name, dm->site_names[b], dm->site_names[a]);
-        return r->problems - before;
-      }
-    }
-  rl_molecule m;
-  if (rl_model_build(&dm->model, NULL, 0, &m)) {
-    const char *msg = rl_last_error(), *at = strstr(msg, ": site ");
-    int a = -1;
-    if (at && sscanf(at, ": site %d (", &a) != 1) a = -1;
-    const int ln = a >= 0 && a < dm->nsites ? site_line_no[a] : r->mol[i].line;
-    problem_at(r, file, ln, "[molecule %s]: %s", dm->name, msg);
-    return r->problems - before;
-  }
-  dm->model.family = m.natural_kind;
-  return 0;
-}
-
-/* system.molecules: the file's [molecule] sections, read like the deck's (the same line format),
- * a relative path taken from the deck's directory. */
-static void read_molecule_file(raw_deck *r, const char *deck)
-{
-  const char *v = r->val[K_MOLFILE];
-  struct stat sd;
-  const int from_dir = v[0] != '/' && !stat(deck, &sd) && S_ISREG(sd.st_mode) && strrchr(deck, '/');
-  const size_t dn = from_dir ? (size_t)(strrchr(deck, '/') - deck) + 1 : 0;
-  if (!(r->molpath = malloc(dn + strlen(v) + 1))) { problem(r, r->line[K_MOLFILE], "out of memory"); return; }
-  memcpy(r->molpath, deck, dn);
-  strcpy(r->molpath + dn, v);
-  struct stat sb;
-  FILE *f = NULL;
-  if (stat(r->molpath, &sb)) problem(r, r->line[K_MOLFILE], "system.molecules: cannot open %s: %s", r->molpath, strerror(errno));
-  else if (!S_ISREG(sb.st_mode)) problem(r, r->line[K_MOLFILE], "system.molecules: %s is not a regular file (%s)", r->molpath, file_kind(sb.st_mode));
-  else if (sb.st_size > DECK_BYTES_MAX) problem(r, r->line[K_MOLFILE], "system.molecules: %s is more than 1 MiB", r->molpath);
-  else if (!(f = fopen(r->molpath, "r"))) problem(r, r->line[K_MOLFILE], "system.molecules: cannot open %s: %s", r->molpath, strerror(errno));
-  if (!f) return;
-  const char *deck_path = r->path;
-  char *section = r->section;
-  const int lineno = r->lineno, bad = r->section_bad;
-  const long bytes = r->bytes;
-  r->path = r->molpath;
-  r->section = NULL;
-  r->lineno = 0;
-  r->section_bad = 0;
-  r->bytes = 0;
-  r->molfile = 1;
-  read_deck(f, r);
-  fclose(f);
-  free(r->section);
-  r->molfile = 0;
-  r->path = deck_path;
-  r->section = section;
-  r->lineno = lineno;
-  r->section_bad = bad;
-  r->bytes = bytes;
-  r->stopped = 0;
-}
-
-/* Every [molecule] section parsed into d->molecules; system.model resolved among them first,
- * then in the catalogue. */
-static void resolve_model(raw_deck *r, rl_deck *d)
-{
-  const int before = r->problems;
-  if (r->val[K_MOLFILE] && !r->bad[K_MOLFILE]) read_molecule_file(r, d->path);
-  for (int i = 0; i < r->nmol; i++)
-    if (!parse_molecule(r, i, &d->molecules[d->nmolecules])) d->nmolecules++;
-  require(r, K_MODEL);
-  if (!r->val[K_MODEL] || r->bad[K_MODEL]) return;
-  for (int i = 0; i < d->nmolecules; i++)
-    if (!strcmp(d->molecules[i].name, r->val[K_MODEL])) { d->model = &d->molecules[i].model; return; }
-  for (int i = 0; i < r->nmol; i++)
-    if (!strcmp(r->mol[i].name, r->val[K_MODEL])) return; /* defined, with its problems reported */
-  if (r->val[K_MOLFILE] && before < r->problems) return;   /* perhaps defined in a file that did not load */
-  d->model = rl_catalog_find(r->val[K_MODEL]);
-  if (!d->model)
-    problem(r, r->line[K_MODEL], "system.model: %s%s", rl_last_error(), r->nmol ? " (or a [molecule NAME] of the deck)" : "");
-}
 
 int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err)
 {
@@ -1291,7 +908,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   r.path = path;
   r.err = err;
   if (strlen(path) >= sizeof d->path) {
-    problem(&r, 0, "the deck's path has %zu characters, more than the system's limit of %d", strlen(path),
+    deck_problem(&r, 0, "the deck's path has %zu characters, more than the system's limit of %d", strlen(path),
             RL_DECK_PATH_MAX - 1);
     return r.problems;
   }
@@ -1303,14 +920,14 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   for (int pass = 0; pass < 2; pass++) {
     if (pass ? fstat(fileno(f), &sb) : stat(path, &sb)) break;
     if (!S_ISREG(sb.st_mode) && !S_ISFIFO(sb.st_mode))
-      problem(&r, 0, S_ISDIR(sb.st_mode) ? "is a directory, not a deck" : "is not a regular file (%s): a deck is a text file",
-              file_kind(sb.st_mode));
+      deck_problem(&r, 0, S_ISDIR(sb.st_mode) ? "is a directory, not a deck" : "is not a regular file (%s): a deck is a text file",
+              deck_file_kind(sb.st_mode));
     else if (S_ISREG(sb.st_mode) && sb.st_size > DECK_BYTES_MAX)
-      problem(&r, 0, "is %lld bytes, more than the %ld bytes (1 MiB) a deck may have", (long long)sb.st_size, DECK_BYTES_MAX);
+      deck_problem(&r, 0, "is %lld bytes, more than the %ld bytes (1 MiB) a deck may have", (long long)sb.st_size, DECK_BYTES_MAX);
     if (r.problems || (!pass && !(f = fopen(path, "r")))) break;
   }
-  if (!r.problems && !f) problem(&r, 0, "cannot open the deck: %s", strerror(errno));
-  const int read = r.problems ? -1 : read_deck(f, &r);
+  if (!r.problems && !f) deck_problem(&r, 0, "cannot open the deck: %s", strerror(errno));
+  const int read = r.problems ? -1 : deck_read(f, &r);
   if (f) fclose(f);
   if (read < 0) { /* not a deck: its lines are not checked further */
     raw_deck_free(&r);
@@ -1318,14 +935,14 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
   for (int i = 0; i < nsets; i++) { /* --set section.key=value */
     char *eq = strchr(sets[i], '='), *dot = strchr(sets[i], '.');
-    if (!eq || !dot || dot > eq) { problem(&r, -1, "'%s' is not section.key=value", sets[i]); continue; }
+    if (!eq || !dot || dot > eq) { deck_problem(&r, -1, "'%s' is not section.key=value", sets[i]); continue; }
     char *sec = strndup(sets[i], (size_t)(dot - sets[i])), *name = strndup(dot + 1, (size_t)(eq - dot - 1)),
          *value = strdup(eq + 1);
-    if (!sec || !name || !value) problem(&r, -1, "out of memory");
+    if (!sec || !name || !value) deck_problem(&r, -1, "out of memory");
     else {
       const char *v = trim(value), *c = inline_comment(v);
       if (c) /* what a deck line would read as a comment is not a value from the command line either */
-        problem(&r, -1, "%s.%s: '%s' contains ' %c', which starts a comment in a deck line: a value cannot "
+        deck_problem(&r, -1, "%s.%s: '%s' contains ' %c', which starts a comment in a deck line: a value cannot "
                 "contain it", trim(sec), trim(name), v, *c);
       else store(&r, trim(sec), trim(name), v, -1);
     }
@@ -1335,7 +952,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   }
 
   /* the model decides the unit system */
-  resolve_model(&r, d);
+  deck_resolve_model(&r, d);
   rl_units u = d->model ? d->model->units : RL_UNITS_REAL;
   d->units = u;
   if (d->model) {
@@ -1344,21 +961,26 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       int k = rl_model_param_index(d->model, r.model_key[i]);
       char *end;
       double x = strtod(r.model_val[i], &end);
-      if (k < 0) problem(&r, r.model_line[i], "[model] %s: model %s has no parameter '%s'%s", r.model_key[i],
+      if (k < 0) deck_problem(&r, r.model_line[i], "[model] %s: model %s has no parameter '%s'%s", r.model_key[i],
                          d->model->name, r.model_key[i], d->model->nparams ? "" : " (it has none)");
       else if (end == r.model_val[i] || *end || !isfinite(x) || x < 0)
-        problem(&r, r.model_line[i], "[model] %s: '%s' must be a number >= 0 (in %s)", r.model_key[i],
+        deck_problem(&r, r.model_line[i], "[model] %s: '%s' must be a number >= 0 (in %s)", r.model_key[i],
                 r.model_val[i], d->model->param_units[k]);
       else if (!isfinite(x * x)) /* mu = 1e155: mu^2 is inf, and the dipoles silently dropped out */
-        problem(&r, r.model_line[i], "[model] %s: %s %s is out of range: its square, which the energies "
+        deck_problem(&r, r.model_line[i], "[model] %s: %s %s is out of range: its square, which the energies "
                 "use, overflows", r.model_key[i], r.model_val[i], d->model->param_units[k]);
       else d->params[k] = x;
     }
   }
   /* [system] */
-  require(&r, K_COUNT);
-  d->count = (int)integer_in(&r, K_COUNT, 1, INT_MAX, 1);
-  d->lattice = choice(&r, K_LATTICE) == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
+  if (!r.val[K_SPECIES]) {
+    deck_require(&r, K_COUNT);
+    d->count = (int)integer_in(&r, K_COUNT, 1, INT_MAX, 1);
+    if (d->model) d->species[0] = (rl_deck_species){d->model, d->count}, d->nspecies = 1;
+  }
+  const int lattice = choice(&r, K_LATTICE);
+  d->lattice = lattice == 1 ? RL_LATTICE_FCC : RL_LATTICE_SC;
+  d->insert = lattice == 2;
   d->random_orientations = choice(&r, K_ORIENT) == 0;
   d->seed = (unsigned long)integer(&r, K_SEED, 0, 1);
   d->force_general = boolean(&r, K_GENERAL);
@@ -1366,9 +988,15 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (d->model) {
     rl_molecule m;
     if (rl_model_build(d->model, d->params, 0, &m)) model_problem(&r, d);
-    else {
+    else if (!r.val[K_SPECIES]) {
       mass = m.mass;
       if (!r.bad[K_COUNT] && r.val[K_COUNT]) count_fits(&r, d->count, &m);
+    } else { /* the mean mass of a molecule; the species built in deck_resolve_model */
+      for (int k = 0; k < d->nspecies; k++) {
+        rl_molecule mk;
+        if (!rl_model_build(d->species[k].model, NULL, 0, &mk)) mass += mk.mass * d->species[k].count;
+      }
+      mass /= d->count;
     }
   }
   if (r.bad[K_BOX] || r.bad[K_DENSITY]) {
@@ -1376,62 +1004,64 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   } else if (r.val[K_BOX] && r.val[K_DENSITY]) {
     char at[32] = "from --set";
     if (r.line[K_BOX] >= 0) snprintf(at, sizeof at, "at line %d", r.line[K_BOX]);
-    problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
+    deck_problem(&r, r.line[K_DENSITY], "give system.box or system.density, not both (box %s)", at);
   } else if (r.val[K_BOX]) {
     box_edges(&r, u, d->box);
   } else if (r.val[K_DENSITY]) {
     double rho = number(&r, K_DENSITY, u, 0, 0.0);
     if (!(rho > 0)) {
-      if (!r.bad[K_DENSITY]) problem(&r, r.line[K_DENSITY], "system.density must be positive");
+      if (!r.bad[K_DENSITY]) deck_problem(&r, r.line[K_DENSITY], "system.density must be positive");
     }
     else if (d->model && !r.bad[K_COUNT]) { /* real: mass density amu/nm^3 -> volume N m / rho; lj: number density */
       double V = u == RL_UNITS_LJ ? d->count / rho : d->count * mass / rho;
       d->box[0] = d->box[1] = d->box[2] = cbrt(V);
       if (!(isfinite(d->box[0]) && d->box[0] > 0)) {
-        problem(&r, r.line[K_DENSITY], "system.density %s gives a box edge of %g %s for %d molecules: out of range",
+        deck_problem(&r, r.line[K_DENSITY], "system.density %s gives a box edge of %g %s for %d molecules: out of range",
                 val(&r, K_DENSITY), d->box[0], rl_dim_unit(Q_LENGTH, u), d->count);
         d->box[0] = d->box[1] = d->box[2] = 0.0;
       }
     }
-  } else problem(&r, 0, "give system.box or system.density");
+  } else deck_problem(&r, 0, "give system.box or system.density");
 
   /* [interactions] */
   rl_ff_params_default(&d->ff);
-  require(&r, K_CUTOFF);
+  deck_require(&r, K_CUTOFF);
   d->ff.cutoff = number(&r, K_CUTOFF, u, 0, 0.0);
   double Lmin = fmin(d->box[0], fmin(d->box[1], d->box[2]));
-  if (r.val[K_CUTOFF] && !r.bad[K_CUTOFF] && !(d->ff.cutoff > 0)) problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
+  if (r.val[K_CUTOFF] && !r.bad[K_CUTOFF] && !(d->ff.cutoff > 0)) deck_problem(&r, r.line[K_CUTOFF], "interactions.cutoff must be positive");
   else if (Lmin > 0 && d->ff.cutoff > 0.5 * Lmin)
-    problem(&r, r.line[K_CUTOFF], "interactions.cutoff %g is larger than half the shortest box edge (%g)", d->ff.cutoff, 0.5 * Lmin);
+    deck_problem(&r, r.line[K_CUTOFF], "interactions.cutoff %g is larger than half the shortest box edge (%g)", d->ff.cutoff, 0.5 * Lmin);
   d->ff.scheme = choice(&r, K_SCHEME) ? RL_CUTOFF_MOLECULE : RL_CUTOFF_SITE;
   d->ff.lj_truncation = (rl_lj_truncation)choice(&r, K_LJ);
   if (d->ff.lj_truncation == RL_LJ_SWITCHED) {
-    if (!r.val[K_SWITCH]) problem(&r, r.line[K_LJ], "interactions.lj = switched needs interactions.switch");
+    if (!r.val[K_SWITCH]) deck_problem(&r, r.line[K_LJ], "interactions.lj = switched needs interactions.switch");
     else {
       d->ff.r_switch = number(&r, K_SWITCH, u, 0, 0.0);
       if (!r.bad[K_SWITCH] && !r.bad[K_CUTOFF] && !(d->ff.r_switch >= 0 && d->ff.r_switch < d->ff.cutoff))
-        problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
+        deck_problem(&r, r.line[K_SWITCH], "interactions.switch %g must lie in [0, cutoff)", d->ff.r_switch);
     }
-  } else if (r.val[K_SWITCH] && !r.bad[K_LJ]) problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
+  } else if (r.val[K_SWITCH] && !r.bad[K_LJ]) deck_problem(&r, r.line[K_SWITCH], "interactions.switch is only used with lj = switched");
   d->ff.dispersion_correction = boolean(&r, K_DISP);
   d->ff.eps_rf = number(&r, K_EPSRF, u, 1, 78.3);
-  if (!(d->ff.eps_rf >= 1.0)) problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
+  d->mixing = (rl_deck_mixing)choice(&r, K_MIXING);
+  if (r.val[K_PAIRS] && !r.bad[K_PAIRS] && d->nspecies) deck_pairs(&r, d);
+  if (!(d->ff.eps_rf >= 1.0)) deck_problem(&r, r.line[K_EPSRF], "interactions.eps_rf %g must be >= 1", d->ff.eps_rf);
   d->ff.dipole_method = choice(&r, K_DIPOLE) ? RL_DIPOLE_SF : RL_DIPOLE_RF;
   d->ff.kernel = choice(&r, K_KERNEL) ? RL_KERNEL_GENERAL : RL_KERNEL_AUTO;
   d->ff.precision = choice(&r, K_PRECISION) ? RL_PRECISION_MIXED : RL_PRECISION_DOUBLE;
   if (r.val[K_SKIN]) {
     d->ff.skin = number(&r, K_SKIN, u, 0, -1.0);
-    if (!r.bad[K_SKIN] && !(d->ff.skin >= 0)) problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
+    if (!r.bad[K_SKIN] && !(d->ff.skin >= 0)) deck_problem(&r, r.line[K_SKIN], "interactions.skin must be >= 0");
   }
   ewald_keys(&r, d, u);
 
   /* [run] */
-  require(&r, K_STEPS);
-  require(&r, K_DT);
+  deck_require(&r, K_STEPS);
+  deck_require(&r, K_DT);
   d->steps = integer(&r, K_STEPS, 0, 0);
   d->timestep = number(&r, K_DT, u, 0, 0.0);
   if (r.val[K_DT] && !r.bad[K_DT] && !(d->timestep > 0)) {
-    problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
+    deck_problem(&r, r.line[K_DT], "run.timestep %g must be positive", d->timestep);
     r.bad[K_DT] = 1;
   }
   /* a missing timestep is reported once, by require: the defaults derived from it (tau,
@@ -1445,31 +1075,31 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->thermostat = ensembles[ens];
   const int stochastic = ens >= 2;
   d->thermostat_temperature = number(&r, K_TTEMP, u, 0, 0.0);
-  if (ens > 0 && !r.val[K_TTEMP]) problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
-  else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
-  if (ens == 0 && ens_ok && r.val[K_TTEMP]) problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
+  if (ens > 0 && !r.val[K_TTEMP]) deck_problem(&r, r.line[K_ENSEMBLE], "run.ensemble = %s needs run.temperature", val(&r, K_ENSEMBLE));
+  else if (ens > 0 && !r.bad[K_TTEMP] && !(d->thermostat_temperature > 0)) deck_problem(&r, r.line[K_TTEMP], "run.temperature must be positive");
+  if (ens == 0 && ens_ok && r.val[K_TTEMP]) deck_problem(&r, r.line[K_TTEMP], "run.temperature is only used with an NVT ensemble");
   d->tau = number(&r, K_TAU, u, 0, 100.0 * d->timestep);
-  if (r.val[K_TAU] && !stochastic && ens_ok) problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin[-dot[-obabo]]");
+  if (r.val[K_TAU] && !stochastic && ens_ok) deck_problem(&r, r.line[K_TAU], "run.tau is only used with ensemble = nvt-bussi or nvt-langevin[-dot[-obabo]]");
   d->tau_rot = number(&r, K_TAUROT, u, 0, d->tau);
-  if (r.val[K_TAUROT] && ens < 4 && ens_ok) problem(&r, r.line[K_TAUROT], "run.tau_rot is only used with ensemble = nvt-langevin-dot or nvt-langevin-dot-obabo");
-  else if (r.val[K_TAUROT] && !r.bad[K_TAUROT] && !(d->tau_rot > 0)) problem(&r, r.line[K_TAUROT], "run.tau_rot must be positive");
+  if (r.val[K_TAUROT] && ens < 4 && ens_ok) deck_problem(&r, r.line[K_TAUROT], "run.tau_rot is only used with ensemble = nvt-langevin-dot or nvt-langevin-dot-obabo");
+  else if (r.val[K_TAUROT] && !r.bad[K_TAUROT] && !(d->tau_rot > 0)) deck_problem(&r, r.line[K_TAUROT], "run.tau_rot must be positive");
   d->thermostat_groups = choice(&r, K_TGROUPS) ? RL_THERMO_GROUPS_ALL : RL_THERMO_GROUPS_TRANS_ROT;
   if (r.val[K_TGROUPS] && ens != 2 && ens_ok)
-    problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");
+    deck_problem(&r, r.line[K_TGROUPS], "run.thermostat_groups is only used with ensemble = nvt-bussi");
   if (!(d->tau > 0) && stochastic && !r.bad[K_TAU] && (r.val[K_TAU] || !r.bad[K_DT]))
-    problem(&r, r.line[K_TAU], "run.tau must be positive");
+    deck_problem(&r, r.line[K_TAU], "run.tau must be positive");
   d->equilibrate_steps = integer(&r, K_EQSTEPS, 0, 0);
   d->equilibrate_timestep = number(&r, K_EQDT, u, 0, 0.25 * d->timestep);
   if (!(d->equilibrate_timestep > 0) && !r.bad[K_EQDT] && (r.val[K_EQDT] || !r.bad[K_DT]))
-    problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
+    deck_problem(&r, r.line[K_EQDT], "run.equilibrate_timestep must be positive");
   d->temperature = number(&r, K_TEMP, u, 0, d->thermostat_temperature);
   if (!r.val[K_TEMP] && (r.bad[K_TTEMP] || !ens_ok)) r.bad[K_TEMP] = 1; /* its default is reported there */
-  if (!r.val[K_TEMP] && ens == 0 && ens_ok) problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
+  if (!r.val[K_TEMP] && ens == 0 && ens_ok) deck_problem(&r, 0, "system.temperature is required for an NVE run: it draws the starting velocities, and "
                  "sets the default neighbour-list skin and the kT of the blow-up checks (from a checkpoint, give "
                  "the first run's value: the same skin continues bit for bit)");
   else if (!r.bad[K_TEMP] && !(d->temperature > 0) && (r.val[K_TEMP] || !(ens > 0 && !r.val[K_TTEMP])))
-    problem(&r, r.line[K_TEMP], "system.temperature must be positive");
-  if (d->equilibrate_steps > 0 && !r.bad[K_TEMP] && !(d->temperature > 0)) problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
+    deck_problem(&r, r.line[K_TEMP], "system.temperature must be positive");
+  if (d->equilibrate_steps > 0 && !r.bad[K_TEMP] && !(d->temperature > 0)) deck_problem(&r, r.line[K_EQSTEPS], "run.equilibrate needs a temperature");
   /* an absurd step: the run's at the start's temperature or at the thermostat's, whichever is
    * higher; the relaxation's (a given one: the default, timestep / 4, passes when the run's does)
    * at the start's, which its thermostat keeps */
@@ -1491,7 +1121,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     errno = 0;
     const long t = strtol(omp, &end, 10);
     if (end != omp && (errno == ERANGE || t > RL_DECK_MAX_THREADS))
-      problem(&r, r.line[K_THREADS], "OMP_NUM_THREADS = %s (taken by run.threads = 0) is above the maximum %d threads",
+      deck_problem(&r, r.line[K_THREADS], "OMP_NUM_THREADS = %s (taken by run.threads = 0) is above the maximum %d threads",
               omp, RL_DECK_MAX_THREADS);
   }
   /* [output] */
@@ -1499,7 +1129,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->thermo_every = integer(&r, K_THERMO, 1, 100);
   d->energy_every = integer(&r, K_ENERGY, 1, 1);
   if (d->thermo_every % d->energy_every)
-    problem(&r, r.line[K_ENERGY] ? r.line[K_ENERGY] : r.line[K_THERMO],
+    deck_problem(&r, r.line[K_ENERGY] ? r.line[K_ENERGY] : r.line[K_THERMO],
             "output.thermo_every = %ld must be a multiple of output.energy_every = %ld (a thermo row "
             "needs the energies)", d->thermo_every, d->energy_every);
   baro_keys(&r, d, u, ens, ens_ok);
@@ -1508,13 +1138,22 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   if (d->trajectory_every > 0 && d->steps > INT32_MAX && d->model) { /* DCD's ISTART, NSTEP: int32 */
     rl_molecule m;
     if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_site_model(&m))
-      problem(&r, r.line[K_STEPS], "run.steps = %ld: the DCD trajectory of %s (output.trajectory_every) numbers steps "
+      deck_problem(&r, r.line[K_STEPS], "run.steps = %ld: the DCD trajectory of %s (output.trajectory_every) numbers steps "
               "with 32-bit integers, at most %ld", d->steps, d->model->name, (long)INT32_MAX);
+  }
+  for (int k = 0; k < d->nspecies && d->nspecies > 1 && d->trajectory_every > 0; k++) {
+    rl_molecule m; /* the DCD's PDB topology is one molecule's */
+    if (!rl_model_build(d->species[k].model, k ? NULL : d->params, 0, &m) && rl_deck_site_model(&m)) {
+      deck_problem(&r, r.line[K_TRAJ], "output.trajectory_every: a mixture's trajectory is an XYZ of centres and "
+                   "orientations, for point dipoles and atoms only; species %s is a site model (its DCD is not "
+                   "written for mixtures yet): set output.trajectory_every = 0", d->species[k].model->name);
+      break;
+    }
   }
   d->sample_every = integer(&r, K_SAMPLE, 0, 10);
   const char *rdf = val(&r, K_RDF);
   if (!r.bad[K_RDF] && strlen(rdf) >= sizeof d->rdf)
-    problem(&r, r.line[K_RDF], "output.rdf has %zu characters, at most %zu", strlen(rdf), sizeof d->rdf - 1);
+    deck_problem(&r, r.line[K_RDF], "output.rdf has %zu characters, at most %zu", strlen(rdf), sizeof d->rdf - 1);
   else if (!r.bad[K_RDF]) {
     memcpy(d->rdf, rdf, strlen(rdf) + 1);
     if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
@@ -1522,7 +1161,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
       int site[RL_DECK_MAX_RDF][2];
       char name[RL_DECK_MAX_RDF][24];
       if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
-        problem(&r, r.line[K_RDF], "%s", rl_last_error());
+        deck_problem(&r, r.line[K_RDF], "%s", rl_last_error());
     }
   }
   d->discard = strcmp(val(&r, K_DISCARD), "auto") ? integer(&r, K_DISCARD, 0, 0) : -1;
@@ -1624,4 +1263,24 @@ void rl_deck_print_keys(FILE *f, int md)
                "dipole off the molecular axis, a linear molecule with a site off its axis (beyond %g of its size), "
                "a name the catalogue has, a molecule defined twice, another section in a molecule file.\n",
             RL_MOLECULE_MAX_SITES, RL_DECK_SYMMETRIZE_RTOL, RL_INERTIA_RTOL, RL_AXIS_RTOL);
+  if (md)
+    fprintf(f, "\n## Mixtures: system.species\n\n"
+               "`system.species` replaces `system.model` and `system.count`: each species is `NAME:COUNT`, a "
+               "catalogue model (with its default parameters) or a `[molecule NAME]`, all in one unit system, at "
+               "most %d. The molecules are numbered species by species in the order given (the numbering of "
+               "checkpoints, XYZ and PDB files); on a lattice the species take the lattice sites at random "
+               "(system.seed), `system.lattice = random` inserts the molecules at random centres, an XYZ start names each body's species. Unlike LJ sites mix by `interactions.mixing` "
+               "(Lorentz-Berthelot unless every species' model mixes geometrically, as OPLS and EPM2 do), and "
+               "`interactions.pairs` sets single site pairs (at most %d). The summary has one `species` line per "
+               "species (family, rotation path); the pair kernel line names the kernels of the whole mixture. For a "
+               "mixture, output.rdf names sites of the first species.\n\n"
+               "```\n[system]\nspecies = stockmayer:27 lj:81\ndensity = 0.8\nlattice = fcc\n"
+               "[molecule lj]\nunits = lj\nsite = A 0 0 0 mass 1 sigma 1.2 epsilon 0.8\n"
+               "[interactions]\ncutoff = 2.0\nmixing = lorentz-berthelot\n"
+               "pairs = stockmayer:S lj:A sigma 1.1 epsilon 0.9\n```\n\n"
+               "Refused: a species given twice or with a count below 1 (leave it out), a name that is neither a "
+               "catalogue model nor a molecule of the deck, species in real and lj units together, system.species "
+               "with system.model, system.count or [model] parameters, a pair override naming a species that is not "
+               "in the mixture or a site its molecule does not have (the message lists those it has).\n",
+            RL_DECK_MAX_SPECIES, RL_DECK_MAX_PAIRS);
 }

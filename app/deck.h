@@ -51,22 +51,42 @@ typedef struct {
   int symmetrize;           /* [molecule] symmetrize = yes: RL_DECK_SYMMETRIZE_RTOL      */
 } rl_deck_molecule;
 
+/* system.species: the species of a mixture in the deck's order (system.model and count: one
+ * species); interactions.pairs: LJ parameters of site pairs that replace the mixing rule's. */
+#define RL_DECK_MAX_SPECIES 8
+#define RL_DECK_MAX_PAIRS 16
+typedef struct {
+  const rl_model *model;    /* a catalogue model (its default parameters) or a deck molecule */
+  int count;
+} rl_deck_species;
+typedef struct {
+  int species[2], site[2];  /* indices into d->species and its molecule's sites            */
+  double sigma, epsilon;
+} rl_deck_pair;
+typedef enum { RL_DECK_MIXING_MODEL = 0, RL_DECK_MIXING_LB = 1, RL_DECK_MIXING_GEOMETRIC = 2 } rl_deck_mixing;
+
 typedef struct {
   /* [system] */
-  const rl_model *model;    /* a catalogue model, or &molecules[i].model                 */
+  const rl_model *model;    /* a catalogue model, or &molecules[i].model; species[0]'s     */
+  rl_deck_species species[RL_DECK_MAX_SPECIES]; /* system.species, or {model, count}       */
+  int nspecies;
   rl_deck_molecule molecules[RL_DECK_MAX_MOLECULES]; /* the deck's [molecule] sections     */
   int nmolecules;
   double params[RL_MODEL_MAX_PARAMS];
   int force_general;
-  int count;
+  int count;               /* all molecules (the sum of the species' counts)               */
   double box[3];            /* resolved: from `box` or from `density`                   */
   rl_lattice lattice;
+  int insert;               /* system.lattice = random: random insertion (scene.c)         */
   int random_orientations;
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */
   char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file (a regular file) */
   /* [interactions] */
   rl_ff_params ff;
+  rl_deck_mixing mixing;    /* interactions.mixing                                        */
+  rl_deck_pair pairs[RL_DECK_MAX_PAIRS]; /* interactions.pairs                            */
+  int npairs;
   rl_deck_coulomb coulomb;  /* interactions.coulomb                                       */
   rl_ewald_params ewald;    /* interactions.ewald_*, pme_* (coulomb = ewald | pme): tolerance,
                                alpha, grid, order, kmax, kmax_sq, eps_surface as given (0:
@@ -111,6 +131,8 @@ int rl_deck_site_model(const rl_molecule *m);
 
 /* The deck's molecule behind d->model, or NULL for a catalogue model. */
 const rl_deck_molecule *rl_deck_user_molecule(const rl_deck *d);
+/* The deck's molecule behind model m, or NULL for a catalogue model. */
+const rl_deck_molecule *rl_deck_user_model(const rl_model *m);
 
 /* The integrators by name: run.integrator and `rotleap scan --integrators`. */
 typedef struct {

@@ -55,7 +55,7 @@ int rl_app_energy(const rl_deck *d, int json)
   for (int i = 0; i < n; i++) {
     double v[3];
     rl_system_get_velocity(s.sys, i, v);
-    ke += 0.5 * s.mol.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    ke += 0.5 * s.mols[rl_system_species_of(s.sys, i)].mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   double P = scene_pressure_out(d, rl_forces_pressure(s.sys, &F, ke));
   /* a NaN is an error naming its term, as in a run, never a number printed with exit 0 */
@@ -466,7 +466,7 @@ static int attach_journal(run_ctx *c)
     fprintf(stderr, "rotleap run: warning: the results cover the steps of this run only, from step %ld: %s\n", c->first,
             rl_last_error());
     analysis_free(c->an);
-    c->an = analysis_alloc(c->d, &c->s.mol, c->s.sys);
+    c->an = analysis_alloc(c->d, c->s.mols, c->s.sys);
     if (!c->an || !(c->journal = outputs_create(c->out, OUT_SAMPLES))) return RL_EINVAL;
     st = RL_OK;
   }
@@ -634,14 +634,15 @@ static void step_error(const run_ctx *c, int st)
 /* The species line of the summary: family, rotation path, degrees of freedom and how far apart
  * the principal moments are (a molecule just outside the tolerance for calling two equal is
  * integrated by a slower path: visible here, and warned about). */
-static int species_text(const run_ctx *c, char *buf, size_t cap)
+static int species_line(const run_ctx *c, int sp, char *buf, size_t cap)
 {
-  const rl_molecule *m = &c->s.mol;
+  const rl_molecule *m = &c->s.mols[sp];
   const rl_system *sys = c->s.sys;
-  const rl_kind kind = rl_system_species_kind(sys, 0);
+  const rl_kind kind = rl_system_species_kind(sys, sp);
+  const int user = rl_deck_user_model(c->d->species[sp].model) != NULL;
   const double *J = m->inertia, Jmax = fmax(J[0], fmax(J[1], J[2]));
-  const char *path = c->in ? rl_integrator_path(c->in, 0) : rl_kind_rotation_path(kind);
-  int n = snprintf(buf, cap, "species = %s x %d: %s, %d+%d dof, rotation path: %s", m->name, c->d->count, rl_kind_name(kind),
+  const char *path = c->in ? rl_integrator_path(c->in, sp) : rl_kind_rotation_path(kind);
+  int n = snprintf(buf, cap, "species = %s x %d: %s, %d+%d dof, rotation path: %s", m->name, c->d->species[sp].count, rl_kind_name(kind),
                    3, rl_kind_rotational_dof(kind), path ? path : "?");
   if (kind != RL_KIND_POINT && Jmax > 0 && n > 0 && (size_t)n < cap) {
     const double d01 = fabs(J[0] - J[1]) / Jmax, d12 = fabs(J[1] - J[2]) / Jmax, d02 = fabs(J[0] - J[2]) / Jmax;
@@ -655,12 +656,24 @@ static int species_text(const run_ctx *c, char *buf, size_t cap)
                       "the tolerance %g for calling them equal: it is integrated as %s, not by the faster path of a "
                       "more symmetric top; if the difference is rounding in its coordinates, %s%s%s\n",
                       m->name, dd[k], RL_INERTIA_RTOL, rl_kind_name(kind),
-                      rl_deck_user_molecule(c->d) ? "add symmetrize = yes to [molecule " : "symmetrise the model",
-                      rl_deck_user_molecule(c->d) ? m->name : "", rl_deck_user_molecule(c->d) ? "] (moments within 1e-4 "
+                      user ? "add symmetrize = yes to [molecule " : "symmetrise the model",
+                      user ? m->name : "", user ? "] (moments within 1e-4 "
                       "relative are then made equal)" : "");
         break;
       }
   } else if (n > 0 && (size_t)n < cap) n += snprintf(buf + n, cap - (size_t)n, "\n");
+  return n;
+}
+
+/* One species line per species (system.species: in its order). */
+static int species_text(const run_ctx *c, char *buf, size_t cap)
+{
+  int n = 0;
+  for (int sp = 0; sp < c->d->nspecies && n >= 0 && (size_t)n < cap; sp++) {
+    const int k = species_line(c, sp, buf + n, cap - (size_t)n);
+    if (k < 0) return k;
+    n += k;
+  }
   return n;
 }
 
@@ -713,7 +726,7 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
              d->units == RL_UNITS_LJ ? "" : " K");
     snprintf(ap, sizeof ap, "%.6g +- sd %.3g %s", c->P.mean, running_sd(&c->P), pressure_unit(d));
   }
-  char cE[64], cU[64], cEU[64], species[1024];
+  char cE[64], cU[64], cEU[64], species[RL_DECK_MAX_SPECIES * 1024];
   /* relative fluctuations (0 with fewer than two steps; n/a where a mean is 0) */
   const double calE = c->E.n > 1 ? running_sd(&c->E) / fabs(c->E.mean) : 0.0,
                calU = c->U.n > 1 ? running_sd(&c->U) / fabs(c->U.mean) : 0.0;
@@ -736,11 +749,14 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   if (c->relax_done >= 0 && c->relax_done < d->equilibrate_steps)
     fprintf(f, "relaxation = stopped at step %ld of %ld (system.start = %s continues it)\n", c->relax_done,
             d->equilibrate_steps, c->chk_path);
+  char model[RL_DECK_MAX_SPECIES * 40] = "";
+  for (int k = 0, o = 0; k < d->nspecies && o >= 0 && (size_t)o < sizeof model; k++)
+    o += snprintf(model + o, sizeof model - (size_t)o, "%s%s", k ? " + " : "", d->species[k].model->name);
   fprintf(f, "steps = %ld of %ld (this invocation: %ld)\nmodel = %s\nmolecules = %d\n%sunits = %s\n", c->first + c->done,
-          d->steps, c->done, d->model->name, n, species, d->units == RL_UNITS_LJ ? "lj" : "real");
+          d->steps, c->done, model, n, species, d->units == RL_UNITS_LJ ? "lj" : "real");
   fprintf(f, "integrator = %s\ntimestep = %g %s\nenergy_every = %ld (the averages below are over these steps)\n",
           rl_rot_method_name(m), d->timestep, rl_dim_unit(Q_TIME, d->units), d->energy_every);
-  fprintf(f, "neighbour_list = skin %.4g %s, %ld builds in this invocation\n", scene_skin(d, &c->s.mol),
+  fprintf(f, "neighbour_list = skin %.4g %s, %ld builds in this invocation\n", scene_skin(d, scene_lightest(d, c->s.mols)),
           rl_dim_unit(Q_LENGTH, d->units), ff ? rl_forcefield_rebuilds(ff) : 0L);
   char elec[1024];
   if (scene_electrostatics(d, c->s.terms, elec, sizeof elec)) fprintf(f, "electrostatics = %s\n", elec);
@@ -1048,7 +1064,7 @@ int rl_app_run(const rl_deck *d)
     if (st) step_error(&c, st);
     else if ((st = open_topology(&c))) fprintf(stderr, "rotleap run: %s\n", rl_last_error());
   }
-  if (!st && !c.stopped && (!(c.an = analysis_alloc(d, &c.s.mol, c.s.sys)) || attach_journal(&c))) {
+  if (!st && !c.stopped && (!(c.an = analysis_alloc(d, c.s.mols, c.s.sys)) || attach_journal(&c))) {
     fprintf(stderr, "rotleap run: %s\n", rl_last_error());
     st = RL_EINVAL;
   }

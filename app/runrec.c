@@ -396,21 +396,32 @@ char *runrec_physics(const rl_deck *d)
   static const char *const scheme[] = {"site", "molecule"}, *const lj[] = {"plain", "shifted", "shifted-force", "switched"},
                            *const dip[] = {"rf", "sf"};
   ADD("system.model = %s\n", d->model->name);
-  const rl_deck_molecule *um = rl_deck_user_molecule(d);
-  for (int a = 0; um && a < um->nsites; a++) { /* the deck's molecule: every site (a key each), in the system's units */
-    char q[10][40];
-    ADD("molecule.%s.site.%s = %s %s %s mass %s charge %s sigma %s epsilon %s dipole %s %s %s quadrupole %s\n", um->name,
-        um->site_names[a], exact(q[0], um->pos[a][0]), exact(q[1], um->pos[a][1]), exact(q[2], um->pos[a][2]),
-        exact(q[3], um->mass[a]), exact(q[4], um->charge[a]), exact(q[5], um->sigma[a]), exact(q[6], um->epsilon[a]),
-        exact(q[7], um->dipole[a][0]), exact(q[8], um->dipole[a][1]), exact(q[9], um->dipole[a][2]), exact(r1, um->quadrupole[a]));
+  for (int sp = 0; sp < d->nspecies; sp++) { /* the deck's molecules among the species */
+    const rl_deck_molecule *um = rl_deck_user_model(d->species[sp].model);
+    for (int a = 0; um && a < um->nsites; a++) { /* the deck's molecule: every site (a key each), in the system's units */
+      char q[10][40];
+      ADD("molecule.%s.site.%s = %s %s %s mass %s charge %s sigma %s epsilon %s dipole %s %s %s quadrupole %s\n", um->name,
+          um->site_names[a], exact(q[0], um->pos[a][0]), exact(q[1], um->pos[a][1]), exact(q[2], um->pos[a][2]),
+          exact(q[3], um->mass[a]), exact(q[4], um->charge[a]), exact(q[5], um->sigma[a]), exact(q[6], um->epsilon[a]),
+          exact(q[7], um->dipole[a][0]), exact(q[8], um->dipole[a][1]), exact(q[9], um->dipole[a][2]), exact(r1, um->quadrupole[a]));
+    }
+    if (um)
+      ADD("molecule.%s = %s%s, inertia %s %s %s, symmetrize %s\n", um->name, um->model.units == RL_UNITS_LJ ? "lj" : "real",
+          um->model.geometric_mixing ? ", geometric mixing" : "", exact(r2, um->inertia[0]), exact(r3, um->inertia[1]),
+          exact(r4, um->inertia[2]), um->symmetrize ? "yes" : "no");
   }
-  if (um)
-    ADD("molecule.%s = %s%s, inertia %s %s %s, symmetrize %s\n", um->name, um->model.units == RL_UNITS_LJ ? "lj" : "real",
-        um->model.geometric_mixing ? ", geometric mixing" : "", exact(r2, um->inertia[0]), exact(r3, um->inertia[1]),
-        exact(r4, um->inertia[2]), um->symmetrize ? "yes" : "no");
   for (int k = 0; k < d->model->nparams; k++)
     ADD("model.%s = %s %s\n", d->model->param_names[k], exact(r1, d->params[k]), d->model->param_units[k] ? d->model->param_units[k] : "");
   ADD("system.count = %d\n", d->count);
+  if (d->nspecies > 1) {
+    ADD("system.species =");
+    for (int k = 0; k < d->nspecies; k++) ADD(" %s:%d", d->species[k].model->name, d->species[k].count);
+    ADD("\n");
+  }
+  if (d->mixing != RL_DECK_MIXING_MODEL) ADD("interactions.mixing = %s\n", d->mixing == RL_DECK_MIXING_GEOMETRIC ? "geometric" : "lorentz-berthelot");
+  for (int i = 0; i < d->npairs; i++)
+    ADD("interactions.pairs = %s:%d %s:%d sigma %s epsilon %s\n", d->species[d->pairs[i].species[0]].model->name, d->pairs[i].site[0],
+        d->species[d->pairs[i].species[1]].model->name, d->pairs[i].site[1], exact(r1, d->pairs[i].sigma), exact(r2, d->pairs[i].epsilon));
   ADD("system.force_general = %s\n", d->force_general ? "yes" : "no");
   ADD("interactions.cutoff = %s %s\n", exact(r2, d->ff.cutoff), L);
   ADD("interactions.scheme = %s\n", scheme[d->ff.scheme]);

@@ -610,6 +610,11 @@ int rl_app_scan(int argc, char **argv)
     fprintf(stderr, "rotleap scan: %d problem%s in %s; nothing was run\n", problems, problems > 1 ? "s" : "", path);
     return 2;
   }
+  if (d.nspecies > 1) { /* the scan's shared start and analysis are built for one molecule */
+    fprintf(stderr, "rotleap scan: %s: a mixture (system.species) cannot be scanned yet: scan one species, or time "
+                    "the mixture with rotleap run at each step\n", path);
+    return 2;
+  }
   scan_opts o;
   memset(&o, 0, sizeof o);
   o.tolerance = 0.05;

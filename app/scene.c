@@ -3,23 +3,108 @@
 #include "quantity.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+/* A mixture on a lattice: the lattice fills the bodies in order, species after species; the
+ * species take the lattice sites at random instead (Fisher-Yates over the positions, a
+ * splitmix64 stream seeded by system.seed; the orientations stay each body's). */
+static uint64_t splitmix64(uint64_t *x)
+{
+  uint64_t z = (*x += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+static int shuffle_species(rl_system *sys, unsigned long seed)
+{
+  uint64_t x = (uint64_t)seed ^ 0x5EC1E5ull;
+  for (int i = rl_system_count(sys) - 1; i > 0; i--) {
+    const int j = (int)(splitmix64(&x) % (uint64_t)(i + 1));
+    double ri[3], rj[3];
+    rl_system_get_position(sys, i, ri);
+    rl_system_get_position(sys, j, rj);
+    if (rl_system_set_position(sys, i, rj) || rl_system_set_position(sys, j, ri)) return 1;
+  }
+  return 0;
+}
+
+/* system.lattice = random: each body in turn at a random centre (its orientation the lattice's),
+ * refused while an LJ site pair with a body placed before is closer than 0.8 sigma_ab.  1 with a
+ * message naming the body that did not fit. */
+#define SCENE_INSERT_TRIES 10000
+#define SCENE_INSERT_SIGMA 0.7
+static int insert_random(rl_system *sys, const rl_molecule *mols, unsigned long seed)
+{
+  const int n = rl_system_count(sys), ns = rl_system_site_offset(sys, n - 1) + mols[rl_system_species_of(sys, n - 1)].nsites;
+  double (*x)[3] = malloc((size_t)ns * sizeof *x);
+  if (!x) return rl_error(RL_ENOMEM, "out of memory for the random insertion");
+  uint64_t st = (uint64_t)seed ^ 0x1A5E27ull;
+  double L[3];
+  rl_system_box(sys, L);
+  for (int i = 0; i < n; i++) {
+    const rl_molecule *mi = &mols[rl_system_species_of(sys, i)];
+    const int oi = rl_system_site_offset(sys, i);
+    int ok = 0;
+    for (int t = 0; t < SCENE_INSERT_TRIES && !ok; t++) {
+      double r[3];
+      for (int c = 0; c < 3; c++) r[c] = L[c] * (double)(splitmix64(&st) >> 11) * 0x1.0p-53;
+      if (rl_system_set_position(sys, i, r)) { free(x); return 1; }
+      rl_system_site_positions_of(sys, i, i + 1, x);
+      ok = 1;
+      for (int j = 0; j < i && ok; j++) {
+        const rl_molecule *mj = &mols[rl_system_species_of(sys, j)];
+        const int oj = rl_system_site_offset(sys, j);
+        for (int a = 0; a < mi->nsites && ok; a++)
+          for (int b = 0; b < mj->nsites && ok; b++) {
+            if (!(mi->epsilon[a] > 0 && mj->epsilon[b] > 0)) continue;
+            double r2 = 0.0;
+            for (int c = 0; c < 3; c++) {
+              double dx = x[oi + a][c] - x[oj + b][c];
+              dx -= L[c] * nearbyint(dx / L[c]);
+              r2 += dx * dx;
+            }
+            const double dmin = SCENE_INSERT_SIGMA * 0.5 * (mi->sigma[a] + mj->sigma[b]);
+            ok = r2 >= dmin * dmin;
+          }
+      }
+    }
+    if (!ok) {
+      free(x);
+      return rl_error(RL_EINVAL, "system.lattice = random: molecule %d of %d (%s) found no place in %d tries where "
+                      "no LJ site pair comes closer than %g sigma: the box is too full for random insertion (lower "
+                      "the density, or use system.lattice = sc or fcc)", i + 1, n, mi->name, SCENE_INSERT_TRIES,
+                      SCENE_INSERT_SIGMA);
+    }
+  }
+  free(x);
+  return 0;
+}
 
 int scene_build(const rl_deck *d, scene *s)
 {
   memset(s, 0, sizeof *s);
   if (rl_model_build(d->model, d->params, d->force_general, &s->mol)) return 1;
+  s->mols[0] = s->mol;
+  for (int k = 1; k < d->nspecies; k++) /* system.species: each model's defaults */
+    if (rl_model_build(d->species[k].model, NULL, d->force_general, &s->mols[k])) return 1;
   s->sys = rl_system_alloc(d->units);
-  rl_species_desc sd;
-  rl_molecule_species(&s->mol, &sd);
-  if (!s->sys || rl_system_add_species(s->sys, &sd, d->count, NULL)) return 1;
+  if (!s->sys) return 1;
+  for (int k = 0; k < d->nspecies; k++) {
+    rl_species_desc sd;
+    rl_molecule_species(&s->mols[k], &sd);
+    if (rl_system_add_species(s->sys, &sd, d->species[k].count, NULL)) return 1;
+  }
   size_t n = strlen(d->start);
   const char *ext = n > 4 ? d->start + n - 4 : "";
   double box[3] = {0, 0, 0};
   if (!d->start[0]) {
-    if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed)) return 1;
+    if (rl_system_lattice(s->sys, d->box, d->lattice, d->random_orientations, d->seed) ||
+        (d->nspecies > 1 && !d->insert && shuffle_species(s->sys, d->seed))) return 1;
+    if (d->insert && (rl_system_set_box(s->sys, d->box) || insert_random(s->sys, s->mols, d->seed))) return 1;
   } else if (!strcmp(ext, ".chk")) {
     rl_checkpoint_meta meta;
     memset(&meta, 0, sizeof meta);
@@ -31,7 +116,8 @@ int scene_build(const rl_deck *d, scene *s)
     s->blob_size = meta.blob_size;
     memcpy(box, meta.box, sizeof box);
   } else if (!strcmp(ext, ".pdb")) {
-    const rl_molecule *mols[1] = {&s->mol};
+    const rl_molecule *mols[RL_DECK_MAX_SPECIES];
+    for (int k = 0; k < d->nspecies; k++) mols[k] = &s->mols[k];
     double rms;
     if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
   } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
@@ -57,7 +143,7 @@ int scene_build(const rl_deck *d, scene *s)
   }
   if (rl_system_set_box(s->sys, own_box ? box : d->box)) return 1; /* the system owns it from here on */
   if (!s->restart && rl_system_maxwell_boltzmann(s->sys, d->temperature, d->seed + 1)) return 1;
-  if (!(s->terms = scene_terms(d, &s->mol, s->sys))) return 1;
+  if (!(s->terms = scene_terms(d, s->mols, s->sys))) return 1;
   s->ff = rl_terms_find(s->terms, &rl_term_pair);
   return 0;
 }
@@ -91,17 +177,60 @@ double scene_skin(const rl_deck *d, const rl_molecule *mol)
   return rl_ff_skin_for_step(d->ff.cutoff, rl_units_kB(d->units) * T, mol->mass, d->timestep);
 }
 
-rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system *sys)
+const rl_molecule *scene_lightest(const rl_deck *d, const rl_molecule *mols)
 {
-  const rl_species_ff sff = rl_molecule_ff(mol);
-  rl_species_ff pair_sff = sff;
+  int light = 0;
+  for (int k = 1; k < d->nspecies; k++)
+    if (mols[k].mass < mols[light].mass) light = k;
+  return &mols[light];
+}
+
+/* The geometric rule for every unlike pair: interactions.mixing, or the models' own (all of
+ * them geometric). */
+static int geometric(const rl_deck *d)
+{
+  if (d->mixing != RL_DECK_MIXING_MODEL) return d->mixing == RL_DECK_MIXING_GEOMETRIC;
+  int g = 1;
+  for (int k = 0; k < d->nspecies; k++) g &= d->species[k].model->geometric_mixing != 0;
+  return g;
+}
+
+/* Unlike species under the geometric rule (the pair term mixes within each species), then
+ * interactions.pairs. */
+static int mix_pairs(const rl_deck *d, rl_forcefield *ff, const rl_species_ff *sff)
+{
+  for (int ka = 0; ka < d->nspecies && geometric(d); ka++)
+    for (int kb = ka + 1; kb < d->nspecies; kb++)
+      for (int a = 0; a < sff[ka].nsites; a++)
+        for (int b = 0; b < sff[kb].nsites; b++)
+          if (sff[ka].epsilon[a] > 0 && sff[kb].epsilon[b] > 0 &&
+              rl_forcefield_set_lj_pair(ff, ka, a, kb, b, sqrt(sff[ka].sigma[a] * sff[kb].sigma[b]),
+                                        sqrt(sff[ka].epsilon[a] * sff[kb].epsilon[b])))
+            return 1;
+  for (int i = 0; i < d->npairs; i++) {
+    const rl_deck_pair *p = &d->pairs[i];
+    if (rl_forcefield_set_lj_pair(ff, p->species[0], p->site[0], p->species[1], p->site[1], p->sigma, p->epsilon)) return 1;
+  }
+  return 0;
+}
+
+rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mols, const rl_system *sys)
+{
+  const int ns = d->nspecies;
+  rl_species_ff sff[RL_DECK_MAX_SPECIES], pair_sff[RL_DECK_MAX_SPECIES];
+  int has_dipole = 0;
+  for (int k = 0; k < ns; k++) {
+    sff[k] = pair_sff[k] = rl_molecule_ff(&mols[k]);
+    has_dipole |= mols[k].has_dipole;
+  }
   double no_charge[RL_MOLECULE_MAX_SITES] = {0};
   const int ewald = d->coulomb != RL_DECK_COULOMB_RF;
-  rl_pair_params pp = {d->ff, &pair_sff, 1, d->model->geometric_mixing}; /* OPLS, EPM2: geometric mixing */
-  pp.p.skin = scene_skin(d, mol);
+  /* within each species the pair term's rule (OPLS, EPM2: geometric mixing); unlike species in mix_pairs */
+  rl_pair_params pp = {d->ff, pair_sff, ns, geometric(d)};
+  pp.p.skin = scene_skin(d, scene_lightest(d, mols));
   rl_ewald_params ep = d->ewald;
-  ep.species = &sff;
-  ep.nspecies = 1;
+  ep.species = sff;
+  ep.nspecies = ns;
   ep.cutoff = d->ff.cutoff;
   ep.threads = d->ff.threads;
   ep.remove_net_force = 1; /* the mesh's net force off: the total momentum stays zero, a continuation bit for bit */
@@ -111,7 +240,7 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
    * resolves; the term "ewald-real" remains the reference, and does the real space of point
    * dipoles (B and C functions), which the rows do not have yet.  With the molecule cutoff it
    * would be the term too. */
-  const int real_in_pair = ewald && d->ff.scheme == RL_CUTOFF_SITE && !mol->has_dipole; /* rows: charges only */
+  const int real_in_pair = ewald && d->ff.scheme == RL_CUTOFF_SITE && !has_dipole; /* rows: charges only */
   rl_ewald_info ei;
   if (real_in_pair && rl_ewald_resolve(sys, &ep, recip == &rl_term_pme ? RL_EWALD_PME : RL_EWALD_SUM, &ei)) return NULL;
   if (real_in_pair) {
@@ -119,13 +248,15 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system 
     pp.p.ewald_alpha = ei.alpha;
     pp.p.intramolecular_rf = 0;
   } else if (ewald) { /* the charges and point dipoles are the Ewald terms': no reaction field in the pair term */
-    pair_sff.charge = no_charge;
-    pair_sff.dipole = NULL;
+    for (int k = 0; k < ns; k++) {
+      pair_sff[k].charge = no_charge;
+      pair_sff[k].dipole = NULL;
+    }
   }
   rl_terms *t = rl_terms_alloc(sys);
   if (!t || rl_terms_add(t, &rl_term_pair, &pp, NULL) ||
       (ewald && !real_in_pair && rl_terms_add(t, &rl_term_ewald_real, &ep, NULL)) ||
-      (ewald && rl_terms_add(t, recip, &ep, NULL))) {
+      (ewald && rl_terms_add(t, recip, &ep, NULL)) || mix_pairs(d, rl_terms_find(t, &rl_term_pair), sff)) {
     rl_terms_free(t);
     return NULL;
   }

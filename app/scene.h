@@ -8,7 +8,8 @@
 #include <stddef.h>
 
 typedef struct {
-  rl_molecule mol;
+  rl_molecule mol;      /* the first species' (the only one without system.species)        */
+  rl_molecule mols[RL_DECK_MAX_SPECIES]; /* every species', d->nspecies of them; mols[0] = mol */
   rl_system *sys;
   rl_terms *terms;      /* the interactions, a sum of force terms (terms.h)               */
   rl_forcefield *ff;    /* the pair term's state (in terms): its kernels, list and checks  */
@@ -37,9 +38,12 @@ int scene_check_outputs(const rl_deck *d, const char *const *paths, int n);
  * of the pair sums (round-off); the kernels' sums do not depend on the candidates beyond the
  * cutoff. */
 double scene_skin(const rl_deck *d, const rl_molecule *mol);
-/* The interactions of the deck for `sys`: the pair term (with the model's geometric mixing),
- * or NULL with a message. */
-rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mol, const rl_system *sys);
+/* The lightest of the species' molecules mols[d->nspecies] (it moves farthest per step: the
+ * skin of a mixture is its). */
+const rl_molecule *scene_lightest(const rl_deck *d, const rl_molecule *mols);
+/* The interactions of the deck for `sys`, whose species are mols[d->nspecies]: the pair term
+ * (with interactions.mixing and interactions.pairs), or NULL with a message. */
+rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mols, const rl_system *sys);
 /* With interactions.coulomb = ewald | pme, the terms are the pair term without charges (LJ,
  * dispersion), "ewald-real" and "ewald" or "pme" (rotleap/ewald.h), one parameter block
  * (interactions.ewald_*, pme_*, the cutoff, run.threads).  scene_electrostatics: the reciprocal

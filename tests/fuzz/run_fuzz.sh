@@ -46,7 +46,7 @@ bad=0
 for t in "${targets[@]}"; do
   extra=(); corpus=tests/fuzz/corpus-$t
   if [ "$t" = deck ]; then
-    extra=(app/deck.c app/quantity.c); corpus=tests/fuzz/corpus
+    extra=(app/deck.c app/deck_molecule.c app/quantity.c); corpus=tests/fuzz/corpus
     for f in examples/*.ini tests/cli/*.ini; do cp -n "$f" "$corpus/" 2>/dev/null || true; done
   fi
   "$cc" "${flags[@]}" -fsanitize=fuzzer tests/fuzz/fuzz_$t.c "${extra[@]}" "${objs[@]}" -o "$out/fuzz_$t" \
