@@ -275,7 +275,7 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mols, const rl_sys
   /* output.rdf: "O-O, H-H" */
   /* under a barostat, the deck's box (the first run's start; a continuation's box differs) in the
    * journal's header; each sample carries its own box, which the RDFs' normalisation and the
-   * unwrapping use; the dielectric constant does not yet follow the volume (the deck's) */
+   * unwrapping use; the dielectric constant takes the mean volume (dielectric_lines) */
   if (d->barostat) memcpy(a->box, d->box, sizeof a->box);
   else rl_system_box(sys, a->box);
   double rmax = 0.5 * fmin(a->box[0], fmin(a->box[1], a->box[2]));
@@ -938,14 +938,16 @@ static window equilibrate(const analysis *a, FILE *f)
 }
 
 /* The dielectric constant (from <dM^2> at volume V, temperature T) with its jackknife error over
- * blocks of the samples and, when the run is too short for it, a note.  M relaxes on the
+ * blocks of the samples and, when the run is too short for it, a note.  V is the box's, or under
+ * a barostat the mean volume of the step records from i0 (the volume line's).  M relaxes on the
  * collective dipole time, tens of ps for water, so a short run gives a value that can be far off
  * (the default TIP4P job, 10 ps) and must not stand as a bare number. */
-static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, const char *Tname, double dt_sample)
+static void dielectric_lines(FILE *f, const analysis *a, long i0, long j0, double T, const char *Tname,
+                             double dt_sample)
 {
   const rl_deck *d = a->d;
   const int real = d->units == RL_UNITS_REAL;
-  const eps_ctx c = {d, a->box[0] * a->box[1] * a->box[2], T};
+  const eps_ctx c = {d, a->baro ? rl_trace_moments(a->b[B_V], i0).mean : a->box[0] * a->box[1] * a->box[2], T};
   double dM2 = 0.0, eps;
   for (int k = 0; k < 3; k++) {
     const rl_moments m = rl_trace_moments(a->M[k], j0);
@@ -966,8 +968,10 @@ static void dielectric_lines(FILE *f, const analysis *a, long j0, double T, cons
   if (d->coulomb == RL_DECK_COULOMB_RF) snprintf(bnd, sizeof bnd, "reaction-field boundary eps_rf = %g", d->ff.eps_rf);
   else if (isinf(d->ewald.eps_surface)) snprintf(bnd, sizeof bnd, "Ewald sum in tin-foil (conducting) surroundings");
   else snprintf(bnd, sizeof bnd, "Ewald sum in surroundings eps' = %g", d->ewald.eps_surface);
-  fprintf(f, "dielectric_constant = %.4g%s (dipole fluctuations, %s, T = %g%s %s; %s)\n", eps, es, bnd, T,
-          real ? " K" : "", Tname, note);
+  char vol[80] = "";
+  if (a->baro) snprintf(vol, sizeof vol, ", at the mean volume %.8g %s", c.V, real ? "nm^3" : "sigma^3");
+  fprintf(f, "dielectric_constant = %.4g%s (dipole fluctuations, %s, T = %g%s %s%s; %s)\n", eps, es, bnd, T,
+          real ? " K" : "", Tname, vol, note);
   /* what the estimate needs: a plateau of the blocking of |M|^2 (more samples than a few
    * correlation times of M) and an error of at most 10 % of eps - 1, the part the fluctuation
    * measures */
@@ -1417,7 +1421,7 @@ int analysis_write(analysis *a, const char *prefix, const char *suffix, double d
     else {
       const int nve = d->thermostat == RL_THERMO_NONE;
       const double T = nve ? rl_trace_moments(a->v[V_T], w.i0).mean : d->thermostat_temperature;
-      dielectric_lines(f, a, w.j0, T, nve ? "the mean temperature" : "the thermostat's target", dt_sample);
+      dielectric_lines(f, a, w.i0, w.j0, T, nve ? "the mean temperature" : "the thermostat's target", dt_sample);
     }
   }
   rdf_lines(f, a, w.j0, rdf_path, errs, sizeof errs);

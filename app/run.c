@@ -912,7 +912,8 @@ static int restore_list(scene *s, const run_record *rec)
   double(*r0)[3] = malloc(sizeof *r0 * (size_t)n);
   if (!r0) return rl_error(RL_ENOMEM, "out of memory");
   memcpy(r0, rec->list, sizeof *r0 * (size_t)n);
-  const int st = rl_forcefield_set_list_origin(s->ff, (const double(*)[3])r0);
+  int st = rl_forcefield_set_list_origin(s->ff, (const double(*)[3])r0);
+  if (!st && rec->has_list_box) st = rl_forcefield_set_list_box(s->ff, rec->list_box); /* kept through a barostat's moves */
   free(r0);
   return st;
 }

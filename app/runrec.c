@@ -105,6 +105,11 @@ int runrec_encode(const run_record *r, unsigned char **out, size_t *size)
       for (int c = 0; c < 3; c++) put_f64(&b, r->list[i][c]);
     end_section(&b, at);
   }
+  if (r->list_count > 0 && r->has_list_box) {
+    at = begin_section(&b, "LBOX");
+    for (int c = 0; c < 3; c++) put_f64(&b, r->list_box[c]);
+    end_section(&b, at);
+  }
   at = begin_section(&b, "PHYS");
   put(&b, r->physics ? r->physics : "", r->physics ? r->physics_len : 0);
   end_section(&b, at);
@@ -299,6 +304,12 @@ int runrec_decode(const void *blob, size_t size, int nbodies, const char *path, 
           memcpy(&x, s.p + s.at + 8 * (3 * i + c), 8);
           if (!isfinite(x)) return bad_field(path, "neighbour-list origin", "is not finite");
         }
+    } else if (!strcmp(tag, "LBOX")) {
+      for (int c = 0; c < 3; c++) r->list_box[c] = get_f64(&s);
+      if (s.bad || s.at != s.n || !(r->list_box[0] > 0.0 && r->list_box[1] > 0.0 && r->list_box[2] > 0.0) ||
+          !isfinite(r->list_box[0] + r->list_box[1] + r->list_box[2]))
+        return bad_field(path, "neighbour-list box", "is out of range");
+      r->has_list_box = 1;
     } else if (!strcmp(tag, "PHYS")) {
       for (size_t i = 0; i < s.n; i++)
         if (!s.p[i]) return bad_field(path, "settings", "contain a NUL byte");
@@ -506,6 +517,9 @@ int runrec_write_checkpoint(const char *path, const rl_system *sys, const rl_for
   if (!st && origin && rl_forcefield_list_origin(ff, origin)) {
     r->list_count = n;
     r->list = (const double(*)[3])origin;
+    double L[3]; /* the box of the build, when a barostat has changed the system's since */
+    rl_system_box(sys, L);
+    r->has_list_box = rl_forcefield_list_box(ff, r->list_box) && memcmp(L, r->list_box, sizeof L) != 0;
   }
   void *opst[RUNREC_MAX_OPS] = {NULL};
   if (!st) st = save_ops(in, r, opst);
@@ -521,5 +535,6 @@ int runrec_write_checkpoint(const char *path, const rl_system *sys, const rl_for
   free(origin);
   r->list = NULL;
   r->list_count = 0;
+  r->has_list_box = 0;
   return st;
 }

@@ -6,6 +6,8 @@
  *   BOOK  the averages' accumulators, the thermostat's account, the steps done, thermostat, seed
  *   RNG   the thermostat's random state                (omitted without one)
  *   LIST  the neighbour list's origin                  (omitted before the first list)
+ *   LBOX  the box of the list's build, 3 edges          (omitted while it is the system's: the
+ *         list outlives a barostat's scaling, forcefield.h)
  *   PHYS  the settings that define the simulation, as "key = value" lines: a continuation
  *         whose deck gives other values is another simulation
  *   MARK  per output stream: where it was, its length and hash (outputs.h)
@@ -40,6 +42,8 @@ typedef struct {
   const unsigned char *rng; size_t rng_size; /* the thermostat's random state                 */
   long list_count;        /* 0 or the number of bodies                                        */
   const double (*list)[3];/* the neighbour list's origin [list_count][3]                      */
+  int has_list_box;       /* LBOX: the box of the list's build differs from the system's      */
+  double list_box[3];
   const char *physics;    /* PHYS text, physics_len bytes (not NUL-terminated when decoded;
                              NULL for versions 1-4)                                         */
   size_t physics_len;

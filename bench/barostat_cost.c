@@ -10,7 +10,9 @@
  * near the NVT one (the pair loop's cost follows the density).  Each round times STEPS steps of
  * each, in turn (alternated, as bench/ab_time.sh: the host is shared); the median over rounds of
  * the barostat run's time per step over the NVT one's is the barostat's cost, printed with the
- * MC acceptance and the volume's change.  Each round continues the three runs. */
+ * MC acceptance, the volume's change and the pair list's builds.  Wall-clock and CPU time (of
+ * the process: one thread) are both timed; on a host loaded by other programs the CPU time is
+ * the steadier.  Each round continues the three runs. */
 #include <rotleap/catalog.h>
 #include <rotleap/forcefield.h>
 #include <rotleap/rotleap.h>
@@ -26,10 +28,10 @@
 #define TEMP 1.35
 #define HSTEP 0.004
 
-static double now(void)
+static double clock_of(clockid_t id)
 {
   struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
+  clock_gettime(id, &t);
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
@@ -43,7 +45,7 @@ typedef struct {
   rl_system *sys;
   rl_terms *terms;
   rl_integrator *in;
-  double t[64]; /* ms per step per round */
+  double t[64], cpu[64]; /* ms per step per round: wall clock, CPU */
 } variant;
 
 static rl_species_ff sff;
@@ -92,6 +94,13 @@ static double median(const double *x, int n)
   return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
 }
 
+static double best_of(const double *x, int n)
+{
+  double b = x[0];
+  for (int q = 1; q < n; q++) b = fmin(b, x[q]);
+  return b;
+}
+
 int main(int argc, char **argv)
 {
   const int n = argc > 1 ? atoi(argv[1]) : 2048;
@@ -137,23 +146,31 @@ int main(int argc, char **argv)
          n, RC, HSTEP, ev, P0, rounds, steps);
   for (int q = 0; q < rounds; q++)
     for (int k = 0; k < 3; k++) {
-      const double t0 = now();
+      const double t0 = clock_of(CLOCK_MONOTONIC), c0 = clock_of(CLOCK_PROCESS_CPUTIME_ID);
       for (long j = 0; j < steps; j++)
         if (rl_integrator_step(v[k].in, NULL)) die("step");
-      v[k].t[q] = 1e3 * (now() - t0) / (double)steps;
+      v[k].cpu[q] = 1e3 * (clock_of(CLOCK_PROCESS_CPUTIME_ID) - c0) / (double)steps;
+      v[k].t[q] = 1e3 * (clock_of(CLOCK_MONOTONIC) - t0) / (double)steps;
     }
   static const char *name[3] = {"nvt", "mc", "c-rescale"};
   const long every[3] = {0, mc_every, cr_every};
-  const double m0 = median(v[0].t, rounds);
+  const double m0 = median(v[0].t, rounds), c0 = median(v[0].cpu, rounds);
+  const long steps_all = steps * rounds;
   for (int k = 0; k < 3; k++) {
-    double ratios[64];
-    for (int q = 0; q < rounds; q++) ratios[q] = v[k].t[q] / v[0].t[q];
-    double best = v[k].t[0];
-    for (int q = 1; q < rounds; q++) best = fmin(best, v[k].t[q]);
-    const double m = median(v[k].t, rounds), rm = median(ratios, rounds);
+    double ratios[64], cratios[64];
+    for (int q = 0; q < rounds; q++) {
+      ratios[q] = v[k].t[q] / v[0].t[q];
+      cratios[q] = v[k].cpu[q] / v[0].cpu[q];
+    }
+    const double best = best_of(v[k].t, rounds), cbest = best_of(v[k].cpu, rounds);
+    const double m = median(v[k].t, rounds), rm = median(ratios, rounds), c = median(v[k].cpu, rounds);
+    const long builds = rl_forcefield_rebuilds(rl_terms_find(v[k].terms, &rl_term_pair));
     printf("variant=%s interval=%ld ms_per_step_median=%.4f ms_per_step_best=%.4f ratio_median=%.4f "
-           "ratio_of_medians=%.4f V_over_V0=%.4f", name[k], every[k], m, best, rm,
-           m / m0, rl_system_volume(v[k].sys) / V0);
+           "ratio_of_medians=%.4f cpu_ms_median=%.4f cpu_ms_best=%.4f cpu_ratio_median=%.4f cpu_ratio_of_medians=%.4f "
+           "cpu_ratio_of_bests=%.4f list_builds=%ld steps_per_build=%.1f V_over_V0=%.4f",
+           name[k], every[k], m, best, rm, m / m0, c, cbest, median(cratios, rounds), c / c0,
+           cbest / best_of(v[0].cpu, rounds),
+           builds, (double)steps_all / (double)(builds > 0 ? builds : 1), rl_system_volume(v[k].sys) / V0);
     if (k == 1) {
       rl_barostat_stats st;
       for (int o = 0; o < rl_integrator_nops(v[k].in); o++)

@@ -42,6 +42,7 @@ struct rl_terms {
   int n, cap;
   int nenergies;
   double energies[MAX_ENERGIES]; /* the components of the last computation, all terms in order */
+  double kept[MAX_ENERGIES];     /* the provider's keep (put back by put_back)                  */
   unsigned long box_version;     /* the system's box version the terms last followed           */
 };
 
@@ -119,6 +120,12 @@ int rl_terms_compute(rl_terms *t, const rl_system *sys, rl_forces *out)
 
 static int terms_provider_fn(void *ctx, const rl_system *sys, rl_forces *out) { return rl_terms_compute(ctx, sys, out); }
 rl_force_provider rl_terms_provider(rl_terms *t) { return (rl_force_provider){terms_provider_fn, t}; }
+rl_terms *rl_terms_of_provider(rl_force_provider p) { return p.compute == terms_provider_fn ? p.ctx : NULL; }
+
+/* The energy components are all the sum reports besides the forces; the terms' own states (pair
+ * lists, meshes) follow the configuration they are given. */
+void rl_terms_keep(rl_terms *t) { memcpy(t->kept, t->energies, sizeof t->kept); }
+void rl_terms_put_back(rl_terms *t) { memcpy(t->energies, t->kept, sizeof t->energies); }
 
 int rl_terms_nenergies(const rl_terms *t) { return t ? t->nenergies : 0; }
 double rl_terms_energy(const rl_terms *t, int j) { return t && j >= 0 && j < t->nenergies ? t->energies[j] : NAN; }

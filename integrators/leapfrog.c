@@ -18,6 +18,7 @@
 #include "rotleap/error.h"
 #include "rotleap/rotation.h"
 #include "rotleap/stepops.h"
+#include "rotleap/terms.h"
 #include "../core/threads.h"
 #include "paths/path.h"
 
@@ -50,6 +51,7 @@ struct rl_integrator {
                          rl_integrator_set_thermostat_work, e.g. from a checkpoint) */
   int threads;        /* of the rotation solves and the per-body loops: p.threads resolved */
   double *part;       /* [2 (ceil(n / RL_SUM_BLOCK) + 1)] the kinetic sums' block partials */
+  rl_forces kept;     /* rl_stepop_forces_keep's copy of F (arrays allocated at the first keep) */
 };
 
 /* The per-body loops of a step run on in->threads threads (from RL_THREAD_MIN_BODIES bodies on,
@@ -290,6 +292,8 @@ void rl_integrator_free(rl_integrator *in)
   if (!in) return;
   free(in->F.f);
   free(in->F.k);
+  free(in->kept.f);
+  free(in->kept.k);
   free(in->q);
   free(in->lprev);
   free(in->part);
@@ -408,6 +412,48 @@ static int run_hooks(rl_integrator *in, rl_step_point pt, rl_stepop_ctx *c)
 }
 
 int rl_stepop_forces(rl_stepop_ctx *c, int energy) { return compute_forces(c->in, energy); }
+
+/* (F and kept: n and nrot rows; the copies are those of a computation) */
+static void copy_forces(rl_forces *to, const rl_forces *from, int n, int nr)
+{
+  memcpy(to->f, from->f, sizeof *to->f * (size_t)n);
+  if (nr) memcpy(to->k, from->k, sizeof *to->k * (size_t)nr);
+  to->energy = from->energy;
+  memcpy(to->virial, from->virial, sizeof to->virial);
+  to->forces_only = from->forces_only;
+}
+
+int rl_stepop_forces_keep(rl_stepop_ctx *c)
+{
+  rl_integrator *in = c->in;
+  const rl_system *s = in->sys;
+  rl_terms *t = rl_terms_of_provider(in->provider);
+  if (!t) return RL_OK; /* a provider whose report cannot be kept: put_back computes again */
+  if (!in->kept.f) {
+    in->kept.f = malloc(sizeof *in->kept.f * (size_t)(s->n > 0 ? s->n : 1));
+    in->kept.k = malloc(sizeof *in->kept.k * (size_t)(s->nrot > 0 ? s->nrot : 1));
+    if (!in->kept.f || !in->kept.k) {
+      free(in->kept.f);
+      free(in->kept.k);
+      in->kept.f = NULL;
+      in->kept.k = NULL;
+      return rl_error(RL_ENOMEM, "out of memory for a copy of the forces");
+    }
+  }
+  copy_forces(&in->kept, &in->F, s->n, s->nrot);
+  rl_terms_keep(t);
+  return RL_OK;
+}
+
+int rl_stepop_forces_put_back(rl_stepop_ctx *c, int energy)
+{
+  rl_integrator *in = c->in;
+  rl_terms *t = rl_terms_of_provider(in->provider);
+  if (!t || !in->kept.f) return compute_forces(in, energy);
+  copy_forces(&in->F, &in->kept, in->sys->n, in->sys->nrot);
+  rl_terms_put_back(t);
+  return RL_OK;
+}
 
 void rl_stepop_kinetic(const rl_stepop_ctx *c, double K[2])
 {

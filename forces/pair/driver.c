@@ -108,18 +108,10 @@ int rl_ff_fast_setup(rl_forcefield *ff)
   return RL_OK;
 }
 
-void rl_ff_fast_invalidate(rl_ff_fast *f)
-{
-  if (f) rl_nlist_invalidate(f->list->chk);
-}
 int rl_ff_fast_threads(const rl_ff_fast *f) { return f->nthreads; }
 long rl_ff_fast_builds(const rl_ff_fast *f) { return f ? f->list->chk->builds : 0; }
 
-const double (*rl_ff_fast_origin(const rl_ff_fast *f, int n))[3]
-{
-  const rl_nlist *chk = f ? f->list->chk : NULL;
-  return chk && chk->n == n && chk->r0 ? (const double(*)[3])chk->r0 : NULL;
-}
+const rl_nlist *rl_ff_fast_list(const rl_ff_fast *f) { return f ? f->list->chk : NULL; }
 
 /* The cost of row m (species k) in units of about one pair term: kernel terms per listed
  * pair, 16 per reference pair, and for the row itself (its setup, the last partial vector, the
@@ -138,14 +130,14 @@ static double row_cost(const rl_ff_fast *f, int k, int m)
                              : (double)fl * (K->nterms + 2) + (fl > 0 ? 110.0 : 0.0) + 16.0 * gl;
 }
 
-/* Build the kernels' list from the centres c (the current ones, or a restart's origin), and
- * split its rows between the threads. */
-static int build(rl_forcefield *ff, const double (*c)[3])
+/* Build the kernels' list from the centres c in box (the current ones, or a restart's origin
+ * and the box of its build), and split its rows between the threads. */
+static int build(rl_forcefield *ff, const double (*c)[3], const rl_box *box)
 {
   rl_ff_fast *f = ff->fast;
   rl_rowlist *L = f->list;
   const int n = ff->n, T = f->nthreads;
-  const rl_rowlist_in in = {&ff->box, ff->rlist, n, ff->nspecies, c, ff->body_species,
+  const rl_rowlist_in in = {box, ff->rlist, n, ff->nspecies, c, ff->body_species,
                             ff->sp_count, ff->sp_nsites, f->kernel,
                             rl_ff_image_rows(ff, f->images) ? f->images : NULL, f->vec == VEC_512};
   const int st = rl_rowlist_build(L, &in);
@@ -190,16 +182,19 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *out)
   for (int i = 0; i < n; i++)
     for (int c = 0; c < 3; c++) far |= fabs(ff->centre[i][c]) * ff->box.invL[c] > 1e12;
   if (far) return 1;
-  if (ff->origin) { /* a restart: first the list the run had, built from its centres */
-    int st = build(ff, (const double(*)[3])ff->origin);
+  if (ff->origin) { /* a restart: first the list the run had, built from its centres in its box */
+    rl_box ob;
+    int st = rl_ff_origin_box(ff, &ob);
+    if (!st) st = build(ff, (const double(*)[3])ff->origin, &ob);
     free(ff->origin);
     ff->origin = NULL;
     if (st) return st;
   }
   const rl_rowlist *L = f->list;
+  /* (an image list's shifts are multiples of the build's edges: any change of the box renews it) */
   if (rl_nlist_needs_rebuild(L->chk, &ff->box, n, (const double(*)[3])ff->centre, NULL, T) ||
-      L->chk->rlist != ff->rlist) {
-    int st = build(ff, (const double(*)[3])ff->centre);
+      L->chk->rlist != ff->rlist || (L->ximages && rl_nlist_box_changed(L->chk, &ff->box))) {
+    int st = build(ff, (const double(*)[3])ff->centre, &ff->box);
     if (st) return st;
   }
   /* each species' separation mode (see P_SHIFT): the molecular shift where the box allows */

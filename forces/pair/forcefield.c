@@ -456,9 +456,7 @@ int rl_ff_take_box(rl_forcefield *ff, const rl_system *sys)
   if (st) return st;
   ff->box = box;
   ff->box_version = rl_system_box_version(sys);
-  if (ff->nl) rl_nlist_invalidate(ff->nl);
-  rl_ff_fast_invalidate(ff->fast); /* the kernels' list too (its images are the box's) */
-  return RL_OK;
+  return RL_OK; /* the lists stay (their rule follows the box: pairlist.h) */
 }
 
 void rl_forcefield_get_box(const rl_forcefield *ff, double L[3])
@@ -485,13 +483,46 @@ const char *rl_forcefield_precision(const rl_forcefield *ff)
 int rl_forcefield_threads(const rl_forcefield *ff) { return ff->fast ? rl_ff_fast_threads(ff->fast) : 1; }
 double rl_forcefield_list_radius(const rl_forcefield *ff) { return ff->rlist; }
 
+/* The build state of the list a checkpoint stores (the kernels', else the reference one), or
+ * NULL while it has none. */
+static const rl_nlist *list_state(const rl_forcefield *ff)
+{
+  const rl_nlist *nl = ff->fast ? rl_ff_fast_list(ff->fast) : ff->nl;
+  return nl && nl->n == ff->n && nl->r0 && ff->n > 0 ? nl : NULL;
+}
+
 int rl_forcefield_list_origin(const rl_forcefield *ff, double (*r0)[3])
 {
-  const double(*o)[3] = ff->fast ? rl_ff_fast_origin(ff->fast, ff->n) : NULL;
-  if (!ff->fast && ff->nl && ff->nl->n == ff->n) o = (const double(*)[3])ff->nl->r0;
-  if (!o || ff->n < 1) return 0;
-  memcpy(r0, o, sizeof *r0 * (size_t)ff->n);
+  const rl_nlist *nl = list_state(ff);
+  if (!nl) return 0;
+  memcpy(r0, nl->r0, sizeof *r0 * (size_t)ff->n);
   return 1;
+}
+
+int rl_forcefield_list_box(const rl_forcefield *ff, double L0[3])
+{
+  const rl_nlist *nl = list_state(ff);
+  if (!nl) return 0;
+  memcpy(L0, nl->L0, sizeof nl->L0);
+  return 1;
+}
+
+int rl_forcefield_set_list_box(rl_forcefield *ff, const double L0[3])
+{
+  rl_box b;
+  if (rl_box_set(&b, L0) || check_cutoff(&b, ff->p.cutoff))
+    return rl_error_wrap(RL_EINVAL, "forcefield: the list's box %g %g %g", L0[0], L0[1], L0[2]);
+  memcpy(ff->origin_L, L0, sizeof ff->origin_L);
+  return RL_OK;
+}
+
+int rl_ff_origin_box(const rl_forcefield *ff, rl_box *box)
+{
+  if (!(ff->origin_L[0] > 0.0)) {
+    *box = ff->box;
+    return RL_OK;
+  }
+  return rl_box_set(box, ff->origin_L);
 }
 
 int rl_forcefield_set_list_origin(rl_forcefield *ff, const double (*r0)[3])
@@ -502,6 +533,7 @@ int rl_forcefield_set_list_origin(rl_forcefield *ff, const double (*r0)[3])
   if (!ff->origin && !(ff->origin = malloc(sizeof *ff->origin * (size_t)(ff->n > 0 ? ff->n : 1))))
     return rl_error(RL_ENOMEM, "forcefield: out of memory");
   memcpy(ff->origin, r0, sizeof *r0 * (size_t)ff->n);
+  memset(ff->origin_L, 0, sizeof ff->origin_L); /* the current box, unless set_list_box follows */
   return RL_OK;
 }
 
@@ -687,8 +719,10 @@ static int reference_pairs(rl_forcefield *ff, rl_acc *acc, int rebuild)
 {
   int n = ff->n, st = RL_OK;
   if (ff->nl) {
-    if (ff->origin && !rebuild) { /* a restart: the list the run had (list_origin) */
-      st = rl_nlist_build(ff->nl, &ff->box, ff->rlist, n, (const double(*)[3])ff->origin);
+    if (ff->origin && !rebuild) { /* a restart: the list the run had (list_origin, list_box) */
+      rl_box ob;
+      st = rl_ff_origin_box(ff, &ob);
+      if (!st) st = rl_nlist_build(ff->nl, &ob, ff->rlist, n, (const double(*)[3])ff->origin);
       free(ff->origin);
       ff->origin = NULL;
       if (st) return st;

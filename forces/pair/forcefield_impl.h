@@ -46,6 +46,7 @@ struct rl_forcefield {
   rl_nlist *nl;
   double (*origin)[3];     /* [n] set_list_origin: the centres the next list build uses (NULL:
                               the current ones)                                             */
+  double origin_L[3];      /* set_list_box: the box that build takes (0: the current one)   */
   rl_ff_fast *fast;        /* NULL: the reference path (kernel = general or no list)       */
   rl_ff_energies e;
   /* for rl_forcefield_warnings and rl_forcefield_discontinuities */
@@ -68,9 +69,11 @@ typedef struct {
   int forces_only;         /* 1: energies and virial are not needed (kernels may skip them)  */
 } rl_acc;
 
-/* Take the system's current cell (its version too): check the cutoff against it and invalidate
- * the pair lists.  rl_forcefield_compute calls it when the version changed; the pair term
- * (term_pair.c) when the terms are told of a change.  On an error the box stays as it was. */
+/* Take the system's current cell (its version too) and check the cutoff against it.  The pair
+ * lists stay: their rule (pairlist.h) measures the displacements from the origins scaled with
+ * the box, and builds again when the change used up the skin (an image list: at any change).
+ * rl_forcefield_compute calls it when the version changed; the pair term (term_pair.c) when the
+ * terms are told of a change.  On an error the box stays as it was. */
 int rl_ff_take_box(rl_forcefield *ff, const rl_system *sys);
 
 /* The reference all-site-pairs routine for bodies i, j (forcefield.c). */
@@ -88,11 +91,12 @@ int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *acc);
 const char *rl_ff_fast_name(const rl_ff_fast *fast);
 const char *rl_ff_fast_rows(const rl_ff_fast *fast); /* "avx512", "avx2" or "portable" (+ mixed) */
 int rl_ff_fast_mixed(const rl_ff_fast *fast);         /* 1: the tip4p rows in single precision */
-void rl_ff_fast_invalidate(rl_ff_fast *fast);         /* rebuild the list at the next compute;
-                                                         accepts NULL */
 int rl_ff_fast_threads(const rl_ff_fast *fast);
 long rl_ff_fast_builds(const rl_ff_fast *fast); /* 0 for NULL */
-/* The centres at the kernels' last list build (NULL before the first). */
-const double (*rl_ff_fast_origin(const rl_ff_fast *fast, int n))[3];
+/* The build state of the kernels' list (its centres and box at the last build; NULL for a NULL
+ * fast). */
+const rl_nlist *rl_ff_fast_list(const rl_ff_fast *fast);
+/* The box a build from ff->origin takes: ff->origin_L if set, else the current one. */
+int rl_ff_origin_box(const rl_forcefield *ff, rl_box *box);
 
 #endif

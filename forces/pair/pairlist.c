@@ -26,8 +26,6 @@ void rl_nlist_free(rl_nlist *nl)
   free(nl);
 }
 
-void rl_nlist_invalidate(rl_nlist *nl) { nl->n = -1; }
-
 static double disp2(const rl_box *box, const double a[3], const double b[3])
 {
   double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
@@ -35,21 +33,32 @@ static double disp2(const rl_box *box, const double a[3], const double b[3])
   return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 }
 
+int rl_nlist_box_changed(const rl_nlist *nl, const rl_box *box)
+{
+  return nl->n >= 0 && (box->L[0] != nl->L0[0] || box->L[1] != nl->L0[1] || box->L[2] != nl->L0[2]);
+}
+
 int rl_nlist_needs_rebuild(const rl_nlist *nl, const rl_box *box, int n, const double (*r)[3],
                            double *maxdisp, int threads)
 {
   if (maxdisp) *maxdisp = INFINITY;
   if (nl->n < 0 || nl->n != n) return 1;
+  /* the origins scaled with the box since the build (s = 1 exactly for an unchanged box) */
+  const double s[3] = {box->L[0] / nl->L0[0], box->L[1] / nl->L0[1], box->L[2] / nl->L0[2]};
+  const double shrink = fmax(0.0, 1.0 - fmin(s[0], fmin(s[1], s[2]))) * nl->rlist;
   double m2 = 0.0;
   (void)threads;
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(threads) schedule(static) \
     if (threads > 1 && n >= RL_THREAD_MIN_BODIES) reduction(max : m2)
 #endif
-  for (int i = 0; i < n; i++) m2 = fmax(m2, disp2(box, r[i], nl->r0[i]));
+  for (int i = 0; i < n; i++) {
+    const double o[3] = {s[0] * nl->r0[i][0], s[1] * nl->r0[i][1], s[2] * nl->r0[i][2]};
+    m2 = fmax(m2, disp2(box, r[i], o));
+  }
   double m = sqrt(m2);
   if (maxdisp) *maxdisp = m;
-  return !(2.0 * m <= nl->skin) || (nl->skin == 0.0 && m > 0.0);
+  return !(2.0 * m + shrink <= nl->skin) || (nl->skin == 0.0 && (m > 0.0 || rl_nlist_box_changed(nl, box)));
 }
 
 static int push_pair(rl_nlist *nl, int i, int j)
@@ -129,6 +138,7 @@ int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const d
     free(cell_of);
   }
   if (n > 0) memcpy(nl->r0, r, sizeof *nl->r0 * (size_t)n);
+  memcpy(nl->L0, box->L, sizeof nl->L0);
   nl->n = n;
   nl->builds++;
   return RL_OK;

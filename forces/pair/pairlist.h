@@ -4,7 +4,14 @@
  * One rule decides when to build again, for every list: it stays valid while no centre has
  * moved (minimum image) by more than skin/2 since the build (rl_nlist_needs_rebuild).  Then no
  * pair can have come closer than rlist - skin, so callers choose rlist = (interaction range of
- * the centres) + skin.  Rotation needs no check: with a site cutoff rc the centres' range is
+ * the centres) + skin.  The list also outlives a change of the box (a barostat's scaling): with
+ * s_k = L_k / L0_k the edges now over those at the build, a centre's displacement is measured
+ * from its origin scaled with the box, d_i = r_i - s r0_i (minimum image), and a pair left out
+ * of the list (every image at least rlist apart at the build) is now at least
+ * s_min rlist - 2 max|d| apart, since scaling by s changes a distance r by at most
+ * (1 - s_min) r.  So the list stays valid while 2 max|d| + max(0, 1 - s_min) rlist <= skin: the
+ * box's shrinking uses up skin in proportion to rlist.  A box that did not change gives s = 1
+ * exactly, and the rule is the one without a box change, to the bit.  Rotation needs no check: with a site cutoff rc the centres' range is
  * rc + 2 extent (extent = the largest |site - centre|), and a rigid body's sites stay within
  * its extent however it turns.  The centres at a build also restart a run on the list it had
  * (rl_forcefield_list_origin).
@@ -35,6 +42,7 @@ typedef struct {
   int n;                /* size at the last build (-1: never built)                   */
   double rlist, skin;
   double (*r0)[3];      /* [n] centres at the last build                             */
+  double L0[3];         /* the box's edges at the last build                         */
   int (*pairs)[2];      /* [npairs] i < j                                            */
   long npairs, cap;
   long builds;          /* number of builds so far                                   */
@@ -47,18 +55,19 @@ typedef struct {
 rl_nlist *rl_nlist_alloc(double skin);
 void rl_nlist_free(rl_nlist *nl); /* accepts NULL */
 
-/* Mark the list stale (e.g. after a box change). */
-void rl_nlist_invalidate(rl_nlist *nl);
-
-/* in  box, n, r[n][3] centres; threads: OpenMP threads for the scan (1: serial; the result
- *     does not depend on it)
- * Returns 1 if the list must be rebuilt: never built, size changed, or some centre has moved
- * by more than skin/2 since the build; 0 otherwise.  Also returns the largest displacement in
- * *maxdisp (may be NULL). */
+/* in  box (the current one), n, r[n][3] centres; threads: OpenMP threads for the scan (1:
+ *     serial; the result does not depend on it)
+ * Returns 1 if the list must be rebuilt: never built, size changed, or
+ * 2 max|d| + max(0, 1 - s_min) rlist > skin (the rule above; with skin 0, any displacement or
+ * change of the box); 0 otherwise.  Also returns the largest displacement max|d| in *maxdisp
+ * (may be NULL). */
 int rl_nlist_needs_rebuild(const rl_nlist *nl, const rl_box *box, int n, const double (*r)[3],
                            double *maxdisp, int threads);
 
-/* Build the list for list radius rlist (> 0).  Returns RL_OK or RL_ENOMEM. */
+/* 1 if box differs from the box of the last build (0 before any build). */
+int rl_nlist_box_changed(const rl_nlist *nl, const rl_box *box);
+
+/* Build the list for list radius rlist (> 0) in box (recorded as L0).  Returns RL_OK or RL_ENOMEM. */
 int rl_nlist_build(rl_nlist *nl, const rl_box *box, double rlist, int n, const double (*r)[3]);
 
 /* ---------------------------------------------------------------- the kernels' layout */

@@ -299,6 +299,7 @@ int rl_rowlist_build(rl_rowlist *f, const rl_rowlist_in *in)
     chk->r0 = r0;
   }
   if (n > 0) memcpy(chk->r0, in->centre, sizeof *chk->r0 * (size_t)n);
+  memcpy(chk->L0, box->L, sizeof chk->L0);
   f->ximages = 0; /* until build_images succeeds */
   if (in->images && rl_rowlist_images(f, in))
     return rl_error(RL_ENOMEM, "neighbour list: out of memory for the images of a small box");

@@ -235,15 +235,23 @@ const char *rl_forcefield_precision(const rl_forcefield *ff);
 int rl_forcefield_threads(const rl_forcefield *ff);
 double rl_forcefield_list_radius(const rl_forcefield *ff);
 
-/* The neighbour list's origin: the centres at its last build.  The list (its pairs, their order
- * and the threads' shares of rows) is a function of those centres, and so is the order of every
- * sum over pairs.  A checkpoint that stores them lets a restart build the same list and continue
- * bit for bit: rl_forcefield_list_origin fills r0 [n][3] and returns 1 (0, nothing written, while
- * there is no list); rl_forcefield_set_list_origin (before the first compute) makes the next build
- * use r0 instead of the current centres, after which the usual displacement test against r0
- * decides whether to build again at once.  RL_EINVAL for non-finite r0. */
+/* The neighbour list's origin: the centres at its last build, and the box then.  The list (its
+ * pairs, their order and the threads' shares of rows) is a function of those centres and that
+ * box, and so is the order of every sum over pairs.  The list outlives a change of the box (a
+ * barostat's scaling of the centres) while its skin allows: its displacements are measured from
+ * the origin scaled with the box, and the box's shrinking uses up skin (docs/interactions.md).
+ * A checkpoint that stores the origin (and the box, when it is not the current one) lets a
+ * restart build the same list and continue bit for bit: rl_forcefield_list_origin fills r0
+ * [n][3] and rl_forcefield_list_box the edges L0[3], each returning 1 (0, nothing written, while
+ * there is no list); rl_forcefield_set_list_origin (before the first compute) makes the next
+ * build use r0 instead of the current centres, in the current box or, when
+ * rl_forcefield_set_list_box follows it, in the box L0; the usual test then decides whether to
+ * build again at once.  RL_EINVAL for non-finite r0, or an L0 not positive or shorter than twice
+ * the cutoff. */
 int rl_forcefield_list_origin(const rl_forcefield *ff, double (*r0)[3]);
+int rl_forcefield_list_box(const rl_forcefield *ff, double L0[3]);
 int rl_forcefield_set_list_origin(rl_forcefield *ff, const double (*r0)[3]);
+int rl_forcefield_set_list_box(rl_forcefield *ff, const double L0[3]);
 
 /* ------------------------------------------------------------- setup warnings, cutoff checks
  * The library never prints: these return text for the caller to show (rotleap prints them before

@@ -159,6 +159,13 @@ void rl_stepop_kinetic(const rl_stepop_ctx *c, double K[2]);
 /* Forces (and energy and virial if `energy`) again for the current configuration, for an
  * operator that moved the bodies (a Monte Carlo move at RL_STEP_END); c->forces then holds them. */
 int rl_stepop_forces(rl_stepop_ctx *c, int energy);
+/* Keep the current computation (c->forces: forces, torques, energy, virial, and for a provider of
+ * force terms their energy components, rl_terms_keep) before an operator moves the bodies;
+ * rl_stepop_forces_put_back puts it back after the operator has put the configuration back (a
+ * rejected Monte Carlo move), or, for a provider that cannot keep its report, computes again
+ * (with the energy and virial if `energy`).  RL_OK, RL_ENOMEM, or the computation's status. */
+int rl_stepop_forces_keep(rl_stepop_ctx *c);
+int rl_stepop_forces_put_back(rl_stepop_ctx *c, int energy);
 
 /* ------------------------------------------------------------ the built-in thermostats */
 

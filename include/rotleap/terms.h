@@ -62,6 +62,14 @@ void *rl_terms_find(rl_terms *t, const rl_term_type *type);
 /* The sum of the terms into out (whose arrays the caller zeroed: the provider contract). */
 int rl_terms_compute(rl_terms *t, const rl_system *sys, rl_forces *out);
 rl_force_provider rl_terms_provider(rl_terms *t);
+/* The sum behind a provider made by rl_terms_provider (NULL for any other provider). */
+rl_terms *rl_terms_of_provider(rl_force_provider p);
+/* Keep the energy components of the last computation, and put them back (what the sum reports
+ * besides rl_forces): a caller that puts the configuration back after a computation (a rejected
+ * Monte Carlo move) puts back the computation with it instead of repeating it
+ * (rl_stepop_forces_keep). */
+void rl_terms_keep(rl_terms *t);
+void rl_terms_put_back(rl_terms *t);
 
 /* The energy components of every term, in order: their number, names and values at the last
  * computation (NaN where it was forces only); the sum of the values is the potential energy. */

@@ -187,7 +187,10 @@ static double mc_exponent(double dU, double P0, double V, double Vn, int n, doub
 }
 
 /* The trial to the box Ln (centres scaled by f) from L, whose energy is U: accepted, or the
- * centres, box and forces (with the energy if ev) put back as they were. */
+ * centres, box and computation (forces, energies, virial: rl_stepop_forces_keep) put back as
+ * they were, without computing them again (for a provider that cannot keep its report: computed
+ * again, with the energy if ev).  The pair list stays through the trial and its return when its
+ * skin allows (pairlist.h); else the trial builds it, and that list serves the old box too. */
 static int mc_trial(rl_stepop *op, rl_stepop_ctx *c, const double L[3], const double Ln[3], const double f[3],
                     double U, int ev, int axis)
 {
@@ -197,6 +200,7 @@ static int mc_trial(rl_stepop *op, rl_stepop_ctx *c, const double L[3], const do
   const int n = s->n;
   int st;
   memcpy(b->r, s->r, sizeof *b->r * (size_t)n);
+  if ((st = rl_stepop_forces_keep(c))) return st;
   for (int i = 0; i < n; i++)
     for (int k = 0; k < 3; k++) s->r[i][k] *= f[k];
   if ((st = rl_system_set_box(s, Ln)) || (st = rl_stepop_forces(c, 1))) return st;
@@ -204,7 +208,7 @@ static int mc_trial(rl_stepop *op, rl_stepop_ctx *c, const double L[3], const do
   const double w = mc_exponent(dU, bp->P0, L[0] * L[1] * L[2], Ln[0] * Ln[1] * Ln[2], n, kT);
   if (w > 0.0 && gsl_rng_uniform(b->rng) > exp(-w)) { /* rejected */
     memcpy(s->r, b->r, sizeof *b->r * (size_t)n);
-    return (st = rl_system_set_box(s, L)) ? st : rl_stepop_forces(c, ev);
+    return (st = rl_system_set_box(s, L)) ? st : rl_stepop_forces_put_back(c, ev);
   }
   b->accepted[axis]++;
   b->total_accepted[axis]++;

@@ -50,6 +50,13 @@ check "results (mc): acceptance and trial step" "grep -q '^mc_acceptance = 0\.[0
 check "results (c-rescale): effective energy drift" "grep -q '^crescale_effective_energy_drift = [-0-9.e]* +- [0-9.e-]* kT per molecule per tau' res-cr.results.txt"
 check "results (no barostat): no volume lines" "'$rotleap' run '$deck' --set output.prefix=$work/nve-res >/dev/null 2>&1 && ! grep -q '^volume\|^isothermal' nve-res.results.txt"
 check "results: no errors" "[ ! -s res.err ]"
+# the dielectric constant under a barostat takes the mean volume (the volume line's), not the deck's box
+"$rotleap" run "$deck" "${npt[@]}" --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.compressibility=0.1 \
+  --set interactions.dipole=rf --set interactions.eps_rf=inf --set run.steps=300 --set output.sample_every=5 \
+  --set output.prefix="$work/eps-cr" >/dev/null 2>eps.err
+rc=$?
+check "dielectric constant under a barostat: at the mean volume, the volume line's" \
+  "[ $rc -eq 0 ] && awk '/^volume = /{v=\$3} /^dielectric_constant = /{for(i=1;i<NF;i++) if(\$i==\"volume\") w=\$(i+1)} END{exit !(v > 0 && (w-v)^2 < (1e-6*v)^2)}' eps-cr.results.txt"
 three_runs crescale-semi --set run.barostat=c-rescale --set run.barostat_interval=2 --set run.tau_p=0.5 --set run.compressibility=0.1 --set run.barostat_coupling=semiisotropic
 check "semi-isotropic: Lx = Ly on every row, Lz apart from them at the end" "awk -F, 'NR==1{for(i=1;i<=NF;i++) h[\$i]=i; next} {if (\$h[\"Lx\"] != \$h[\"Ly\"]) bad=1; lx=\$h[\"Lx\"]; lz=\$h[\"Lz\"]} END{exit bad || lx == lz}' crescale-semi-A.thermo.csv"
 check "semi-isotropic: the checkpoint's settings name the coupling" "grep -aq 'barostat_coupling = semiisotropic' crescale-semi-A.chk"

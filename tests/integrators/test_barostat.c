@@ -337,8 +337,9 @@ static void crescale_semi_effective_energy(void **state) { (void)state; effectiv
 /* ------------------------------------------------------------------ continuation */
 
 /* 2N steps in one go against N, a checkpoint of everything the app keeps (the state, the
- * thermostat's random stream and account, the barostat's saved state), and N more from it in a
- * new integrator: the same positions, box and velocities to the bit. */
+ * thermostat's random stream and account, the barostat's saved state, the pair list's origin and
+ * the box of its build: the list outlives the barostat's moves), and N more from it in a new
+ * integrator: the same positions, box and velocities to the bit. */
 static void continuation(const rl_stepop_type *type, long every)
 {
   const long N = 60;
@@ -359,8 +360,19 @@ static void continuation(const rl_stepop_type *type, long every)
   void *rng = malloc(nr);
   memcpy(rng, rl_integrator_rng_state(b.in), nr);
   const double work = rl_integrator_thermostat_work(b.in), t = rl_integrator_time(b.in);
+  double(*r0)[3] = malloc(sizeof *r0 * NLIQ), L0b[3], Lb[3];
+  const rl_forcefield *ffb = rl_terms_find(b.terms, &rl_term_pair);
+  assert_int_equal(rl_forcefield_list_origin(ffb, r0), 1);
+  assert_int_equal(rl_forcefield_list_box(ffb, L0b), 1);
+  rl_system_box(b.sys, Lb);
   /* the continuation, in a new integrator on a copy of the state */
   liquid_make(&c, b.sys, 0.004, type, 1.0, every, 99, RL_BARO_ISOTROPIC); /* another seed: the saved stream replaces it */
+  rl_forcefield *ffc = rl_terms_find(c.terms, &rl_term_pair);
+  assert_int_equal(rl_forcefield_set_list_origin(ffc, (const double(*)[3])r0), RL_OK);
+  assert_int_equal(rl_forcefield_set_list_box(ffc, L0b), RL_OK);
+  print_message("%s: the list of step %ld was built in a box %s the current one\n", type->name, N,
+                memcmp(L0b, Lb, sizeof Lb) ? "other than" : "equal to");
+  free(r0);
   assert_int_equal(rl_stepop_load(rl_integrator_op(c.in, 1), saved, size), RL_OK);
   memcpy(rl_integrator_rng_state(c.in), rng, nr);
   assert_int_equal(rl_integrator_resume(c.in, N, t), RL_OK);
@@ -396,6 +408,70 @@ static void continuation(const rl_stepop_type *type, long every)
 }
 
 static void continuation_mc(void **state) { (void)state; continuation(&rl_stepop_mc_barostat, 5); }
+
+/* A rejected Monte Carlo trial puts back the computation it kept (rl_stepop_forces_keep) instead
+ * of computing again: after every step whose trial was rejected the integrator's forces, energy
+ * and the terms' energy components are those of a fresh computation at the restored state (in a
+ * new sum of terms, with its own pair list: to round-off), and the components add up to the
+ * energy (a component left at the trial's would not). */
+static void mc_rejection_puts_back(void **state)
+{
+  (void)state;
+  liquid q;
+  liquid_make(&q, NULL, 0.004, &rl_stepop_mc_barostat, 1.0, 1, 5, RL_BARO_ISOTROPIC);
+  assert_int_equal(rl_integrator_init(q.in), RL_OK);
+  rl_forces fresh = {malloc(sizeof *fresh.f * NLIQ), malloc(sizeof *fresh.k * NLIQ), 0, {0}, 0};
+  long rejected = 0, acc0 = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 60; k++) {
+    step_ok(q.in);
+    rl_barostat_stats st;
+    assert_int_equal(rl_barostat_stats_of(rl_integrator_op(q.in, 1), &st), RL_OK);
+    const int rej = st.accepted[0] == acc0;
+    acc0 = st.accepted[0];
+    if (!rej) continue;
+    rejected++;
+    const rl_forces *F = rl_integrator_forces(q.in);
+    rl_system *s2 = rl_system_clone(q.sys);
+    liquid p = q; /* the same parameters, a new sum on the copy */
+    rl_pair_params pp = {.species = &q.sff, .nspecies = 1};
+    rl_ff_params_default(&pp.p);
+    pp.p.cutoff = RC;
+    pp.p.lj_truncation = RL_LJ_SHIFTED_FORCE;
+    pp.p.dipole_method = RL_DIPOLE_SF;
+    p.terms = rl_terms_alloc(s2);
+    assert_int_equal(rl_terms_add(p.terms, &rl_term_pair, &pp, NULL), RL_OK);
+    memset(fresh.f, 0, sizeof *fresh.f * NLIQ);
+    memset(fresh.k, 0, sizeof *fresh.k * NLIQ);
+    fresh.energy = 0.0;
+    memset(fresh.virial, 0, sizeof fresh.virial);
+    assert_int_equal(rl_terms_compute(p.terms, s2, &fresh), RL_OK);
+    double fmaxv = 0.0, df = 0.0, sum = 0.0;
+    for (int i = 0; i < NLIQ; i++)
+      for (int c = 0; c < 3; c++) {
+        fmaxv = fmax(fmaxv, fabs(fresh.f[i][c]));
+        df = fmax(df, fabs(F->f[i][c] - fresh.f[i][c]));
+        df = fmax(df, fabs(F->k[i][c] - fresh.k[i][c]));
+      }
+    double de = fabs(F->energy - fresh.energy) / fabs(fresh.energy);
+    for (int j = 0; j < rl_terms_nenergies(q.terms); j++) {
+      const double e = rl_terms_energy(q.terms, j), e2 = rl_terms_energy(p.terms, j);
+      sum += e;
+      de = fmax(de, fabs(e - e2) / fabs(fresh.energy));
+    }
+    de = fmax(de, fabs(sum - F->energy) / fabs(fresh.energy));
+    for (int c = 0; c < 9; c++) de = fmax(de, fabs(F->virial[c] - fresh.virial[c]) / fabs(fresh.energy));
+    worst = fmax(worst, fmax(df / fmaxv, de));
+    rl_terms_free(p.terms);
+    rl_system_free(s2);
+  }
+  print_message("%ld of 60 trials rejected\n", rejected);
+  assert_true(rejected >= 5);
+  CHECK_LE("rejected trials: forces, torques, energy components, virial against a fresh computation", worst, 1e-11);
+  free(fresh.f);
+  free(fresh.k);
+  liquid_free(&q);
+}
 static void continuation_crescale(void **state) { (void)state; continuation(&rl_stepop_crescale, 2); }
 
 /* -------------------------------------------------------------------------- refused */
@@ -451,6 +527,7 @@ int main(void)
   const struct CMUnitTest tests[] = {cmocka_unit_test(mc_acceptance_by_hand), cmocka_unit_test(ideal_gas),
                                      cmocka_unit_test(ideal_gas_semi), cmocka_unit_test(crescale_semi_effective_energy),
                                      cmocka_unit_test(crescale_effective_energy), cmocka_unit_test(continuation_mc),
-                                     cmocka_unit_test(continuation_crescale), cmocka_unit_test(refused)};
+                                     cmocka_unit_test(continuation_crescale), cmocka_unit_test(mc_rejection_puts_back),
+                                     cmocka_unit_test(refused)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
