@@ -7,8 +7,10 @@ scripts/deps.sh test
 jobs="$(nproc)"
 cmake -S . -B build-test -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON >/dev/null
 # the library and the command also build without OpenMP (ROTLEAP_OPENMP=OFF: one thread); the
-# pair rows once, portable (ROTLEAP_NO_CLONES): build-test compiled every instance with -Werror
-cmake -S . -B build-noomp -DCMAKE_BUILD_TYPE=Release -DROTLEAP_WERROR=ON -DROTLEAP_OPENMP=OFF \
+# pair rows once, portable (ROTLEAP_NO_CLONES): build-test compiled every instance with -Werror.
+# Not optimised (build type None: 25 s of CPU against 59 s for Release): it checks that the
+# code compiles without OpenMP, the optimised code's warnings are build-test's.
+cmake -S . -B build-noomp -DCMAKE_BUILD_TYPE=None -DROTLEAP_WERROR=ON -DROTLEAP_OPENMP=OFF \
   -DROTLEAP_TESTS=OFF -DROTLEAP_NO_CLONES=ON >/dev/null
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAP_WERROR=ON -DROTLEAP_SANITIZE=ON >/dev/null
 
