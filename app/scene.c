@@ -218,10 +218,12 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mols, const rl_system
 {
   const int ns = d->nspecies;
   rl_species_ff sff[RL_DECK_MAX_SPECIES], pair_sff[RL_DECK_MAX_SPECIES];
-  int has_dipole = 0;
+  int has_dipole = 0, point_dipoles = 1; /* point_dipoles: every dipole a one-site species', no charges */
   for (int k = 0; k < ns; k++) {
     sff[k] = pair_sff[k] = rl_molecule_ff(&mols[k]);
     has_dipole |= mols[k].has_dipole;
+    point_dipoles &= !mols[k].has_dipole || mols[k].nsites == 1;
+    for (int a = 0; a < mols[k].nsites; a++) point_dipoles &= mols[k].charge[a] == 0.0;
   }
   double no_charge[RL_MOLECULE_MAX_SITES] = {0};
   const int ewald = d->coulomb != RL_DECK_COULOMB_RF;
@@ -235,12 +237,13 @@ rl_terms *scene_terms(const rl_deck *d, const rl_molecule *mols, const rl_system
   ep.threads = d->ff.threads;
   ep.remove_net_force = 1; /* the mesh's net force off: the total momentum stays zero, a continuation bit for bit */
   const rl_term_type *recip = d->coulomb == RL_DECK_COULOMB_PME ? &rl_term_pme : &rl_term_ewald;
-  /* Ewald: the real space of charges in the pair term's kernels (its coulomb component, with the
-   * LJ in one pass; the deck allows the site cutoff only), with the alpha the reciprocal term
-   * resolves; the term "ewald-real" remains the reference, and does the real space of point
-   * dipoles (B and C functions), which the rows do not have yet.  With the molecule cutoff it
-   * would be the term too. */
-  const int real_in_pair = ewald && d->ff.scheme == RL_CUTOFF_SITE && !has_dipole; /* rows: charges only */
+  /* Ewald: the real space of charges, or of Stockmayer point dipoles (one site at the centre, no
+   * charges: the "stockmayer" kernel's dipole_lj_ewald rows), in the pair term's kernels (its
+   * coulomb or dipolar component, with the LJ in one pass; the deck allows the site cutoff
+   * only), with the alpha the reciprocal term resolves; the term "ewald-real" remains the
+   * reference, and does the real space of other dipolar molecules (off-centre dipoles, dipoles
+   * with charges).  With the molecule cutoff it would be the term too. */
+  const int real_in_pair = ewald && d->ff.scheme == RL_CUTOFF_SITE && (!has_dipole || point_dipoles);
   rl_ewald_info ei;
   if (real_in_pair && rl_ewald_resolve(sys, &ep, recip == &rl_term_pme ? RL_EWALD_PME : RL_EWALD_SUM, &ei)) return NULL;
   if (real_in_pair) {

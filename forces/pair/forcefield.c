@@ -397,14 +397,21 @@ rl_forcefield *rl_forcefield_alloc(const rl_system *sys, const rl_ff_params *p,
     for (int b = a; b < ntypes; b++)
       lj_mix(ff, a, b, 0.5 * (ff->sig[a] + ff->sig[b]), sqrt(ff->eps[a] * ff->eps[b]));
   rl_rf_coef_init(&ff->rf, p->eps_rf, p->cutoff);
-  for (int a = 0; a < ntypes && p->coulomb == RL_COULOMB_EWALD_REAL; a++)
-    if (ff->mu[a] != 0.0) {
+  /* Ewald: point dipoles only as Stockmayer particles (one uncharged site, at the centre) in a
+   * scene without charges: the pair routines have dipole-dipole Ewald pairs, not charge-dipole
+   * ones nor off-centre dipoles (the term "ewald-real" has them) */
+  int charged = 0;
+  for (int a = 0; a < ntypes; a++) charged |= ff->q[a] != 0.0;
+  for (int a = 0; a < ntypes && p->coulomb == RL_COULOMB_EWALD_REAL; a++) {
+    if (ff->mu[a] != 0.0 && (ff->sp_nsites[ff->type_species[a]] != 1 || charged)) {
       const int ka = ff->type_species[a], sa = ff->type_site[a];
       rl_forcefield_free(ff);
       rl_error(RL_EINVAL, "forcefield: species %d site %d carries a point dipole: the Ewald real space "
-               "(coulomb = ewald) is for charges only (dipolar Ewald is not there yet)", ka, sa);
+               "(coulomb = ewald) takes point dipoles only on one-site species in a scene without charges "
+               "(the term ewald-real takes the others)", ka, sa);
       return NULL;
     }
+  }
   for (int i = 0; i < n; i++) {
     int k = rl_system_species_of(sys, i);
     ff->body_species[i] = k;
@@ -596,8 +603,10 @@ static inline void site_terms(const rl_forcefield *ff, int ta, int tb, const dou
     for (int c = 0; c < 3; c++) { mua[c] = ma * ea[c]; mub[c] = mb * eb[c]; }
     int sf = ff->p.dipole_method == RL_DIPOLE_SF;
     if ((mask & 1u << TERM_DD) && ma != 0.0 && mb != 0.0) {
-      *e[TERM_DD] += sf ? rl_dipole_dipole_sf(ff->kc, ff->p.cutoff, r, mua, mub, fp, ga, gb)
-                        : rl_dipole_dipole_rf(ff->kc, ff->rf.krf, r, mua, mub, fp, ga, gb);
+      *e[TERM_DD] += ff->p.coulomb == RL_COULOMB_EWALD_REAL
+                         ? rl_dipole_dipole_ewald(ff->kc, ff->p.ewald_alpha, r, mua, mub, fp, ga, gb)
+                     : sf ? rl_dipole_dipole_sf(ff->kc, ff->p.cutoff, r, mua, mub, fp, ga, gb)
+                          : rl_dipole_dipole_rf(ff->kc, ff->rf.krf, r, mua, mub, fp, ga, gb);
       for (int c = 0; c < 3; c++) f[c] += fp[c];
       cross_add(ka, mua, ga, -1.0);
       cross_add(kb, mub, gb, -1.0);
@@ -1087,6 +1096,12 @@ int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *
       break;
     case TERM_DD:
     case TERM_QD:
+      if (p->coulomb == RL_COULOMB_EWALD_REAL) { /* the screened B_1, B_2 at rc: as small as the tolerance asks */
+        ej = fj = 1;
+        snprintf(label, sizeof label, "%s Ewald real space (alpha = %g, plain cutoff)", names[t], p->ewald_alpha);
+        fix = NULL;
+        break;
+      }
       ej = !sf && (t == TERM_DD || !inf);
       fj = !sf;
       if (sf) snprintf(label, sizeof label, "%s shifted force%s", names[t], cut);
@@ -1100,7 +1115,7 @@ int rl_forcefield_discontinuities(const rl_forcefield *ff, rl_ff_discontinuity *
       break;
     }
     char remedy[96];
-    if (!fix && t == TERM_COUL)
+    if (!fix && (t == TERM_COUL || p->coulomb == RL_COULOMB_EWALD_REAL))
       line(remedy, sizeof remedy, "a smaller interactions.ewald_tolerance makes it smaller");
     else if (!fix)
       line(remedy, sizeof remedy, "no continuous form is offered (the jump falls as cutoff^-5)");

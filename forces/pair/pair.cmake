@@ -29,6 +29,9 @@ set(RL_PAIR_FAST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/kernels/portable/tip4p_lj_ewald.c
   ${CMAKE_CURRENT_LIST_DIR}/kernels/avx512/tip4p_lj_ewald.c
   ${CMAKE_CURRENT_LIST_DIR}/kernels/avx2/tip4p_lj_ewald.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/portable/dipole_lj_ewald.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/avx512/dipole_lj_ewald.c
+  ${CMAKE_CURRENT_LIST_DIR}/kernels/avx2/dipole_lj_ewald.c
 )
 target_sources(rotleap PRIVATE ${RL_PAIR_FAST_SOURCES})
 # The specialised kernels: `omp simd` loops (honoured even without OpenMP threads), sqrt

@@ -34,6 +34,9 @@ static const row_sets dipole_lj_rf = {&rl_rows_portable_dipole_lj_rf,
 static const row_sets dipole_lj_sf = {&rl_rows_portable_dipole_lj_sf,
                                       RL_REG(rl_rows_avx512_dipole_lj_sf),
                                       RL_REG(rl_rows_avx2_dipole_lj_sf), NULL};
+static const row_sets dipole_lj_ewald = {&rl_rows_portable_dipole_lj_ewald,
+                                         RL_REG(rl_rows_avx512_dipole_lj_ewald),
+                                         RL_REG(rl_rows_avx2_dipole_lj_ewald), NULL};
 
 /* The rows for each separation mode and LJ truncation trunc: the mixed-precision rows where
  * asked for (tmix) and present, else the register rows of vec, else the portable ones; a
@@ -84,8 +87,11 @@ static void classify(const rl_forcefield *ff, int k, int vec, int tmix, fast_spe
     K->mu = ff->mu[o];
     K->nterms = 1;
     term_set(ff, o, o, &K->t[0]);
-    take_rows(rows, ff->p.dipole_method == RL_DIPOLE_SF ? &dipole_lj_sf : &dipole_lj_rf, vec, tmix,
-              ff->p.lj_truncation);
+    /* the Ewald real space (the reaction field and shifted force are then not used) */
+    take_rows(rows, ff->p.coulomb == RL_COULOMB_EWALD_REAL ? &dipole_lj_ewald
+                    : ff->p.dipole_method == RL_DIPOLE_SF ? &dipole_lj_sf
+                                                          : &dipole_lj_rf,
+              vec, tmix, ff->p.lj_truncation);
     return;
   }
   K->kind = K_SITES;

@@ -879,7 +879,8 @@ static void test_mixed_precision(void **state)
  * the TIP4P and charge-lj kernels against the reference routine, whose erfc and exp are the C
  * library's, at alpha rc = 2.6 (tolerance 5e-4) and 4.9 (both pieces of the erfc polynomial), in
  * a large box and one with L < 2 rp (the image list); 1 against 2 and 3 threads; the mixed
- * precision falls back to double; what the Ewald real space refuses. */
+ * precision falls back to double; the Stockmayer kernel's dipolar rows likewise; what the Ewald
+ * real space refuses. */
 static void test_ewald(void **state)
 {
   (void)state;
@@ -942,15 +943,47 @@ static void test_ewald(void **state)
     }
     rl_system_free(s.sys);
   }
-  { /* point dipoles are refused */
+  { /* Stockmayer point dipoles: the dipole_lj_ewald rows, every path, against the reference
+     * routine's rl_dipole_dipole_ewald (the C library's erfc and exp) */
     scene s;
     rl_ff_params p;
     neat_scene(&s, rng, 0, &p);
     p.coulomb = RL_COULOMB_EWALD_REAL;
-    p.ewald_alpha = 3.0;
-    FF_CHECK_TRUE("ewald with point dipoles is refused", !rl_forcefield_alloc(s.sys, &p, s.sff, s.nsp));
-    FF_CHECK_TRUE("  naming the dipole", strstr(rl_last_error(), "point dipole") != NULL);
+    for (int a = 0; a < 2; a++) {
+      p.ewald_alpha = (a ? 4.9 : 2.6) / p.cutoff;
+      for (int k = 0; k < NPATH; k++) {
+        char what[160];
+        snprintf(what, sizeof what, "ewald, alpha rc %.1f, stockmayer (500)%s", p.ewald_alpha * p.cutoff, path_label[k]);
+        set_path(k);
+        sweep(&s, &p, what, "stockmayer");
+      }
+      set_path(0);
+    }
     rl_system_free(s.sys);
+  }
+  { /* refused: dipoles off the centre of a molecule, and dipoles beside charges */
+    for (int c = 0; c < 2; c++) {
+      scene s = {.nsp = c ? 2 : 1};
+      if (c) {
+        ff_stockmayer(&s.sp[0], 0.05);
+        ff_ion(&s.sp[1], 1.0);
+      } else {
+        ff_symtop(&s.sp[0]);
+        s.sp[0].charge[1] = s.sp[0].charge[2] = s.sp[0].charge[3] = 0.0; /* no charges: only the off-centre dipole */
+      }
+      int cnt[2] = {60, 10};
+      scene_build(&s, rng, RL_UNITS_REAL, cnt, 20.0, 0.3, 0.0);
+      rl_ff_params p;
+      rl_ff_params_default(&p);
+      p.cutoff = 0.6;
+      p.coulomb = RL_COULOMB_EWALD_REAL;
+      p.ewald_alpha = 3.0 / p.cutoff;
+      FF_CHECK_TRUE(c ? "ewald with point dipoles beside charges is refused"
+                      : "ewald with a dipole on a many-site molecule is refused",
+                    !rl_forcefield_alloc(s.sys, &p, s.sff, s.nsp));
+      FF_CHECK_TRUE("  naming the dipole", strstr(rl_last_error(), "point dipole") != NULL);
+      rl_system_free(s.sys);
+    }
   }
   gsl_rng_free(rng);
 }

@@ -136,12 +136,12 @@ typedef struct {
 /* The row sets (kernels/<instruction set>/<pattern>_<vdw>_<elec>.c). */
 extern const rl_row_set rl_rows_portable_sites_lj_rf, rl_rows_portable_tip4p_lj_rf,
     rl_rows_portable_dipole_lj_rf, rl_rows_portable_dipole_lj_sf, rl_rows_portable_sites_lj_ewald,
-    rl_rows_portable_tip4p_lj_ewald;
+    rl_rows_portable_tip4p_lj_ewald, rl_rows_portable_dipole_lj_ewald;
 #if RL_X512
 extern const rl_row_set rl_rows_avx512_tip4p_lj_rf, rl_rows_avx512_dipole_lj_rf,
     rl_rows_avx512_dipole_lj_sf, rl_rows_avx2_tip4p_lj_rf, rl_rows_avx2_dipole_lj_rf,
     rl_rows_avx2_dipole_lj_sf, rl_rows_avx2_mixed_tip4p_lj_rf, rl_rows_avx512_tip4p_lj_ewald,
-    rl_rows_avx2_tip4p_lj_ewald;
+    rl_rows_avx2_tip4p_lj_ewald, rl_rows_avx512_dipole_lj_ewald, rl_rows_avx2_dipole_lj_ewald;
 #endif
 
 /* A row function with the kernels' arguments (every row file). */
