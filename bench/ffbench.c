@@ -17,7 +17,8 @@
  *       --skin auto: the Verlet skin `rotleap run` takes at the step --h (rl_ff_skin_for_step);
  *       --skin S: S (nm or sigma); default the force field's, 0.1 rc.
  *       --pme TOL (MODEL tip4p-ew, TIP4P-Ew at 1 g/cm3): charges by smooth PME at OpenMM's
- *       ewaldErrorTolerance TOL (alpha and grid as OpenMM chooses them, order 5): the real space
+ *       ewaldErrorTolerance TOL (alpha and grid as OpenMM chooses them, order 5; MODEL stockmayer:
+ *       the dipolar PME, alpha and grid from rotleap's dipolar estimates, dip_err_*): the real space
  *       in the pair term's rows, LJ + erfc in one pass (rl_ff_params.coulomb), the term "pme" for
  *       the mesh; recip_share = its share of the step.  --real-term: the real space by the term
  *       "ewald-real" instead, the pair term without charges (what rotleap ran before the rows
@@ -119,7 +120,7 @@ static void setup_skin(bench_sys *b, const char *model, int n, int threads,
   memset(b, 0, sizeof *b);
   b->tip4p = strcmp(model, "tip4p") == 0 || strcmp(model, "tip4p-ew") == 0;
   if (!b->tip4p && strcmp(model, "stockmayer") != 0) { fprintf(stderr, "ffbench: model tip4p|tip4p-ew|stockmayer\n"); exit(2); }
-  if ((bench_pme > 0.0) != (strcmp(model, "tip4p-ew") == 0)) { fprintf(stderr, "ffbench: --pme TOL with model tip4p-ew, and only there\n"); exit(2); }
+  if ((bench_pme > 0.0 && strcmp(model, "stockmayer") != 0) != (strcmp(model, "tip4p-ew") == 0)) { fprintf(stderr, "ffbench: --pme TOL with model tip4p-ew or stockmayer, and only there\n"); exit(2); }
   double rss0 = rss_bytes();
   const rl_model *md = rl_catalog_find(model);
   if (!md || rl_model_build(md, NULL, 0, &b->m)) die("model");
@@ -194,6 +195,7 @@ static void setup_skin(bench_sys *b, const char *model, int n, int threads,
     if (!b->w.recip || rl_terms_add(b->w.recip, &rl_term_pme, &ep, NULL)) die("pme");
     if (bench_real_term) {
       sf_pair.charge = no_charge;
+      sf_pair.dipole = NULL;
       b->w.rterms = rl_terms_alloc(b->sys);
       if (!b->w.rterms || rl_terms_add(b->w.rterms, &rl_term_ewald_real, &ep, NULL)) die("ewald-real");
     } else {
@@ -370,6 +372,9 @@ static int cmd_time(int argc, char **argv)
     printf("pme_tolerance=%g alpha=%.6f grid=%dx%dx%d order=%d real_space=%s recip_share=%.4f\n", bench_pme,
            bench_ewald.alpha, bench_ewald.grid[0], bench_ewald.grid[1], bench_ewald.grid[2], bench_ewald.order,
            bench_real_term ? "term" : "rows", b.w.recip_share);
+  if (bench_pme > 0.0 && bench_ewald.nsites_dipolar > 0)
+    printf("dip_err_total=%.4g dip_err_real=%.4g dip_err_recip=%.4g\n", bench_ewald.dip_err_total,
+           bench_ewald.dip_err_real, bench_ewald.dip_err_recip);
   if (dumpfile) {
     /* the energy of exactly the dumped configuration */
     rl_forces F = {calloc((size_t)n, sizeof(double[3])), calloc((size_t)n, sizeof(double[3])), 0.0, {0}, 0};
