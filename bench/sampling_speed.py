@@ -7,6 +7,7 @@ error of a 1 fs reference.  Target: rotleap_ns_per_day / openmm_ns_per_day >= 2.
 Run (from the repository root, after building rotleap):
     nice -n 15 /usr/bin/python3 bench/sampling_speed.py [--quick] [--rotleap build/rotleap]
         [--rotleap-fs 2,4,5,6,8,10] [--isokinetic-fs ''] [--openmm-fs 1,2,3,4,5,6,8,10] [--threads 1]
+        [--variants 'dot:6,8,10;dot@4:8,10'] [--tau-rot 0.05]
         [--prod-ps 200] [--eq-ps 4] [--blocks 10] [--rounds 3] [--pair-rounds 10]
         [--timing-steps 2000] [--jobs 1] [--precision double|mixed]
 The script lowers its own priority to nice 15 (--nice) so that the other core's benchmarks are
@@ -31,6 +32,14 @@ Runs, each from that start: eq_ps at its own h (discarded), then prod_ps of prod
     3a4f3e2 one thermostat over both, docs/integrators.md "Bussi thermostat groups").  A shorter
     tau decorrelates the energy faster, so it shrinks rotleap's error bars and with them the
     tolerance of its accuracy test, while OpenMM's stay those of its 1 ps friction;
+  * further rotleap schemes (--variants, issue 37): `dot` = run.ensemble nvt-langevin-dot (the
+    rigid-body Langevin scheme of Davidchack, Ouldridge & Tretyakov, B A O A B, friction time 1 ps
+    on the momenta and --tau-rot on the angular momenta), `langevin` = nvt-langevin (tau 1 ps), each
+    optionally @S for system.inertia_scale = S (heavier rotors: the configurational distribution
+    is the model's, the librations slower by sqrt(S); docs/integrators.md "Heavier rotors").  They
+    take part in the choice of rotleap's largest accurate step like the Bussi runs; a run with S > 1
+    has slower rotational dynamics, so its ns/day is not a sampling speed of the dynamics (its U/N
+    and O-O RDF are what the accuracy test compares);
   * OpenMM 7.7, CPU platform, LangevinMiddleIntegrator (friction --friction = 1/ps, fixed seed),
     SETTLE rigid water, M a virtual site, one thread, h = --openmm-fs (default 1, 2, 3, 4, 5, 6, 8,
     10 fs).
@@ -231,11 +240,13 @@ def rotleap_timer(rotleap, work, run, box, steps, threads, interactions=()):
     returns seconds per step from the summary's wall_seconds."""
     h_ps = run["h_fs"] * 1e-3
     # the file names of nvt_structure.rotleap_task, which wrote the start checkpoint
-    ens = next(e for e, name in ns.ENSEMBLE_NAMES.items() if name[1] == run["thermostat"])
-    tag = "rl_%s_h%g" % (ns.ENSEMBLE_NAMES[ens][0], run["h_fs"])
+    base = run["thermostat"].partition("@")[0]
+    ens = next(e for e, name in ns.ENSEMBLE_NAMES.items() if name[1] == base)
+    tag = "rl_%s_h%g%s" % (ns.ENSEMBLE_NAMES[ens][0], run["h_fs"], run.get("suffix", ""))
     start = os.path.join(work, tag + "_start.chk")
     pre = os.path.join(work, "time_" + tag)
-    text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0, interactions=interactions)
+    text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0, interactions=interactions,
+                   extra=run.get("extra", ()), system=run.get("system", ()))
     # energies at the first and the last step only (output.energy_every), as OpenMM's step()
     # computes none: before 2026-11-22 rotleap summed energy and virial on every timed step
     text = text.replace("thermo_every = 1\n", "thermo_every = %d\nenergy_every = %d\n" % (steps, steps))
@@ -292,6 +303,10 @@ def main():
     ap.add_argument("--rotleap-fs", default="2,4,5,6,8,10", help="rotleap Bussi steps (fs)")
     ap.add_argument("--isokinetic-fs", default="", help="rotleap isokinetic steps (fs; default none)")
     ap.add_argument("--openmm-fs", default="1,2,3,4,5,6,8,10", help="OpenMM LangevinMiddle steps (fs)")
+    ap.add_argument("--variants", default="", help="further rotleap schemes: 'NAME:h,h,...;NAME:...' with NAME "
+                    "dot (nvt-langevin-dot, tau 1 ps, tau_rot --tau-rot) or langevin (nvt-langevin, tau 1 ps), "
+                    "each optionally @S for system.inertia_scale = S (e.g. 'dot:6,8,10;dot@4:8,10')")
+    ap.add_argument("--tau-rot", type=float, default=0.05, help="rotational friction time of the dot variants (ps)")
     ap.add_argument("--tau", type=float, default=1.0, help="rotleap Bussi relaxation time (ps) of every rotleap "
                     "run, the reference included")
     ap.add_argument("--friction", type=float, default=1.0, help="OpenMM Langevin friction (1/ps)")
@@ -327,7 +342,8 @@ def main():
     rotleap = os.path.abspath(args.rotleap)
     rl_fs, iso_fs, omm_fs = steps_list(args.rotleap_fs), steps_list(args.isokinetic_fs), steps_list(args.openmm_fs)
     rl_fs = [h for h in rl_fs if h != args.ref_fs]  # the reference is that run
-    all_fs = [args.ref_fs] + rl_fs + iso_fs + omm_fs
+    variants = parse_variants(args.variants, args.tau_rot)
+    all_fs = [args.ref_fs] + rl_fs + iso_fs + omm_fs + [h for v in variants for h in v[3]]
     frame = frame_fs(all_fs)
     # nvt_structure.analyse and .deck read these module constants
     ns.TAU_BUSSI = args.tau
@@ -374,6 +390,9 @@ def main():
                   for h in rl_fs]
         tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-isokinetic", h * 1e-3, nfr * every(h),
                                      every(h)), "") for h in iso_fs]
+        tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, ens, h * 1e-3, nfr * every(h), every(h),
+                                     extra, suffix, rl_interactions(args), system), "")
+                  for ens, extra, system, hs, suffix in variants for h in hs]
         tasks += [(ns.openmm_task, (work, nfr * every(h), every(h), pdb + ".pdb", "langevin-middle", h,
                                     args.friction), "") for h in omm_fs]
         runs = []
@@ -537,8 +556,26 @@ def main():
     return 0 if "rotleap" in choice and "openmm" in choice else 1
 
 
+def parse_variants(text, tau_rot):
+    """--variants -> [(ensemble, [run] lines, [system] lines, steps in fs, file suffix)]."""
+    out = []
+    for item in (x.strip() for x in text.split(";")):
+        if not item:
+            continue
+        name, _, hs = item.partition(":")
+        base, _, scale = name.strip().partition("@")
+        if base not in ("dot", "langevin") or not hs:
+            sys.exit("--variants: '%s' is not NAME[@S]:h,h,... with NAME dot or langevin" % item)
+        ens = "nvt-langevin-dot" if base == "dot" else "nvt-langevin"
+        extra = ["tau_rot = %g ps" % tau_rot] if base == "dot" else []
+        system = ["inertia_scale = %g" % float(scale)] if scale else []
+        out.append((ens, extra, system, steps_list(hs), "_I%g" % float(scale) if scale else ""))
+    return out
+
+
 def short(r):
-    return "%s%s %g fs" % (r["code"], " isokinetic" if r["thermostat"] == "isokinetic" else "", r["h_fs"])
+    th = r["thermostat"]
+    return "%s%s %g fs" % (r["code"], "" if th in ("bussi", "langevin") else " " + th, r["h_fs"])
 
 
 def fmt(x, f):
@@ -547,8 +584,10 @@ def fmt(x, f):
 
 def row_cells(r, ref):
     a = r["analysis"]
-    name = "%s %s" % (r["code"], {"bussi": "Bussi", "isokinetic": "isokinetic", "langevin": "LangevinMiddle"}
-                      .get(r["thermostat"], r["thermostat"]))
+    th, _, scale = r["thermostat"].partition("@")
+    name = "%s %s%s" % (r["code"], {"bussi": "Bussi", "isokinetic": "isokinetic", "langevin": "LangevinMiddle" if
+                                    r["code"] == "openmm" else "Langevin", "langevin-dot": "DOT Langevin"}.get(th, th),
+                        " I×" + scale if scale else "")
     if r["status"] != "ok":
         err = (r.get("error") or a.get("error") or "").replace("rotleap run: ", "").replace("OpenMM: ", "")[:72]
         return [name, "%g" % r["h_fs"], "unstable: " + err, "", "", "", "", "", "", "", "no", "—"]

@@ -105,22 +105,24 @@ TEMPS = [("T", "T"), ("Tt", "T_trans"), ("Tr", "T_rot")]
 
 
 # ------------------------------------------------------------------------------------ runs
-def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=(), interactions=()):
+def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=(), interactions=(), system=()):
     """extra: further [run] lines, e.g. "thermostat_groups = all", "seed = 3" or
     "integrator = no-squish" (which replaces the default "integrator = rl"); interactions: further
-    [interactions] lines, e.g. "precision = mixed"."""
+    [interactions] lines, e.g. "precision = mixed"; system: further [system] lines, e.g.
+    "inertia_scale = 4"."""
     integ = [x for x in extra if x.replace(" ", "").startswith("integrator=")]
     extra = [x for x in extra if x not in integ]
     run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h_ps, (integ or ["integrator = rl"])[-1],
            "ensemble = %s" % ensemble, "temperature = %g K" % T_K]
     if ensemble == "nvt-bussi":
         run.append("tau = %g ps" % TAU_BUSSI)
-    elif ensemble == "nvt-langevin":
+    elif ensemble in ("nvt-langevin", "nvt-langevin-dot"):
         run.append("tau = %g ps" % TAU_LANGEVIN)
     run += list(extra)
     sysl = ["[system]", "model = %s" % nc.MODEL, "count = %d" % N, "box = %s" % " ".join(repr(b) for b in box)]
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = 1"]
     sysl.append("temperature = %g K" % T_K)
+    sysl += list(system)
     elec = ["coulomb = pme", "ewald_tolerance = %r" % nc.EWALD_TOL] if nc.COULOMB == "pme" else \
         ["scheme = site", "eps_rf = %r" % EPS_RF]
     return "\n".join(sysl + [
@@ -139,29 +141,44 @@ def read_kv(path):
 
 # rotleap ensemble -> (file tag, thermostat key of the run record, label)
 ENSEMBLE_NAMES = {"nvt-bussi": ("bussi", "bussi", "Bussi"), "nvt-isokinetic": ("iso", "isokinetic", "isokinetic"),
-                  "nvt-langevin": ("langevin", "langevin", "Langevin")}
+                  "nvt-langevin": ("langevin", "langevin", "Langevin"),
+                  "nvt-langevin-dot": ("dot", "langevin-dot", "DOT Langevin")}
 
 
-def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix="", interactions=()):
+def inertia_scale(system):
+    """The system.inertia_scale among further [system] lines (1 if none)."""
+    for x in system:
+        k, _, v = x.partition("=")
+        if k.strip() == "inertia_scale":
+            return float(v)
+    return 1.0
+
+
+def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix="", interactions=(),
+                 system=()):
     """One rotleap NVT run from the shared start.  rotleap appends to PREFIX.dcd when it starts
     from a checkpoint, so the 0-step template run (from a lattice, same prefix) creates the empty
     DCD that the production run then fills.  extra: further [run] deck lines for both runs (a
     "seed = k" there seeds the thermostat: the template's checkpoint carries its random state);
-    suffix: appended to the run's file names; interactions: further [interactions] lines."""
+    suffix: appended to the run's file names; interactions: further [interactions] lines; system:
+    further [system] lines (with inertia_scale = s the start's angular momenta are sqrt(s) times the
+    shared start's, their Maxwell-Boltzmann size for the heavier rotor)."""
     name = ENSEMBLE_NAMES[ensemble]
     tag = "rl_%s_h%g%s" % (name[0], h_ps * 1e3, suffix)
     pre = os.path.join(work, tag)
     with open(pre + "_tmpl.ini", "w") as f:
-        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra, interactions=interactions))
+        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra, interactions=interactions,
+                     system=system))
     nc.sh([rotleap, "run", pre + "_tmpl.ini"])
     M = ck["species"][0]["mass"]
     vh = [[v[i][c] - 0.5 * h_ps * F[i][c] / M for c in range(3)] for i in range(N)]
-    lh = [[l[i][c] - 0.5 * h_ps * K[i][c] for c in range(3)] for i in range(N)]
+    sl = math.sqrt(inertia_scale(system))
+    lh = [[sl * l[i][c] - 0.5 * h_ps * K[i][c] for c in range(3)] for i in range(N)]
     with open(pre + "_start.chk", "wb") as f:
         f.write(nc.put_state(open(pre + ".chk", "rb").read(), ck["r"], vh, lh, ck["A"]))
     with open(pre + ".ini", "w") as f:  # + every: the frame at the last step needs its thermo row
         f.write(deck(pre, steps + every, h_ps, ensemble, ck["box"], start=pre + "_start.chk", every=every,
-                     extra=extra, interactions=interactions))
+                     extra=extra, interactions=interactions, system=system))
     t0 = time.time()
     p = subprocess.run([rotleap, "run", pre + ".ini"], capture_output=True, text=True)
     wall = time.time() - t0
@@ -174,7 +191,10 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, ex
                                  cons=float(r["conserved"]), Tt_mid=float(r.get("t_trans_mid", "nan")),
                                  Tr_mid=float(r.get("t_rot_mid", "nan"))))
     res = read_kv(pre + ".results.txt")
-    return dict(label="rotleap %s h=%g" % (name[2], h_ps * 1e3), code="rotleap", thermostat=name[1],
+    scale = inertia_scale(system)
+    return dict(label="rotleap %s%s h=%g" % (name[2], " I×%g" % scale if scale != 1 else "", h_ps * 1e3),
+                code="rotleap", thermostat=name[1] + ("@%g" % scale if scale != 1 else ""),
+                extra=list(extra), system=list(system), suffix=suffix,
                 h_fs=round(h_ps * 1e3, 6), steps=steps, wall_s=wall, rc=p.returncode,
                 error=(p.stderr.strip().splitlines() or [""])[-1] if p.returncode else "",
                 rows=rows, dcd=pre + ".dcd", pdb=pre + ".pdb", summary=read_kv(pre + ".summary.txt"),
