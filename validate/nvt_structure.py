@@ -468,9 +468,11 @@ def gromacs_prepare(work, pre, h_ps, steps, every, integrator="sd", tau_t=TAU_LA
 
 def gromacs_mdrun(work, pre):
     """`gmx mdrun` of PRE.tpr on one thread, CPU non-bonded, GROMACS's own pinning off (a caller's
-    affinity is inherited); returns (returncode, error line, wall seconds of the whole process)."""
+    affinity is inherited), no final configuration or checkpoint (-noconfout: 7 % of a 300-step
+    timing run otherwise); returns (returncode, error line, wall seconds of the whole process)."""
     t0 = time.perf_counter()
-    p = gmx_run(["mdrun", "-s", pre + ".tpr", "-deffnm", pre, "-nt", "1", "-pin", "off", "-nb", "cpu"], work)
+    p = gmx_run(["mdrun", "-s", pre + ".tpr", "-deffnm", pre, "-nt", "1", "-pin", "off", "-nb", "cpu",
+                 "-noconfout"], work)
     wall = time.perf_counter() - t0
     err = ""
     if p.returncode:
@@ -504,11 +506,13 @@ def gromacs_task(work, steps, every, pdb, h_fs=2.0, integrator="sd", tau_t=TAU_L
 
     Energies: every pair term is exactly as in rotleap and OpenMM (LJ cut plainly at 0.9 nm,
     reaction field q_i q_j k_c (1/r + k_rf r^2 - c_rf) per intermolecular site pair within 0.9 nm),
-    so GROMACS's forces are rotleap's.  GROMACS's Verlet scheme accepts vdw-modifier = None
-    (with Potential-shift, its default, every LJ pair inside the cutoff would get -U_LJ(r_c) =
-    +0.0163 kJ/mol for TIP4P at 0.9 nm: no force, but U/N shifted by that times the mean number
-    of O-O pairs within r_c per molecule, about 0.5 * 4/3 pi r_c^3 * 33.4 nm^-3 = 51, i.e. about
-    +0.8 kJ/mol, a constant only on average; with None there is no such term).
+    so GROMACS's forces are rotleap's.  GROMACS's Verlet scheme accepts vdw-modifier = None, used
+    here.  (With Potential-shift, its default, every O-O pair inside the cutoff gets -U_LJ(r_c) =
+    +0.0047930 kJ/mol for TIP4P at 0.9 nm: the forces are unchanged, U/N is raised by that times
+    the number of O-O pairs within r_c per molecule, 13045 / 256 = 50.96 at the shared start of
+    bench/sampling_speed.py --quick, i.e. +0.2442 kJ/mol: measured +62.525 kJ/mol on the 256
+    molecules against 62.524 predicted.  That count fluctuates, so the shift is a constant only on
+    average and would bias nothing in the sampling but blur U/N comparisons.)
     What differs is GROMACS's reaction-field exclusion correction: its Verlet kernels add for every
     excluded (intramolecular) pair q_i q_j k_c (k_rf r_ij^2 - c_rf) and for every site
     -q_i^2 k_c c_rf / 2.  The c_rf parts sum to -k_c c_rf (sum_i q_i)^2 / 2 = 0 for a neutral
