@@ -586,6 +586,28 @@ def gromacs_task(work, steps, every, pdb, h_fs=2.0, integrator="sd", tau_t=TAU_L
     return dict(base, rc=1 if (rc or err) else 0, error=err, rows=rows)
 
 
+def gromacs_single_point(work):
+    """GROMACS's Potential (kJ/mol, all N molecules) of the shared start (work/start.json): a 0-step
+    mdrun with gromacs_mdp's parameters.  Minus N gromacs_rf_exclusion() it is rotleap's U of the
+    same configuration to single precision.  At bench/sampling_speed.py --quick's start: GROMACS
+    LJ 2164.7051, Coulomb -12943.1816, Potential -10778.4766 kJ/mol; rotleap (`rotleap energy`)
+    LJ 2164.7078, Coulomb -12893.9796, U -10729.2718; Coulomb difference -49.2020, of which
+    256 x -0.192094 = -49.1760 is the exclusion constant: -0.026 kJ/mol (1e-4 per molecule) left in
+    the Coulomb sum and -0.003 in LJ, GROMACS's single-precision sums and the .gro's 1e-7 nm.
+    (Debian's double-precision gmx_d, not used here, gives LJ 2161.873: the sum of the O-O pairs to
+    0.9126 nm, not 0.9; its kernel does not seem to cut LJ at rvdw with vdw-modifier = None when the
+    pair list reaches beyond it.  The mixed-precision gmx used here cuts at 0.9 nm.)"""
+    pre = os.path.join(work, "gmx_single_point")
+    err = gromacs_prepare(work, pre, 0.001, 0, 1)
+    rc, err2, _ = gromacs_mdrun(work, pre) if not err else (1, err, 0.0)
+    if rc:
+        raise RuntimeError(err2 or "mdrun failed")
+    p = gmx_run(["energy", "-f", pre + ".edr", "-o", pre + ".xvg"], work, stdin="Potential\n\n")
+    if p.returncode:
+        raise RuntimeError("gmx energy failed")
+    return read_xvg(pre + ".xvg")[1]["Potential"][0]
+
+
 def gromacs_rf_exclusion(model="tip4p"):
     """GROMACS's reaction-field exclusion energy per rigid molecule (kJ/mol): k_c k_rf sum over the
     intramolecular charge pairs of q_i q_j r_ij^2 (the c_rf terms of the excluded pairs and the
