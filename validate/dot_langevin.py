@@ -178,8 +178,13 @@ def main():
             fmt(r["tconf_translational"], 1), zt(r["tconf_translational"]), fmt(r["tconf_rotational"], 1),
             zt(r["tconf_rotational"]), r["samples"], r["wall"], verdict))
     text = "\n".join(lines) + "\n"
-    with open(args.md, "w") as f:
+    old = open(args.md).read() if os.path.exists(args.md) else ""
+    i = old.find("\nReading (written after the run")
+    if i >= 0:  # the hand-written reading below the table is kept (it says which run it reads)
+        text += old[i:]
+    with open(args.md + ".part", "w") as f:
         f.write(text)
+    os.replace(args.md + ".part", args.md)
     print(text)
 
 
