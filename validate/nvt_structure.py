@@ -442,6 +442,7 @@ def gmx_run(args, cwd, stdin=None):
 # verlet-buffer-tolerance 0.005 kJ/mol/ps asks for at nstlist steps of h) must not exceed half of it,
 # 0.986 nm.  At 4 fs and GROMACS's default nstlist = 10 it is 1.069 nm and grompp refuses the run, so
 # gromacs_prepare takes the largest of these that grompp accepts (mdrun may raise it within the limit).
+# At the shared start: nstlist 10 at 1-2 fs, 6 at 3-4 fs, 5 at 5 fs, 4 at 6 fs, 3 at 8-10 fs.
 GMX_NSTLIST = (10, 8, 6, 5, 4, 3, 2, 1)
 
 
