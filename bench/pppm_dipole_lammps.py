@@ -59,6 +59,18 @@ def lammps(data, steps, tol, tmp):
             "kspace_pct": float(kspace.group(1)) if kspace else float("nan")}
 
 
+def write_csv(path, rows):
+    """Written whole under a temporary name and renamed (after every size: a run stopped early
+    keeps the sizes it finished)."""
+    part = path + ".part"
+    with open(part, "w") as f:
+        f.write("N,tolerance,rotleap_ms_per_step,lammps_ms_per_step,ratio,rotleap_recip_share,lammps_kspace_share,"
+                "rotleap_est_rms_force,lammps_est_rms_force,rotleap_grid,rotleap_alpha,lammps_grid,lammps_g_ewald,cpu\n")
+        for r in rows:
+            f.write("%d,%g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4g,%.4g,%s,%.6f,%s,%.6f,\"%s\"\n" % r)
+    os.replace(part, path)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", default="1000,4000,32000")
@@ -94,13 +106,7 @@ def main():
             kv["grid"], l0["grid"]), flush=True)
         rows.append((n, a.tolerance, best_rl, best_lmp, ratio, share, lk["kspace_pct"] / 100, float(kv["dip_err_total"]),
                      l0["acc"], kv["grid"], float(kv["alpha"]), l0["grid"], l0["g_ewald"], cpu_model()))
-    part = a.csv + ".part"
-    with open(part, "w") as f:
-        f.write("N,tolerance,rotleap_ms_per_step,lammps_ms_per_step,ratio,rotleap_recip_share,lammps_kspace_share,"
-                "rotleap_est_rms_force,lammps_est_rms_force,rotleap_grid,rotleap_alpha,lammps_grid,lammps_g_ewald,cpu\n")
-        for r in rows:
-            f.write("%d,%g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4g,%.4g,%s,%.6f,%s,%.6f,\"%s\"\n" % r)
-    os.replace(part, a.csv)
+        write_csv(a.csv, rows)
     print("written:", a.csv, "; CPU:", cpu_model())
 
 
