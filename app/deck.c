@@ -27,6 +27,7 @@ static const key_def keys[NKEYS] = {
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
+    [K_RESIDUES] = {"system", "residues", K_STRING, Q_NONE, NULL, NULL, "residue names of a .pdb start and the species they stand for, RES:SPECIES each (\"SOL:tip4p-ew NA:na-tip4pew CL:cl-tip4pew\"; at most 16; any case). Without it a mixture's residues go by name: the species' own, or HOH WAT SOL H2O TIP3 TIP4 T3P T4P T4E SPC for the deck's one water, NA NA+ SOD for its Na+, CL CL- CLA for its Cl- (docs/files.md, PDB)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc|random", "starting lattice; random: centres inserted at random (system.seed) where no LJ site pair of two molecules comes closer than 0.7 of its sigma (Lorentz-Berthelot), up to 10000 tries per molecule"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
@@ -1167,6 +1168,7 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->discard = strcmp(val(&r, K_DISCARD), "auto") ? integer(&r, K_DISCARD, 0, 0) : -1;
   d->tconf = boolean(&r, K_TCONF);
   if (!r.bad[K_START] && strcmp(val(&r, K_START), "lattice")) start_file(&r, d, val(&r, K_START));
+  if (r.val[K_RESIDUES] && !r.bad[K_RESIDUES] && d->nspecies) deck_residues(&r, d);
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 

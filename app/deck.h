@@ -55,6 +55,7 @@ typedef struct {
  * species); interactions.pairs: LJ parameters of site pairs that replace the mixing rule's. */
 #define RL_DECK_MAX_SPECIES 8
 #define RL_DECK_MAX_PAIRS 16
+#define RL_DECK_MAX_RESIDUES 16
 typedef struct {
   const rl_model *model;    /* a catalogue model (its default parameters) or a deck molecule */
   int count;
@@ -82,6 +83,8 @@ typedef struct {
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */
   char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file (a regular file) */
+  rl_pdb_residue residues[RL_DECK_MAX_RESIDUES]; /* system.residues: a .pdb start's names  */
+  int nresidues;
   /* [interactions] */
   rl_ff_params ff;
   rl_deck_mixing mixing;    /* interactions.mixing                                        */
