@@ -1271,7 +1271,7 @@ void rl_deck_print_keys(FILE *f, int md)
                "catalogue model (with its default parameters) or a `[molecule NAME]`, all in one unit system, at "
                "most %d. The molecules are numbered species by species in the order given (the numbering of "
                "checkpoints, XYZ and PDB files); on a lattice the species take the lattice sites at random "
-               "(system.seed), `system.lattice = random` inserts the molecules at random centres, an XYZ start names each body's species. Unlike LJ sites mix by `interactions.mixing` "
+               "(system.seed), `system.lattice = random` inserts the molecules at random centres, an XYZ start names each body's species, a PDB start's residue names give them (water, Na+ and Cl- by the names GROMACS, OpenMM and AMBER write; others by `system.residues`; docs/files.md). Unlike LJ sites mix by `interactions.mixing` "
                "(Lorentz-Berthelot unless every species' model mixes geometrically, as OPLS and EPM2 do), and "
                "`interactions.pairs` sets single site pairs (at most %d). The summary has one `species` line per "
                "species (family, rotation path); the pair kernel line names the kernels of the whole mixture. For a "

@@ -304,7 +304,9 @@ static int species_is(const rl_system *sys, const rl_molecule *const *mols, int 
     if (!m || m->nsites < 3 || m->nsites > 4 || site_named(m, "O") < 0 || site_named(m, "H1") < 0 ||
         site_named(m, "H2") < 0)
       return 0;
-    return m->nsites == 3 || m->site_mass[3] == 0.0;
+    int virt = 0; /* the site besides O, H1, H2 (if any) massless; they have masses */
+    for (int a = 0; a < m->nsites; a++) virt += m->site_mass[a] == 0.0;
+    return virt == m->nsites - 3;
   }
   const char *el = what == ALIAS_NA ? "na" : "cl";
   if (m && m->nsites == 1 && !strcasecmp(m->site_names[0], el)) return 1;
@@ -313,7 +315,7 @@ static int species_is(const rl_system *sys, const rl_molecule *const *mols, int 
 
 /* The species of residue name res: the map's, else the species whose own name or the residue
  * name rotleap writes for it (rl_io_res_name) it is, else a default alias that fits one
- * species only.  -1: none (why: a message fragment), -2: ambiguous. */
+ * species only.  -1: none, -2: more than one. */
 static int residue_species(const rl_system *sys, const rl_molecule *const *mols, const rl_pdb_residue *map,
                            int nmap, const char *res)
 {
