@@ -127,6 +127,11 @@ check "per-species T weighted by dof sum to t_trans, t_rot, temperature in $nrow
 check "results: per-species temperatures, ions/atoms without a rotational one" 'grep -q "^temperature_translational_lj = " mix.results.txt && grep -q "^temperature_rotational_stockmayer = " mix.results.txt && grep -q "^temperature_rotational_lj = n/a (lj: point particles" mix.results.txt'
 check "P1/P2 of the dipoles only (no zero vector of the atoms)" 'grep -q "^orientation_vector = molecular dipole mu_i of the molecules of stockmayer" mix.results.txt && ! grep -q correlation_error mix.results.txt'
 
+# --- a continuation replays the mixture's analysis journal: the same files as one run --------
+"$rotleap" run mix.ini --set output.prefix=half --set run.steps=10 > /dev/null 2>&1
+"$rotleap" run mix.ini --set output.prefix=half --set system.start=half.chk > /dev/null 2>&1; code=$?
+check "a mixture continued from its checkpoint: results, RDFs, tcf and thermo as one run" '[ $code = 0 ] && cmp -s half.thermo.csv mix.thermo.csv && cmp -s half.rdf.csv mix.rdf.csv && cmp -s half.tcf.csv mix.tcf.csv && cmp -s half.results.txt mix.results.txt'
+
 # --- per-species MSD of free particles: t^2 kB T_s (3N - 3) / (N m_s) -------------------------
 "$rotleap" run free.ini > free.out 2>&1; code=$?
 $py - free.tcf.csv free.results.txt > msd.txt <<'PY'
