@@ -775,6 +775,14 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   fprintf(f, "pair_kernels = %s (%s rows, %d thread(s), %s precision)\nwall_seconds = %.3f\nfallbacks = %ld\n",
           ff ? rl_forcefield_kernel(ff) : "none", ff ? rl_forcefield_rows(ff) : "no", ff ? rl_forcefield_threads(ff) : 1,
           ff ? rl_forcefield_precision(ff) : "double", wall, c->in ? rl_integrator_fallbacks(c->in) : 0L);
+  if (d->nspecies > 1) { /* a mixture: which kernel computes the pairs of each two species */
+    fprintf(f, "pair_kernels_by_species =");
+    for (int a = 0; a < d->nspecies; a++)
+      for (int b = a; b < d->nspecies; b++)
+        fprintf(f, "%s %s/%s: %s", a + b ? ";" : "", c->s.mols[a].name, c->s.mols[b].name,
+                ff ? rl_forcefield_pair_kernel(ff, a, b) : "general");
+    fprintf(f, " (general: the reference routine)\n");
+  }
   fprintf(f, "U_per_molecule = %s\ntemperature = %s\npressure = %s\n", au, at, ap);
   fprintf(f, "calE = %s (relative fluctuation of the conserved quantity: the total energy%s)\ncalU = %s\n"
           "calE_over_calU = %s\n", rel_fluct_text(cE, sizeof cE, calE),

@@ -125,6 +125,7 @@ PY
 read -r worst nrows < sums.txt
 check "per-species T weighted by dof sum to t_trans, t_rot, temperature in $nrows rows (worst $worst)" '[ "$nrows" = 11 ] && lt $worst 2e-5'
 check "results: per-species temperatures, ions/atoms without a rotational one" 'grep -q "^temperature_translational_lj = " mix.results.txt && grep -q "^temperature_rotational_stockmayer = " mix.results.txt && grep -q "^temperature_rotational_lj = n/a (lj: point particles" mix.results.txt'
+check "summary: the kernel of each pair of species" 'grep -q "^pair_kernels_by_species = stockmayer/stockmayer: stockmayer; stockmayer/lj: general; lj/lj: charge-lj (general: the reference routine)$" mix.summary.txt'
 check "P1/P2 of the dipoles only (no zero vector of the atoms)" 'grep -q "^orientation_vector = molecular dipole mu_i of the molecules of stockmayer" mix.results.txt && ! grep -q correlation_error mix.results.txt'
 
 # --- a continuation replays the mixture's analysis journal: the same files as one run --------
