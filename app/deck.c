@@ -32,6 +32,7 @@ static const key_def keys[NKEYS] = {
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
     [K_TEMP] = {"system", "temperature", K_REAL, Q_TEMPERATURE, NULL, NULL, "Maxwell-Boltzmann temperature of the start; default: the thermostat temperature, else required"},
     [K_GENERAL] = {"system", "force_general", K_BOOL, Q_NONE, "no", NULL, "integrate by the general asymmetric path whatever the family (a cross-check; linear molecules and point dipoles then get I_z = I_x and a third, free spin: 3 rotational dof each)"},
+    [K_INERTIA] = {"system", "inertia_scale", K_REAL, Q_NONE, "1", NULL, "multiply every molecule's principal moments of inertia by this factor (1 to 100; masses and sites unchanged), as hydrogen mass repartitioning does for flexible models: the Boltzmann distribution of positions and orientations does not depend on the inertia, so structure, energies and pressure are those of the real model, while the librations slow by the factor's square root and a larger time step samples them accurately (docs/integrators.md, \"Heavier rotors\"). Rotational dynamics (reorientation times, the rotational kinetic temperature's time scales, and through coupling the diffusion coefficient) become those of the heavier rotor: do not read dynamics from such a run"},
     [K_CUTOFF] = {"interactions", "cutoff", K_REAL, Q_LENGTH, NULL, NULL, "cutoff radius (<= half the shortest box edge); required"},
     [K_SCHEME] = {"interactions", "scheme", K_CHOICE, Q_NONE, "site", "site|molecule", "cut site pairs by their own distance (OpenMM) or by centre distance"},
     [K_LJ] = {"interactions", "lj", K_CHOICE, Q_NONE, "plain", "plain|shifted|shifted-force|switched", "Lennard-Jones truncation"},
@@ -140,7 +141,7 @@ static double thermal_omega_at(const rl_deck *d, double T)
     return 0.0;
   double Jmin = INFINITY;
   for (int a = 0; a < 3; a++)
-    if (m.inertia[a] > 0) Jmin = fmin(Jmin, m.inertia[a]);
+    if (m.inertia[a] > 0) Jmin = fmin(Jmin, d->inertia_scale * m.inertia[a]);
   return sqrt(rl_units_kB(d->units) * T / Jmin);
 }
 
@@ -984,6 +985,9 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
   d->random_orientations = choice(&r, K_ORIENT) == 0;
   d->seed = (unsigned long)integer(&r, K_SEED, 0, 1);
   d->force_general = boolean(&r, K_GENERAL);
+  d->inertia_scale = number(&r, K_INERTIA, d->units, 0, 1.0);
+  if (!r.bad[K_INERTIA] && !(d->inertia_scale >= 1.0 && d->inertia_scale <= 100.0))
+    deck_problem(&r, r.line[K_INERTIA], "system.inertia_scale = %s: must be between 1 (the real rotor) and 100", val(&r, K_INERTIA));
   double mass = 0.0;
   if (d->model) {
     rl_molecule m;

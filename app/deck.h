@@ -74,6 +74,7 @@ typedef struct {
   int nmolecules;
   double params[RL_MODEL_MAX_PARAMS];
   int force_general;
+  double inertia_scale;     /* system.inertia_scale: every molecule's moments times this (1)   */
   int count;               /* all molecules (the sum of the species' counts)               */
   double box[3];            /* resolved: from `box` or from `density`                   */
   rl_lattice lattice;

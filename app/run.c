@@ -646,9 +646,12 @@ static int species_line(const run_ctx *c, int sp, char *buf, size_t cap)
                    3, rl_kind_rotational_dof(kind), path ? path : "?");
   if (kind != RL_KIND_POINT && Jmax > 0 && n > 0 && (size_t)n < cap) {
     const double d01 = fabs(J[0] - J[1]) / Jmax, d12 = fabs(J[1] - J[2]) / Jmax, d02 = fabs(J[0] - J[2]) / Jmax;
-    n += snprintf(buf + n, cap - (size_t)n, "; principal moments %.6g %.6g %.6g %s, relative differences %.3g (X-Y) %.3g "
+    char scaled[96] = "";
+    if (c->d->inertia_scale != 1.0)
+      snprintf(scaled, sizeof scaled, " (the model's times system.inertia_scale = %g: heavier rotors)", c->d->inertia_scale);
+    n += snprintf(buf + n, cap - (size_t)n, "; principal moments %.6g %.6g %.6g %s%s, relative differences %.3g (X-Y) %.3g "
                   "(Y-Z) %.3g (X-Z), equal below %g\n", J[0], J[1], J[2], c->d->units == RL_UNITS_REAL ? "amu nm^2" : "m sigma^2",
-                  d01, d12, d02, RL_INERTIA_RTOL);
+                  scaled, d01, d12, d02, RL_INERTIA_RTOL);
     const double dd[3] = {d01, d12, d02};
     for (int k = 0; k < 3 && n > 0 && (size_t)n < cap; k++)
       if (dd[k] > RL_INERTIA_RTOL && dd[k] <= RL_DECK_SYMMETRIZE_RTOL) {

@@ -434,6 +434,7 @@ char *runrec_physics(const rl_deck *d)
     ADD("interactions.pairs = %s:%d %s:%d sigma %s epsilon %s\n", d->species[d->pairs[i].species[0]].model->name, d->pairs[i].site[0],
         d->species[d->pairs[i].species[1]].model->name, d->pairs[i].site[1], exact(r1, d->pairs[i].sigma), exact(r2, d->pairs[i].epsilon));
   ADD("system.force_general = %s\n", d->force_general ? "yes" : "no");
+  if (d->inertia_scale != 1.0) ADD("system.inertia_scale = %s\n", exact(r1, d->inertia_scale));
   ADD("interactions.cutoff = %s %s\n", exact(r2, d->ff.cutoff), L);
   ADD("interactions.scheme = %s\n", scheme[d->ff.scheme]);
   ADD("interactions.lj = %s\n", lj[d->ff.lj_truncation]);

@@ -91,6 +91,9 @@ int scene_build(const rl_deck *d, scene *s)
   s->mols[0] = s->mol;
   for (int k = 1; k < d->nspecies; k++) /* system.species: each model's defaults */
     if (rl_model_build(d->species[k].model, NULL, d->force_general, &s->mols[k])) return 1;
+  for (int k = 0; k < d->nspecies; k++) /* system.inertia_scale: heavier rotors, same configurations */
+    for (int a = 0; a < 3; a++) s->mols[k].inertia[a] *= d->inertia_scale;
+  s->mol = s->mols[0];
   s->sys = rl_system_alloc(d->units);
   if (!s->sys) return 1;
   for (int k = 0; k < d->nspecies; k++) {
@@ -108,7 +111,15 @@ int scene_build(const rl_deck *d, scene *s)
   } else if (!strcmp(ext, ".chk")) {
     rl_checkpoint_meta meta;
     memset(&meta, 0, sizeof meta);
-    if (rl_checkpoint_read(d->start, s->sys, &meta)) return 1;
+    if (rl_checkpoint_read(d->start, s->sys, &meta)) {
+      if (strstr(rl_last_error(), ": moment J")) { /* the likeliest cause, named */
+        char msg[512];
+        snprintf(msg, sizeof msg, "%s", rl_last_error());
+        rl_error(RL_EINVAL, "%s (the moments are the model's times system.inertia_scale, %g in this deck: a run "
+                 "continues with the scale it was started with)", msg, d->inertia_scale);
+      }
+      return 1;
+    }
     s->restart = 1;
     s->step0 = meta.step;
     s->t0 = meta.time;

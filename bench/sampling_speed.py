@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Sampling speed (issue 8): rotleap against OpenMM 7.7 in ns/day, each at its largest accurate step.
+"""Sampling speed (issue 8): rotleap against OpenMM 7.7 and GROMACS 2022 in ns/day, each at its largest accurate step.
 
 Each code's speed is measured at the largest time step whose NVT samples are still within statistical
 error of a 1 fs reference.  Target: rotleap_ns_per_day / openmm_ns_per_day >= 2.
@@ -7,14 +7,17 @@ error of a 1 fs reference.  Target: rotleap_ns_per_day / openmm_ns_per_day >= 2.
 Run (from the repository root, after building rotleap):
     nice -n 15 /usr/bin/python3 bench/sampling_speed.py [--quick] [--rotleap build/rotleap]
         [--rotleap-fs 2,4,5,6,8,10] [--isokinetic-fs ''] [--openmm-fs 1,2,3,4,5,6,8,10] [--threads 1]
+        [--gromacs-fs 1,2,3,4,5,6] [--gromacs-integrator sd|v-rescale]
+        [--variants 'dot:6,8,10;dot@4:8,10'] [--tau-rot 0.05]
         [--prod-ps 200] [--eq-ps 4] [--blocks 10] [--rounds 3] [--pair-rounds 10]
         [--timing-steps 2000] [--jobs 1] [--precision double|mixed]
 The script lowers its own priority to nice 15 (--nice) so that the other core's benchmarks are
 disturbed little; every child process inherits it, so both codes are timed at the same priority.
-Full defaults: 4 ps equilibration + 200 ps production per run, 15 runs, one at a time (--jobs 1),
+Full defaults: 4 ps equilibration + 200 ps production per run, 21 runs, one at a time (--jobs 1),
 then the timing rounds.  Measured: 1976 s (33 min) on this shared 2-core machine at a load of about 1:
 1728 s of simulation (the OpenMM runs, in unpinned worker processes, are half of it), 62 s of
-analysis and 185 s of timing.
+analysis and 185 s of timing, before GROMACS was added; its six default runs (1-6 fs, 500,000 steps in
+all) add an estimated 15-20 min at about 2 ms per step (from --quick runs at load 9-11, not measured).
 --quick (1 + 10 ps per run, 5 blocks, 1 + 2 timing rounds of 300 steps): a smoke test, 130 s here;
 its errors are too large to mean anything, and it writes nothing unless --write is given.
 
@@ -31,15 +34,36 @@ Runs, each from that start: eq_ps at its own h (discarded), then prod_ps of prod
     3a4f3e2 one thermostat over both, docs/integrators.md "Bussi thermostat groups").  A shorter
     tau decorrelates the energy faster, so it shrinks rotleap's error bars and with them the
     tolerance of its accuracy test, while OpenMM's stay those of its 1 ps friction;
+  * further rotleap schemes (--variants, issue 37): `dot` = run.ensemble nvt-langevin-dot (the
+    rigid-body Langevin scheme of Davidchack, Ouldridge & Tretyakov, B A O A B, friction time 1 ps
+    on the momenta and --tau-rot on the angular momenta), `langevin` = nvt-langevin (tau 1 ps), each
+    optionally @S for system.inertia_scale = S (heavier rotors: the configurational distribution
+    is the model's, the librations slower by sqrt(S); docs/integrators.md "Heavier rotors").  They
+    take part in the choice of rotleap's largest accurate step like the Bussi runs; a run with S > 1
+    has slower rotational dynamics, so its ns/day is not a sampling speed of the dynamics (its U/N
+    and O-O RDF are what the accuracy test compares);
   * OpenMM 7.7, CPU platform, LangevinMiddleIntegrator (friction --friction = 1/ps, fixed seed),
     SETTLE rigid water, M a virtual site, one thread, h = --openmm-fs (default 1, 2, 3, 4, 5, 6, 8,
-    10 fs).
+    10 fs);
+  * GROMACS (`gmx`, Debian's 2022.5, mixed precision, SSE4.1 kernels: Debian's build, although this
+    CPU has AVX2), integrator sd (leap-frog stochastic dynamics, friction 1/tau-t = --friction, fixed
+    seed; --gromacs-integrator v-rescale: md + Bussi's thermostat, tau-t = 1/--friction), SETTLE, M a
+    virtual site, one thread, h = --gromacs-fs (default 1-6 fs; '' = no GROMACS; issue 37).  The
+    same pair terms as rotleap's and OpenMM's; its U/N has GROMACS's reaction-field exclusion
+    constant (-0.192 kJ/mol per TIP4P) taken out (validate/nvt_structure.py gromacs_task: the single
+    point at the shared start agrees with rotleap's to 1e-4 kJ/mol per molecule after it).  The box
+    (1.97 nm) caps GROMACS's buffered pair-list cutoff at half its width: at 4 fs grompp accepts
+    nstlist 6, not 10, which costs GROMACS pair searches.  Debian's gmx stops on this KVM guest
+    because CPUID hides rdtscp (the instruction works); gromacs_task preloads a shim that makes
+    GROMACS skip that check (nvt_structure.GMX_RDTSCP_SHIM).
 The issue asked for rotleap at 2-8 fs and OpenMM at 1-5 fs.  The defaults go further, to 10 fs for
 both, because a largest accurate step is only found if a larger step fails: in the first full run
 OpenMM was still accurate at 5 and 6 fs, and 1-5 fs would have given only a lower bound on its speed.
 The extra runs (rotleap 10 fs; OpenMM 6, 8, 10 fs) add about 2 minutes.
-The runs are nvt_structure.rotleap_task and nvt_structure.openmm_task(integrator="langevin-middle").
-A run that blows up (rotleap stops it; OpenMM raises or gives a non-finite energy or coordinate) is
+The runs are nvt_structure.rotleap_task, nvt_structure.openmm_task(integrator="langevin-middle") and
+nvt_structure.gromacs_task.
+A run that blows up (rotleap stops it; OpenMM raises or gives a non-finite energy or coordinate; mdrun
+fails or its .trr has fewer frames than asked) is
 recorded as "unstable" and the script goes on.  Frames (all sites) and energies are stored every
 `frame` fs, the smallest multiple of every h that is >= 40 fs (120 fs for the default steps, which
 include 3 and 6 fs); the O-O RDF uses every frame 0.2 ps or more apart.  The analysis is
@@ -64,9 +88,9 @@ OpenMM 1 fs run against it checks that the two codes sample the same liquid.  Wi
 "inaccurate" somewhere has a probability of roughly 10-20 %; the script flags a step that fails while
 a larger one of the same code passes.
 
-Speed: the same thread count (--threads, default 1) for both codes; --rounds rounds over every stable
-run, alternating rotleap and OpenMM config by config (rotleap h1, OpenMM h1, rotleap h2, ...), then
---pair-rounds more rounds alternating only the two runs the ratio uses; each run's best is kept (the
+Speed: the same thread count (--threads, default 1) for every code; --rounds rounds over every stable
+run, alternating rotleap, OpenMM and GROMACS config by config (rotleap h1, OpenMM h1, GROMACS h1,
+rotleap h2, ...), then --pair-rounds more rounds alternating only the chosen runs the ratios use; each run's best is kept (the
 bench convention: the machine is shared, so read the ratio).  The median of each chosen run's
 timings is printed beside its best.  With one thread, both codes' timing runs are pinned to one CPU
 (--pin; default the idlest CPU when the timing starts).  OpenMM's CPU platform hands every step's
@@ -81,9 +105,16 @@ were 1.80-2.39 ms per step and the ratio 1.52, while a pinned re-timing of the s
     because the Verlet list is rebuilt more often per step at larger h.
   * OpenMM: the production's system and integrator in a Context with Threads = --threads, 200
     warm-up steps, then integrator.step(--timing-steps) timed with perf_counter (no reporting).
+  * GROMACS: `gmx mdrun -nt 1 -pin off` (the pin above is inherited) of --timing-steps steps from
+    the shared start with the production's parameters, no trajectory, energies at the first and
+    the last step only, no final configuration; seconds per step = the 'Wall t' of mdrun's log
+    (its timing of the MD loop) / steps.  Not perf_counter around the process: that adds mdrun's
+    start-up (reading the .tpr, detecting the hardware), 0.2-0.6 s here, most of a 300-step run;
+    rotleap's wall_seconds and OpenMM's timer leave their start-ups out too.
 ns/day = h[fs] * 1e-6 * 86400 / (seconds per step).  For each code the largest accurate h is
 chosen (the reference 1 fs counts for rotleap) and ratio = rotleap ns/day / OpenMM ns/day at those
-steps is compared with the target 2.  rotleap is double precision unless --precision mixed, which
+steps is compared with the target 2; a second ratio rotleap / GROMACS is printed beside it (no
+target).  The pair rounds then alternate the chosen runs of all three codes.  rotleap is double precision unless --precision mixed, which
 runs rotleap's tested steps and their timing with interactions.precision = mixed (the TIP4P kernel's
 terms in single precision; the 1 fs reference stays double); OpenMM's CPU platform is mixed
 (single-precision forces).
@@ -92,7 +123,8 @@ Output: the table on stdout; bench/sampling_speed.csv (--csv), one row per run w
   code, thermostat, h_fs, status (ok | unstable), error, U_per_N, U_err, z_U, T, T_err,
   rdf_rms, rdf_rms_err, rdf_floor, rdf_chi2_per_bin, rdf_null_mean, rdf_null_sd, z_rdf, rdf_p,
   accurate, chosen, s_per_step, ns_per_day
-and a last row code = ratio (h_fs empty, ns_per_day = the ratio, chosen = the two steps); and, if
+and a row code = ratio (h_fs empty, ns_per_day = the ratio, chosen = the two steps), followed, when
+GROMACS ran, by a second with code = ratio, thermostat = gromacs for rotleap / GROMACS; and, if
 bench/sampling_speed.md (--md) has the markers <!-- results --> ... <!-- /results -->, the block
 between them is replaced by this run's command, date, load and table.  --keep keeps the work
 directory (trajectories); --reanalyse WORKDIR analyses and times an earlier --keep run again.
@@ -130,6 +162,8 @@ TARGET = 2.0
 FRAME_MIN_FS = 40
 RDF_EVERY_PS = 0.2
 NULL_SPLITS = 20000
+CODES = ("rotleap", "openmm", "gromacs")  # the table's order and the timing's alternation
+NAMES = dict(rotleap="rotleap", openmm="OpenMM", gromacs="GROMACS")
 START_EQ_STEPS = 2500
 
 
@@ -231,11 +265,13 @@ def rotleap_timer(rotleap, work, run, box, steps, threads, interactions=()):
     returns seconds per step from the summary's wall_seconds."""
     h_ps = run["h_fs"] * 1e-3
     # the file names of nvt_structure.rotleap_task, which wrote the start checkpoint
-    ens = next(e for e, name in ns.ENSEMBLE_NAMES.items() if name[1] == run["thermostat"])
-    tag = "rl_%s_h%g" % (ns.ENSEMBLE_NAMES[ens][0], run["h_fs"])
+    base = run["thermostat"].partition("@")[0]
+    ens = next(e for e, name in ns.ENSEMBLE_NAMES.items() if name[1] == base)
+    tag = "rl_%s_h%g%s" % (ns.ENSEMBLE_NAMES[ens][0], run["h_fs"], run.get("suffix", ""))
     start = os.path.join(work, tag + "_start.chk")
     pre = os.path.join(work, "time_" + tag)
-    text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0, interactions=interactions)
+    text = ns.deck(pre, steps, h_ps, ens, box, start=start, every=0, interactions=interactions,
+                   extra=run.get("extra", ()), system=run.get("system", ()))
     # energies at the first and the last step only (output.energy_every), as OpenMM's step()
     # computes none: before 2026-11-22 rotleap summed energy and virial on every timed step
     text = text.replace("thermo_every = 1\n", "thermo_every = %d\nenergy_every = %d\n" % (steps, steps))
@@ -275,6 +311,48 @@ class OpenMMTimer:
         return dt / steps
 
 
+class GromacsTimer:
+    """A `gmx mdrun` of `steps` steps at the run's h from the shared start (the production's .gro,
+    topology and parameters, no trajectory, energies at the first and the last step only); seconds
+    per step = the 'Wall t' of mdrun's log / steps: GROMACS's own timing of its MD loop, as
+    rotleap's wall_seconds is of its step loop and OpenMM's timer starts after its Context exists.
+    The process's whole wall time (perf_counter around mdrun) adds its start-up, reading the .tpr
+    and detecting the hardware, 0.2-0.6 s here: at 300 steps that would be most of the time."""
+
+    def __init__(self, work, run, steps):
+        self.work, self.steps = work, steps
+        self.pre = os.path.join(work, "time_gmx_%s_h%g" % (run["integrator"], run["h_fs"]))
+        err = ns.gromacs_prepare(work, self.pre, run["h_fs"] * 1e-3, steps, 0, run["integrator"], run["tau_t"])
+        if err:
+            raise RuntimeError(err)
+        self.process_s = []
+
+    def __call__(self, steps):
+        assert steps == self.steps
+        rc, err, wall = ns.gromacs_mdrun(self.work, self.pre)
+        if rc:
+            raise RuntimeError(err or "mdrun failed")
+        self.process_s.append(wall)
+        return ns.gromacs_log_wall(self.pre) / steps
+
+
+def gmx_sp_line(sp):
+    if "error" in sp:
+        return "failed: " + sp["error"]
+    d = (sp["U_gmx"] - sp["U_rotleap"]) / N
+    return ("U/N %.5f kJ/mol against rotleap's %.5f: difference %+.5f, of which %+.5f is GROMACS's reaction-field "
+            "exclusion constant; %+.5f left" % (sp["U_gmx"] / N, sp["U_rotleap"] / N, d, sp["rf_excl"], d - sp["rf_excl"]))
+
+
+def gromacs_version():
+    try:
+        out = subprocess.run(["gmx", "--version"], capture_output=True, text=True).stdout
+    except OSError:
+        return "not installed"
+    m = re.search(r"GROMACS version:\s*(\S+)", out)
+    return m.group(1) if m else "?"
+
+
 def ns_per_day(h_fs, s_per_step):
     return h_fs * 1e-6 * 86400.0 / s_per_step
 
@@ -292,9 +370,18 @@ def main():
     ap.add_argument("--rotleap-fs", default="2,4,5,6,8,10", help="rotleap Bussi steps (fs)")
     ap.add_argument("--isokinetic-fs", default="", help="rotleap isokinetic steps (fs; default none)")
     ap.add_argument("--openmm-fs", default="1,2,3,4,5,6,8,10", help="OpenMM LangevinMiddle steps (fs)")
+    ap.add_argument("--gromacs-fs", default="1,2,3,4,5,6", help="GROMACS (gmx mdrun) steps (fs; empty: no GROMACS)")
+    ap.add_argument("--gromacs-integrator", choices=ns.GROMACS_INTEGRATORS, default="sd",
+                    help="sd (leap-frog stochastic dynamics, friction --friction) or v-rescale (md + Bussi, "
+                         "tau-t 1/--friction)")
+    ap.add_argument("--variants", default="", help="further rotleap schemes: 'NAME:h,h,...;NAME:...' with NAME "
+                    "dot (nvt-langevin-dot, tau 1 ps, tau_rot --tau-rot) or langevin (nvt-langevin, tau 1 ps), "
+                    "each optionally @S for system.inertia_scale = S (e.g. 'dot:6,8,10;dot@4:8,10')")
+    ap.add_argument("--tau-rot", type=float, default=0.05, help="rotational friction time of the dot variants (ps)")
     ap.add_argument("--tau", type=float, default=1.0, help="rotleap Bussi relaxation time (ps) of every rotleap "
                     "run, the reference included")
-    ap.add_argument("--friction", type=float, default=1.0, help="OpenMM Langevin friction (1/ps)")
+    ap.add_argument("--friction", type=float, default=1.0, help="OpenMM Langevin friction and GROMACS sd "
+                    "friction = 1/tau-t (1/ps)")
     ap.add_argument("--threads", type=int, default=1, help="threads of both codes in the timing")
     ap.add_argument("--precision", choices=("double", "mixed"), default="double",
                     help="rotleap's interactions.precision for its tested steps and their timing (the 1 fs "
@@ -326,8 +413,10 @@ def main():
     write = not args.no_write and (args.write or not args.quick)
     rotleap = os.path.abspath(args.rotleap)
     rl_fs, iso_fs, omm_fs = steps_list(args.rotleap_fs), steps_list(args.isokinetic_fs), steps_list(args.openmm_fs)
+    gmx_fs = steps_list(args.gromacs_fs)
     rl_fs = [h for h in rl_fs if h != args.ref_fs]  # the reference is that run
-    all_fs = [args.ref_fs] + rl_fs + iso_fs + omm_fs
+    variants = parse_variants(args.variants, args.tau_rot)
+    all_fs = [args.ref_fs] + rl_fs + iso_fs + omm_fs + gmx_fs + [h for v in variants for h in v[3]]
     frame = frame_fs(all_fs)
     # nvt_structure.analyse and .deck read these module constants
     ns.TAU_BUSSI = args.tau
@@ -365,6 +454,13 @@ def main():
         with open(pdb + ".ini", "w") as f:
             f.write(ns.deck(pdb, 0, 0.002, "nvt-bussi", ck["box"], every=1))
         nc.sh([rotleap, "run", pdb + ".ini"])
+        if gmx_fs:  # the same system in both codes: GROMACS's potential energy of the start
+            try:
+                u = ns.gromacs_single_point(work)
+                eqinfo["gmx_single_point"] = dict(U_gmx=u, U_rotleap=eqinfo["U_start"], rf_excl=ns.gromacs_rf_exclusion())
+            except Exception as e:
+                eqinfo["gmx_single_point"] = dict(error=str(e).strip().splitlines()[-1] if str(e).strip() else repr(e))
+            print("GROMACS single point at the start: %s" % gmx_sp_line(eqinfo["gmx_single_point"]), flush=True)
         nfr = eq_frames + prod_frames
         every = lambda h: int(round(frame / h))
         tasks = [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-bussi", args.ref_fs * 1e-3,
@@ -374,8 +470,13 @@ def main():
                   for h in rl_fs]
         tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, "nvt-isokinetic", h * 1e-3, nfr * every(h),
                                      every(h)), "") for h in iso_fs]
+        tasks += [(ns.rotleap_task, (rotleap, work, ck, v, l, F, K, ens, h * 1e-3, nfr * every(h), every(h),
+                                     extra, suffix, rl_interactions(args), system), "")
+                  for ens, extra, system, hs, suffix in variants for h in hs]
         tasks += [(ns.openmm_task, (work, nfr * every(h), every(h), pdb + ".pdb", "langevin-middle", h,
                                     args.friction), "") for h in omm_fs]
+        tasks += [(ns.gromacs_task, (work, nfr * every(h), every(h), pdb + ".pdb", h, args.gromacs_integrator,
+                                     1.0 / args.friction), "") for h in gmx_fs]
         runs = []
         with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
             futs = {pool.submit(fn, *a): role for fn, a, role in tasks}
@@ -417,14 +518,13 @@ def main():
     t_an = time.time() - t1
     print("analysis done in %.0f s" % t_an, flush=True)
     # --------------------------------------------------------------------------- timing
-    key = lambda r: (r["code"] != "rotleap", r["thermostat"], r["h_fs"])
+    key = lambda r: (CODES.index(r["code"]), r["thermostat"], r["h_fs"])
     runs.sort(key=key)
-    stable_rl = sorted([r for r in runs if r["code"] == "rotleap" and r["status"] == "ok"], key=lambda r: r["h_fs"])
-    stable_om = sorted([r for r in runs if r["code"] == "openmm" and r["status"] == "ok"], key=lambda r: r["h_fs"])
+    stable = [sorted([r for r in runs if r["code"] == code and r["status"] == "ok"], key=lambda r: r["h_fs"])
+              for code in CODES]
     order = []
-    for i in range(max(len(stable_rl), len(stable_om))):
-        order += [x for x in (stable_rl[i] if i < len(stable_rl) else None,
-                              stable_om[i] if i < len(stable_om) else None) if x]
+    for i in range(max(len(x) for x in stable)):
+        order += [x[i] for x in stable if i < len(x)]
     t2 = time.time()
     timers = {}
     affinity = os.sched_getaffinity(0)
@@ -444,6 +544,10 @@ def main():
                 if r["code"] == "rotleap":
                     sec = rotleap_timer(rotleap, work, r, ck["box"], tsteps, args.threads,
                                         () if r.get("role") == "reference" else rl_interactions(args))
+                elif r["code"] == "gromacs":
+                    if id(r) not in timers:
+                        timers[id(r)] = GromacsTimer(work, r, tsteps)
+                    sec = timers[id(r)](tsteps)
                 else:
                     if id(r) not in timers:
                         timers[id(r)] = OpenMMTimer(ck, r["h_fs"], args.friction, args.threads)
@@ -464,7 +568,7 @@ def main():
 
     def choose():
         out = {}
-        for code in ("rotleap", "openmm"):
+        for code in CODES:
             acc = [r for r in runs if r["code"] == code and r["thermostat"] != "isokinetic" and r["accurate"]
                    and r["status"] == "ok" and not r.get("timing_error")]
             if acc:
@@ -477,9 +581,10 @@ def main():
     for rnd in range(rounds):
         timing_round("round %d" % (rnd + 1), order)
     choice = choose()
-    if len(choice) == 2 and pair_rounds:
-        pair = [choice["rotleap"], choice["openmm"]]
-        print("timing the chosen pair: %d more alternating rounds" % pair_rounds, flush=True)
+    if "rotleap" in choice and len(choice) >= 2 and pair_rounds:
+        pair = [choice[c] for c in CODES if c in choice]
+        print("timing the chosen %s: %d more alternating rounds" % ("pair" if len(pair) == 2 else "runs", pair_rounds),
+              flush=True)
         for rnd in range(pair_rounds):
             timing_round("pair round %d" % (rnd + 1), pair)
         choice = choose()  # unchanged unless a timing run failed
@@ -502,12 +607,18 @@ def main():
     for r in runs:
         if r.get("timing_error"):
             notes.append("%s %g fs: timing failed (%s); not timed" % (r["code"], r["h_fs"], r["timing_error"]))
+    if "gmx_single_point" in eqinfo:
+        notes.append("GROMACS single point at the shared start: " + gmx_sp_line(eqinfo["gmx_single_point"]))
     iso_acc = [r for r in runs if r["thermostat"] == "isokinetic" and r["accurate"]]
     if iso_acc:
         notes.append("isokinetic accurate at %s (not used for the choice: Bussi is rotleap's sampling thermostat)"
                      % ", ".join("%g fs" % r["h_fs"] for r in iso_acc))
     ratio = (choice["rotleap"]["ns_per_day"] / choice["openmm"]["ns_per_day"]
              if "rotleap" in choice and "openmm" in choice else float("nan"))
+    ratios = dict(openmm=ratio)  # rotleap / each other code that ran
+    if any(r["code"] == "gromacs" for r in runs):
+        ratios["gromacs"] = (choice["rotleap"]["ns_per_day"] / choice["gromacs"]["ns_per_day"]
+                             if "rotleap" in choice and "gromacs" in choice else float("nan"))
     elapsed = time.time() - t0
     load_end = os.getloadavg()
     # ------------------------------------------------------------------------- output
@@ -521,14 +632,16 @@ def main():
                 tau=args.tau, precision=args.precision,
                 wall_s=elapsed, sim_s=t_sim, analysis_s=t_an, timing_s=t_time, load_start=load_start,
                 load_end=load_end, cpus=os.cpu_count(), openmm=openmm.version.full_version,
+                gromacs=gromacs_version() if "gromacs" in ratios else "",
+                gromacs_integrator=args.gromacs_integrator,
                 mdtraj=mdtraj.version.version, reanalysed=bool(args.reanalyse))
-    lines = table_lines(runs, ref, choice, ratio, notes, meta)
+    lines = table_lines(runs, ref, choice, ratios, notes, meta)
     print()
     print("\n".join(lines))
     if write:
-        write_csv(args.csv, runs, choice, ratio)
+        write_csv(args.csv, runs, choice, ratios)
         print("wrote", os.path.relpath(args.csv, ROOT))
-        if update_md(args.md, runs, ref, choice, ratio, notes, meta):
+        if update_md(args.md, runs, ref, choice, ratios, notes, meta):
             print("updated the results block of", os.path.relpath(args.md, ROOT))
     if args.keep or args.reanalyse:
         print("work directory:", work)
@@ -537,8 +650,26 @@ def main():
     return 0 if "rotleap" in choice and "openmm" in choice else 1
 
 
+def parse_variants(text, tau_rot):
+    """--variants -> [(ensemble, [run] lines, [system] lines, steps in fs, file suffix)]."""
+    out = []
+    for item in (x.strip() for x in text.split(";")):
+        if not item:
+            continue
+        name, _, hs = item.partition(":")
+        base, _, scale = name.strip().partition("@")
+        if base not in ("dot", "langevin") or not hs:
+            sys.exit("--variants: '%s' is not NAME[@S]:h,h,... with NAME dot or langevin" % item)
+        ens = "nvt-langevin-dot" if base == "dot" else "nvt-langevin"
+        extra = ["tau_rot = %g ps" % tau_rot] if base == "dot" else []
+        system = ["inertia_scale = %g" % float(scale)] if scale else []
+        out.append((ens, extra, system, steps_list(hs), "_I%g" % float(scale) if scale else ""))
+    return out
+
+
 def short(r):
-    return "%s%s %g fs" % (r["code"], " isokinetic" if r["thermostat"] == "isokinetic" else "", r["h_fs"])
+    th = r["thermostat"]
+    return "%s%s %g fs" % (r["code"], "" if th in ("bussi", "langevin") else " " + th, r["h_fs"])
 
 
 def fmt(x, f):
@@ -547,10 +678,14 @@ def fmt(x, f):
 
 def row_cells(r, ref):
     a = r["analysis"]
-    name = "%s %s" % (r["code"], {"bussi": "Bussi", "isokinetic": "isokinetic", "langevin": "LangevinMiddle"}
-                      .get(r["thermostat"], r["thermostat"]))
+    th, _, scale = r["thermostat"].partition("@")
+    name = "%s %s%s" % (r["code"], {"bussi": "Bussi", "isokinetic": "isokinetic", "langevin": "LangevinMiddle" if
+                                    r["code"] == "openmm" else "Langevin", "langevin-dot": "DOT Langevin",
+                                    "sd": "sd (Langevin)"}.get(th, th),
+                        " I×" + scale if scale else "")
     if r["status"] != "ok":
-        err = (r.get("error") or a.get("error") or "").replace("rotleap run: ", "").replace("OpenMM: ", "")[:72]
+        err = (r.get("error") or a.get("error") or "").replace("rotleap run: ", "").replace("OpenMM: ", "")
+        err = err.replace("mdrun: ", "")[:72]
         return [name, "%g" % r["h_fs"], "unstable: " + err, "", "", "", "", "", "", "", "no", "—"]
     U = a["scalars"]["U"]
     T = a["scalars"]["T"]
@@ -574,45 +709,52 @@ HEAD = ["run", "h (fs)", "status", "U/N (kJ/mol)", "z_U", "T (K)", "O–O RMS Δ
         "χ²/bin (null mean ± sd)", "z_rdf", "accurate", "time/step, ns/day"]
 
 
-def verdict(ratio):
+def verdict(ratio, other="openmm"):
     if not math.isfinite(ratio):
         return "no ratio (a code has no accurate stable step)"
+    if other != "openmm":  # the target of issue 8 is against OpenMM
+        return "rotleap %s %s" % ("faster by a factor %.2f" % ratio if ratio >= 1 else "slower by a factor %.2f"
+                                  % (1 / ratio), "than " + NAMES[other])
     if ratio >= TARGET:
         return "target %g met (by a factor %.2f)" % (TARGET, ratio / TARGET)
     return "target %g missed by a factor %.2f (rotleap would need %.2fx its speed)" % (TARGET, TARGET / ratio,
                                                                                       TARGET / ratio)
 
 
-def summary_lines(choice, ratio):
+def summary_lines(choice, ratios):
     import numpy as np
     out = []
-    for code in ("rotleap", "openmm"):
+    for code in [c for c in CODES if c == "rotleap" or c in ratios]:
         r = choice.get(code)
         out.append("%s: largest accurate h = %s" % (code, "%g fs, %.3f ms/step (best of %d timing runs; median "
                    "%.3f), %.2f ns/day" % (r["h_fs"], 1e3 * r["s_per_step"], len(r["samples"]),
                                           1e3 * float(np.median(r["samples"])), r["ns_per_day"]) if r else "none"))
-    out.append("ratio rotleap/OpenMM ns/day = %s: %s" % (fmt(ratio, "%.3f"), verdict(ratio)))
+    out.append("ratio rotleap/OpenMM ns/day = %s: %s" % (fmt(ratios["openmm"], "%.3f"), verdict(ratios["openmm"])))
+    if "gromacs" in ratios:
+        out.append("ratio rotleap/GROMACS ns/day = %s: %s" % (fmt(ratios["gromacs"], "%.3f"),
+                                                            verdict(ratios["gromacs"], "gromacs")))
     return out
 
 
-def table_lines(runs, ref, choice, ratio, notes, meta):
+def table_lines(runs, ref, choice, ratios, notes, meta):
     rows = [HEAD] + [row_cells(r, ref) for r in runs]
     w = [max(len(x[i]) for x in rows) for i in range(len(HEAD))]
     L = ["  ".join(c.ljust(w[i]) for i, c in enumerate(x)) for x in rows]
     L.append("accurate: stable, |z_U| <= %g and z_rdf <= %g against the rotleap Bussi %g fs reference; "
              "◀ = the step chosen for the code" % (Z_TOL, Z_TOL, ref["h_fs"]))
-    L += summary_lines(choice, ratio)
+    L += summary_lines(choice, ratios)
     L += ["note: " + n for n in notes]
     L.append("wall %.0f s (simulation %.0f, analysis %.0f, timing %.0f%s); load average %s at the start, %s at "
-             "the end; %d CPUs; OpenMM %s; rotleap %s"
+             "the end; %d CPUs; OpenMM %s;%s rotleap %s"
              % (meta["wall_s"], meta["sim_s"], meta["analysis_s"], meta["timing_s"],
                 ", pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "",
                 "/".join("%.1f" % x for x in meta["load_start"]), "/".join("%.1f" % x for x in meta["load_end"]),
-                meta["cpus"], meta["openmm"], meta["commit"]))
+                meta["cpus"], meta["openmm"], " GROMACS %s;" % meta["gromacs"] if meta.get("gromacs") else "",
+                meta["commit"]))
     return L
 
 
-def write_csv(path, runs, choice, ratio):
+def write_csv(path, runs, choice, ratios):
     cols = ["code", "thermostat", "h_fs", "status", "error", "U_per_N", "U_err", "z_U", "T", "T_err", "rdf_rms",
             "rdf_rms_err", "rdf_floor", "rdf_chi2_per_bin", "rdf_null_mean", "rdf_null_sd", "z_rdf", "rdf_p",
             "accurate", "chosen", "s_per_step", "ns_per_day"]
@@ -634,13 +776,18 @@ def write_csv(path, runs, choice, ratio):
                          g(c["z_rdf"], "%.3f") if c else "", g(c["p"], "%.4g") if c else "",
                          "yes" if r["accurate"] else "no", "yes" if r.get("chosen") else "no",
                          g(r.get("s_per_step", float("nan"))), g(r.get("ns_per_day", float("nan")), "%.4f")])
-        rl, om = choice.get("rotleap"), choice.get("openmm")
-        wr.writerow(["ratio", "", "", "", verdict(ratio)] + [""] * 14 +
-                    ["rotleap %g fs / openmm %g fs" % (rl["h_fs"], om["h_fs"]) if rl and om else "", "", g(ratio, "%.4f")])
+        rl, om, gx = choice.get("rotleap"), choice.get("openmm"), choice.get("gromacs")
+        wr.writerow(["ratio", "", "", "", verdict(ratios["openmm"])] + [""] * 14 +
+                    ["rotleap %g fs / openmm %g fs" % (rl["h_fs"], om["h_fs"]) if rl and om else "", "",
+                     g(ratios["openmm"], "%.4f")])
+        if "gromacs" in ratios:  # the second ratio row: thermostat column "gromacs"
+            wr.writerow(["ratio", "gromacs", "", "", verdict(ratios["gromacs"], "gromacs")] + [""] * 14 +
+                        ["rotleap %g fs / gromacs %g fs" % (rl["h_fs"], gx["h_fs"]) if rl and gx else "", "",
+                         g(ratios["gromacs"], "%.4f")])
     os.replace(path + ".part", path)
 
 
-def update_md(path, runs, ref, choice, ratio, notes, meta):
+def update_md(path, runs, ref, choice, ratios, notes, meta):
     """Replace the block between <!-- results --> and <!-- /results --> of `path`, if it has one."""
     if not os.path.exists(path):
         return False
@@ -649,30 +796,33 @@ def update_md(path, runs, ref, choice, ratio, notes, meta):
     if not m:
         return False
     B = ["<!-- results -->",
-         "Generated by `%s` on %s (rotleap %s, OpenMM %s, MDTraj %s)%s. Wall time %.0f s = %.1f min "
+         "Generated by `%s` on %s (rotleap %s, OpenMM %s%s, MDTraj %s)%s. Wall time %.0f s = %.1f min "
          "(simulation %.0f s, analysis %.0f s, timing %.0f s). Load average (1/5/15 min) %s at the start and %s at "
          "the end on this %d-CPU machine, which other jobs share. Timings: the best of %d alternating rounds of %d "
-         "steps over every stable run, plus %d rounds of the two chosen runs, %d thread(s), %s; read the ratio, "
+         "steps over every stable run, plus %d rounds of the chosen runs, %d thread(s), %s; read the ratio, "
          "not the absolute speeds."
-         % (meta["command"], meta["date"], meta["commit"], meta["openmm"], meta["mdtraj"],
+         % (meta["command"], meta["date"], meta["commit"], meta["openmm"],
+            ", GROMACS %s" % meta["gromacs"] if meta.get("gromacs") else "", meta["mdtraj"],
             " — **--quick: a smoke test**" if meta["quick"] else "", meta["wall_s"], meta["wall_s"] / 60,
             meta["sim_s"], meta["analysis_s"], meta["timing_s"], "/".join("%.1f" % x for x in meta["load_start"]),
             "/".join("%.1f" % x for x in meta["load_end"]), meta["cpus"], meta["rounds"], meta["timing_steps"],
             meta["pair_rounds"], meta["threads"],
-            "both codes pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "not pinned"),
+            "every code pinned to CPU %d" % meta["pinned_cpu"] if meta["pinned_cpu"] is not None else "not pinned"),
          "",
          "Runs: %g ps equilibration + %g ps production each, %d blocks of %g ps, frames every %g fs (RDF every "
          "%g fs). rotleap: Bussi, tau = %g ps, thermostat groups trans-rot (the default), %s precision at the "
-         "tested steps (the reference double); OpenMM: friction %g/ps."
+         "tested steps (the reference double); OpenMM: friction %g/ps%s."
          % (meta["eq_ps"], meta["prod_ps"], meta["blocks"], meta["prod_ps"] / meta["blocks"],
             meta["frame_fs"], meta["frame_fs"] * meta["rdf_stride"], meta["tau"], meta["precision"],
-            meta["friction"]),
+            meta["friction"], "; GROMACS: %s, %s %g ps" % (meta["gromacs_integrator"], "friction 1/tau-t, tau-t" if
+                                                           meta["gromacs_integrator"] == "sd" else "v-rescale tau-t",
+                                                           1.0 / meta["friction"]) if meta.get("gromacs") else ""),
          "",
          "| " + " | ".join(HEAD) + " |", "|" + "---|" * len(HEAD)]
     for r in runs:
         B.append("| " + " | ".join(c.replace("|", "/") for c in row_cells(r, ref)) + " |")
     B.append("")
-    B += ["* " + x for x in summary_lines(choice, ratio)]
+    B += ["* " + x for x in summary_lines(choice, ratios)]
     B += ["* note: " + n for n in notes]
     B.append("<!-- /results -->")
     with open(path + ".part", "w") as f:

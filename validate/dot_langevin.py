@@ -3,7 +3,7 @@
 step (issue 37): 256 TIP4P, reaction field (eps_rf = inf, shifted-force LJ, site cutoff 0.9 nm; the
 setup of validate/tconf_vs_h.py and validate/REPORT.md part 3), 298 K.
 
-One start: the lattice relaxed by run.equilibrate (4 ps at 1 fs, Bussi) and 2 ps of nvt-bussi
+One start (per system.inertia_scale): the lattice relaxed by run.equilibrate (4 ps at 1 fs, Bussi) and 2 ps of nvt-bussi
 (tau 0.1 ps) at 1 fs, written as a checkpoint; every run starts from it (a new run from its state,
 step 0, as its settings differ).
 Runs (--ps of production each, every average over the whole production, configurations sampled
@@ -12,6 +12,8 @@ every ~20 fs for the configurational temperature and U):
   langevin   nvt-langevin, tau = 1 ps (OpenMM's LangevinMiddleIntegrator's 1/ps): one friction
   dot        nvt-langevin-dot, tau = 1 ps, tau_rot = --tau-rot (0.05 ps): O in the middle of the drift
   dot-obabo  nvt-langevin-dot-obabo, the same frictions: O in the middle of the kick
+  dot@S      dot with system.inertia_scale = S (heavier rotors: the same configurational
+             distribution, librations slower by sqrt(S); docs/integrators.md "Heavier rotors")
 at h = --hs (2, 6, 8, 10 fs).
 
 The reference and the tolerance were fixed before any run (and are not changed after): a run
@@ -30,12 +32,14 @@ import os
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from tconf_vs_h import SYSTEMS, ROOT, value, fmt  # noqa: E402  (the same TIP4P deck and parsing)
 
 T0 = 298.0
+START_LOCK = threading.Lock()
 KEYS = ["U_per_molecule", "temperature_translational", "temperature_rotational", "tconf_translational",
         "tconf_rotational"]
 
@@ -54,21 +58,44 @@ def run(args, cmd, prefix):
     return r, time.time() - t0
 
 
+def start_for(args, work, scale=""):
+    """The shared start (PREFIX start.chk), or for system.inertia_scale = scale its own, made the same
+    way (the lattice relaxed by run.equilibrate and 2 ps of nvt-bussi at 1 fs) with that scale."""
+    start = os.path.join(work, "start" + ("@" + scale if scale else ""))
+    with START_LOCK:
+        if not os.path.exists(start + ".chk"):  # a --work of an earlier call keeps its start
+            extra = ["--set", "system.inertia_scale=" + scale] if scale else []
+            r, _ = run(args, [deck(work, 20), "--set", "run.ensemble=nvt-bussi", "--set", "run.tau=0.1 ps",
+                              "--set", "run.timestep=1 fs", "--set", "run.equilibrate=4000", "--set", "run.steps=2000",
+                              "--set", "output.tconf=no"] + extra, start)
+            if r.returncode:
+                sys.exit("the start failed: " + r.stderr)
+    return start + ".chk"
+
+
 def one(args, work, start, scheme, h):
     sample = max(1, int(round(20.0 / h)))
     ps = args.ref_ps if scheme == "reference" else args.ps
     steps = int(round(ps * 1e3 / h))
+    base, _, scale = scheme.partition("@")  # dot@4: with system.inertia_scale = 4
     ens = {"reference": ["nvt-langevin"], "langevin": ["nvt-langevin"],
            "dot": ["nvt-langevin-dot", "run.tau_rot=%g ps" % args.tau_rot],
-           "dot-obabo": ["nvt-langevin-dot-obabo", "run.tau_rot=%g ps" % args.tau_rot]}[scheme]
+           "dot-obabo": ["nvt-langevin-dot-obabo", "run.tau_rot=%g ps" % args.tau_rot]}[base]
+    if scale:  # its own start: a checkpoint keeps the moments it was written with
+        ens = ens + ["system.inertia_scale=%s" % scale]
+        start = start_for(args, work, scale)
     cmd = [deck(work, sample), "--set", "system.start=" + start, "--set", "run.ensemble=" + ens[0],
            "--set", "run.tau=1 ps", "--set", "run.timestep=%g fs" % h, "--set", "run.steps=%d" % steps,
            "--set", "run.seed=7"]
     for extra in ens[1:]:
         cmd += ["--set", extra]
     prefix = os.path.join(work, "%s_h%g" % (scheme, h))
-    r, wall = run(args, cmd, prefix)
-    out = {"scheme": scheme, "h": h, "wall": wall, "steps": steps, "samples": steps // sample}
+    if args.reuse and os.path.exists(prefix + ".results.txt"):  # an earlier call's run, same settings
+        r, wall = subprocess.CompletedProcess([], 0), float(value(open(prefix + ".summary.txt").read(), "wall_seconds")[0])
+    else:
+        r, wall = run(args, cmd, prefix)
+    out = {"scheme": scheme, "h": h, "wall": wall, "steps": steps, "samples": steps // sample,
+           "reused": bool(args.reuse and not r.args)}
     if r.returncode:
         out["error"] = r.stderr.strip()[-300:]
         return out
@@ -76,6 +103,15 @@ def one(args, work, start, scheme, h):
     for key in KEYS:
         out[key] = value(text, key)
     return out
+
+
+def reused_note(res):
+    """--reuse: which runs came from an earlier call (their run time is that call's)."""
+    old = [r for r in res if r.get("reused")]
+    if not old:
+        return ""
+    return "; %d of the runs (%s) were an earlier call's in the same --work, with the same settings" % (
+        len(old), ", ".join("%s %g fs" % (r["scheme"], r["h"]) for r in old))
 
 
 def zt(ve):
@@ -94,18 +130,13 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--md", default=os.path.join(ROOT, "validate", "dot_langevin.md"))
     ap.add_argument("--work", default=None)
+    ap.add_argument("--reuse", action="store_true", help="keep the runs of an earlier call with the same --work "
+                    "(their results files), running only the missing ones")
     args = ap.parse_args()
     work = args.work or tempfile.mkdtemp(prefix="dot_langevin.")
     os.makedirs(work, exist_ok=True)
     t0 = time.time()
-    start = os.path.join(work, "start")
-    r = subprocess.CompletedProcess([], 0)
-    if not os.path.exists(start + ".chk"):  # a --work of an earlier call keeps its start
-        r, _ = run(args, [deck(work, 20), "--set", "run.ensemble=nvt-bussi", "--set", "run.tau=0.1 ps",
-                        "--set", "run.timestep=1 fs", "--set", "run.equilibrate=4000", "--set", "run.steps=2000",
-                        "--set", "output.tconf=no"], start)
-    if r.returncode:
-        sys.exit("the start failed: " + r.stderr)
+    start = start_for(args, work)[:-4]
     hs = [float(x) for x in args.hs.split(",") if x]
     jobs = [("reference", 1.0)] + [(s, h) for s in args.schemes.split(",") if s for h in hs]
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as ex:
@@ -118,11 +149,11 @@ def main():
     uref, eref = ref.get("U_per_molecule", (None, None))
     lines = ["# Langevin against Davidchack-Ouldridge-Tretyakov over the time step (256 TIP4P-RF, 298 K)", "",
              "Generated by `/usr/bin/python3 validate/dot_langevin.py %s` on %s at rotleap %s in %.0f s "
-             "(%d runs, %d at a time, summed run time %.0f s, on this 2-core machine shared with other jobs). "
+             "(%d runs, %d at a time, summed run time %.0f s, on this 2-core machine shared with other jobs%s). "
              "Do not edit: rerun the script. Method, reference and tolerance (fixed before the runs): its "
              "docstring; the schemes: docs/integrators.md, \"The Davidchack-Ouldridge-Tretyakov Langevin "
              "thermostat\"." % (" ".join(sys.argv[1:]), time.strftime("%Y-%m-%d %H:%M"), commit, total, len(jobs),
-                                args.jobs, cpu), "",
+                                args.jobs, cpu, reused_note(res)), "",
              "%g ps of production per run (reference: %g ps at 1 fs, nvt-langevin tau = 1 ps); DOT: tau = 1 ps, "
              "tau_rot = %g ps. Temperatures in K (on-step: eqs. 9 and 12), U/N in kJ/mol with block errors; "
              "z_U = (U/N - U/N_ref) / sqrt(e^2 + e_ref^2); z = (T_conf - T0) / error. Pass: |z_U| <= 2 and both "
@@ -147,8 +178,13 @@ def main():
             fmt(r["tconf_translational"], 1), zt(r["tconf_translational"]), fmt(r["tconf_rotational"], 1),
             zt(r["tconf_rotational"]), r["samples"], r["wall"], verdict))
     text = "\n".join(lines) + "\n"
-    with open(args.md, "w") as f:
+    old = open(args.md).read() if os.path.exists(args.md) else ""
+    i = old.find("\nReading (written after the run")
+    if i >= 0:  # the hand-written reading below the table is kept (it says which run it reads)
+        text += old[i:]
+    with open(args.md + ".part", "w") as f:
         f.write(text)
+    os.replace(args.md + ".part", args.md)
     print(text)
 
 

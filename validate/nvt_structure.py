@@ -105,22 +105,24 @@ TEMPS = [("T", "T"), ("Tt", "T_trans"), ("Tr", "T_rot")]
 
 
 # ------------------------------------------------------------------------------------ runs
-def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=(), interactions=()):
+def deck(prefix, steps, h_ps, ensemble, box, start=None, every=0, extra=(), interactions=(), system=()):
     """extra: further [run] lines, e.g. "thermostat_groups = all", "seed = 3" or
     "integrator = no-squish" (which replaces the default "integrator = rl"); interactions: further
-    [interactions] lines, e.g. "precision = mixed"."""
+    [interactions] lines, e.g. "precision = mixed"; system: further [system] lines, e.g.
+    "inertia_scale = 4"."""
     integ = [x for x in extra if x.replace(" ", "").startswith("integrator=")]
     extra = [x for x in extra if x not in integ]
     run = ["[run]", "steps = %d" % steps, "timestep = %r ps" % h_ps, (integ or ["integrator = rl"])[-1],
            "ensemble = %s" % ensemble, "temperature = %g K" % T_K]
     if ensemble == "nvt-bussi":
         run.append("tau = %g ps" % TAU_BUSSI)
-    elif ensemble == "nvt-langevin":
+    elif ensemble in ("nvt-langevin", "nvt-langevin-dot"):
         run.append("tau = %g ps" % TAU_LANGEVIN)
     run += list(extra)
     sysl = ["[system]", "model = %s" % nc.MODEL, "count = %d" % N, "box = %s" % " ".join(repr(b) for b in box)]
     sysl += ["start = %s" % start] if start else ["orientations = random", "seed = 1"]
     sysl.append("temperature = %g K" % T_K)
+    sysl += list(system)
     elec = ["coulomb = pme", "ewald_tolerance = %r" % nc.EWALD_TOL] if nc.COULOMB == "pme" else \
         ["scheme = site", "eps_rf = %r" % EPS_RF]
     return "\n".join(sysl + [
@@ -139,29 +141,44 @@ def read_kv(path):
 
 # rotleap ensemble -> (file tag, thermostat key of the run record, label)
 ENSEMBLE_NAMES = {"nvt-bussi": ("bussi", "bussi", "Bussi"), "nvt-isokinetic": ("iso", "isokinetic", "isokinetic"),
-                  "nvt-langevin": ("langevin", "langevin", "Langevin")}
+                  "nvt-langevin": ("langevin", "langevin", "Langevin"),
+                  "nvt-langevin-dot": ("dot", "langevin-dot", "DOT Langevin")}
 
 
-def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix="", interactions=()):
+def inertia_scale(system):
+    """The system.inertia_scale among further [system] lines (1 if none)."""
+    for x in system:
+        k, _, v = x.partition("=")
+        if k.strip() == "inertia_scale":
+            return float(v)
+    return 1.0
+
+
+def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, extra=(), suffix="", interactions=(),
+                 system=()):
     """One rotleap NVT run from the shared start.  rotleap appends to PREFIX.dcd when it starts
     from a checkpoint, so the 0-step template run (from a lattice, same prefix) creates the empty
     DCD that the production run then fills.  extra: further [run] deck lines for both runs (a
     "seed = k" there seeds the thermostat: the template's checkpoint carries its random state);
-    suffix: appended to the run's file names; interactions: further [interactions] lines."""
+    suffix: appended to the run's file names; interactions: further [interactions] lines; system:
+    further [system] lines (with inertia_scale = s the start's angular momenta are sqrt(s) times the
+    shared start's, their Maxwell-Boltzmann size for the heavier rotor)."""
     name = ENSEMBLE_NAMES[ensemble]
     tag = "rl_%s_h%g%s" % (name[0], h_ps * 1e3, suffix)
     pre = os.path.join(work, tag)
     with open(pre + "_tmpl.ini", "w") as f:
-        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra, interactions=interactions))
+        f.write(deck(pre, 0, h_ps, ensemble, ck["box"], every=every, extra=extra, interactions=interactions,
+                     system=system))
     nc.sh([rotleap, "run", pre + "_tmpl.ini"])
     M = ck["species"][0]["mass"]
     vh = [[v[i][c] - 0.5 * h_ps * F[i][c] / M for c in range(3)] for i in range(N)]
-    lh = [[l[i][c] - 0.5 * h_ps * K[i][c] for c in range(3)] for i in range(N)]
+    sl = math.sqrt(inertia_scale(system))
+    lh = [[sl * l[i][c] - 0.5 * h_ps * K[i][c] for c in range(3)] for i in range(N)]
     with open(pre + "_start.chk", "wb") as f:
         f.write(nc.put_state(open(pre + ".chk", "rb").read(), ck["r"], vh, lh, ck["A"]))
     with open(pre + ".ini", "w") as f:  # + every: the frame at the last step needs its thermo row
         f.write(deck(pre, steps + every, h_ps, ensemble, ck["box"], start=pre + "_start.chk", every=every,
-                     extra=extra, interactions=interactions))
+                     extra=extra, interactions=interactions, system=system))
     t0 = time.time()
     p = subprocess.run([rotleap, "run", pre + ".ini"], capture_output=True, text=True)
     wall = time.time() - t0
@@ -174,7 +191,10 @@ def rotleap_task(rotleap, work, ck, v, l, F, K, ensemble, h_ps, steps, every, ex
                                  cons=float(r["conserved"]), Tt_mid=float(r.get("t_trans_mid", "nan")),
                                  Tr_mid=float(r.get("t_rot_mid", "nan"))))
     res = read_kv(pre + ".results.txt")
-    return dict(label="rotleap %s h=%g" % (name[2], h_ps * 1e3), code="rotleap", thermostat=name[1],
+    scale = inertia_scale(system)
+    return dict(label="rotleap %s%s h=%g" % (name[2], " I×%g" % scale if scale != 1 else "", h_ps * 1e3),
+                code="rotleap", thermostat=name[1] + ("@%g" % scale if scale != 1 else ""),
+                extra=list(extra), system=list(system), suffix=suffix,
                 h_fs=round(h_ps * 1e3, 6), steps=steps, wall_s=wall, rc=p.returncode,
                 error=(p.stderr.strip().splitlines() or [""])[-1] if p.returncode else "",
                 rows=rows, dcd=pre + ".dcd", pdb=pre + ".pdb", summary=read_kv(pre + ".summary.txt"),
@@ -277,6 +297,333 @@ def openmm_task(work, steps, every, pdb, integrator="nose-hoover", h_fs=2.0, fri
                     (p.stderr.strip().splitlines() or [""])[-1])
     res = json.load(open(pre + ".json"))
     return dict(base, rc=1 if res["error"] else 0, error=res["error"], rows=res["rows"], openmm=res["openmm"])
+
+
+# ------------------------------------------------------------------------------------ GROMACS
+GROMACS_INTEGRATORS = ("sd", "v-rescale")
+GROMACS_SEED = 2026
+KC_GMX = 138.935458  # kJ mol^-1 nm e^-2: GROMACS 2022's ONE_4PI_EPS0
+
+
+def gromacs_topology(model="tip4p"):
+    """A self-contained GROMACS topology of N rigid waters with the parameters of watermodels.MODELS
+    (the rotleap catalogue's: TIP4P sigma 0.315365 nm, epsilon 0.1550 kcal/mol = 0.648520 kJ/mol,
+    q_H 0.52, r_OH 0.09572 nm, HOH 104.52 deg, O-M 0.015 nm): SETTLE for O-H, O-H, H-H, M a
+    virtual_sites3 (the weights of watermodels.vsite_weights, so M sits at 0.015 nm to machine
+    precision; oplsaa.ff/tip4p.itp has the same LJ and charges, and a = b = 0.128012065, rounded to
+    9 digits), every intramolecular pair excluded.  Masses as nvt_structure's M_O, M_H (rotleap's)."""
+    import watermodels
+    p = watermodels.MODELS[model]
+    half = math.radians(p["angle"]) / 2.0
+    dhh = 2.0 * p["roh"] * math.sin(half)
+    w_o, w_h, _ = watermodels.vsite_weights(model)
+    return "\n".join([
+        "[ defaults ]", "; nbfunc comb-rule gen-pairs fudgeLJ fudgeQQ", "1 2 no 1.0 1.0", "",
+        "[ atomtypes ]", "; name at.num mass charge ptype sigma epsilon",
+        "OW 8 %.4f 0.0 A %.6f %.6f" % (M_O, p["sigma"], p["eps"]),
+        "HW 1 %.4f 0.0 A 0.0 0.0" % M_H, "MW 0 0.0 0.0 V 0.0 0.0", "",
+        "[ moleculetype ]", "SOL 2", "", "[ atoms ]",
+        "1 OW 1 SOL OW 1 0.0 %.4f" % M_O,
+        "2 HW 1 SOL HW1 1 %.6f %.4f" % (p["qh"], M_H),
+        "3 HW 1 SOL HW2 1 %.6f %.4f" % (p["qh"], M_H),
+        "4 MW 1 SOL MW 1 %.6f 0.0" % (-2.0 * p["qh"]), "",
+        "[ settles ]", "1 1 %.8f %.8f" % (p["roh"], dhh), "",
+        "[ virtual_sites3 ]", "4 1 2 3 1 %.12f %.12f" % (w_h, w_h), "",
+        "[ exclusions ]", "1 2 3 4", "2 1 3 4", "3 1 2 4", "4 1 2 3", "",
+        "[ system ]", "%d %s" % (N, model), "", "[ molecules ]", "SOL %d" % N, ""])
+
+
+def gromacs_mdp(h_ps, steps, every, integrator="sd", tau_t=TAU_LANGEVIN, gen_vel=False):
+    """The run parameters of gromacs_task: the system of this script (site cutoff 0.9 nm, reaction
+    field eps_rf 78.3, plain LJ cut, no dispersion correction), SETTLE via the topology, one
+    temperature group.  every = 0: no trajectory, energies at the first and the last step only
+    (the timing runs).  integrator "sd": GROMACS's leap-frog stochastic dynamics, friction
+    1/tau_t (tau_t = 1 ps: OpenMM's LangevinMiddle friction of 1/ps); "v-rescale": md + Bussi's
+    v-rescale with tau_t (rotleap's nvt-bussi)."""
+    out = every if every else steps
+    L = ["integrator = %s" % ("sd" if integrator == "sd" else "md"), "dt = %r" % h_ps, "nsteps = %d" % steps,
+         "comm-mode = linear", "nstcomm = 100",
+         "nstxout = %d" % every, "nstvout = %d" % every, "nstfout = 0", "nstxout-compressed = 0",
+         "nstlog = %d" % out, "nstcalcenergy = %d" % out, "nstenergy = %d" % out,
+         "cutoff-scheme = Verlet", "pbc = xyz", "verlet-buffer-tolerance = 0.005",
+         "coulombtype = Reaction-Field", "epsilon-r = 1", "epsilon-rf = %r" % EPS_RF,
+         "rcoulomb = %r" % CUTOFF, "vdwtype = Cut-off", "vdw-modifier = None", "rvdw = %r" % CUTOFF,
+         "DispCorr = no", "constraints = none", "continuation = no",
+         "tc-grps = System", "tau-t = %r" % tau_t, "ref-t = %r" % T_K,
+         "ld-seed = %d" % GROMACS_SEED]
+    if integrator == "v-rescale":
+        L.append("tcoupl = v-rescale")
+    L += ["gen-vel = yes", "gen-temp = %r" % T_K, "gen-seed = %d" % GROMACS_SEED] if gen_vel else ["gen-vel = no"]
+    return "\n".join(L) + "\n"
+
+
+def gromacs_gro(path, ck, pos, vel):
+    """A .gro file, 7 decimals in positions (nm) and 8 in velocities (nm/ps): GROMACS reads the
+    precision from the layout of the first atom line.  Sites OW HW1 HW2 MW per molecule."""
+    names = ("OW", "HW1", "HW2", "MW")
+    with open(path, "w") as f:
+        f.write("rotleap start\n%d\n" % len(pos))
+        for a, (x, v) in enumerate(zip(pos, vel)):
+            f.write("%5d%-5s%5s%5d" % ((a // 4 + 1) % 100000, "SOL", names[a % 4], (a + 1) % 100000) +
+                    "".join("%12.7f" % c for c in x) + "".join("%12.8f" % c for c in v) + "\n")
+        f.write("".join("%13.8f" % b for b in ck["box"]) + "\n")
+
+
+def start_sites(st):
+    """(checkpoint, site positions, site velocities) of the shared start (start.json's dict):
+    positions r + A^T d, velocities v + w x (r_a - R) with w = I_lab^-1 l (as openmm_worker)."""
+    import numpy as np
+    ck = rlcheckpoint.read(st["chk"])
+    J = np.array(ck["species"][0]["moments"])
+    r, A = np.array(ck["r"]), np.array(ck["A"])
+    v, l = np.array(st["v"]), np.array(st["l"])
+    pos = np.array(rlcheckpoint.site_positions(ck))
+    vel = np.zeros_like(pos)
+    for i in range(N):
+        w = np.linalg.solve(A[i].T @ np.diag(J) @ A[i], l[i])
+        vel[4 * i:4 * i + 4] = v[i] + np.cross(w, pos[4 * i:4 * i + 4] - r[i])
+    return ck, pos, vel
+
+
+def read_xvg(path):
+    """{legend: [values]} and the times of a `gmx energy` .xvg."""
+    names, cols = [], []
+    for ln in open(path):
+        if ln.startswith("@"):
+            m = ln.split("legend", 1)
+            if len(m) == 2 and ln.split()[1].startswith("s"):
+                names.append(m[1].strip().strip('"'))
+        elif not ln.startswith("#") and ln.strip():
+            cols.append([float(x) for x in ln.split()])
+    t = [c[0] for c in cols]
+    return t, {nm: [c[k + 1] for c in cols] for k, nm in enumerate(names)}
+
+
+# Debian's gmx is built with GMX_USE_RDTSCP=ON, and mdrun stops with a fatal error when CPUID does not
+# report rdtscp.  This 2-vCPU KVM guest (AMD EPYC) hides the flag, although the instruction executes
+# (a 5-line C test reads the TSC with __rdtscp).  GROMACS skips its check, with a warning in the log,
+# when its CPU detection gives less than SupportLevel::Features; this shim, preloaded into mdrun only,
+# lowers the detected level to SupportLevel::Name after GROMACS's own gmx::CpuInfo::detect() ran (the
+# first member of CpuInfo; GROMACS 2022's layout).  GROMACS then also skips its check of the compiled
+# SIMD level against the CPU's (a log note only; the kernels are chosen at compile time, SSE4.1 here).
+GMX_RDTSCP_SHIM = r"""#define _GNU_SOURCE
+#include <dlfcn.h>
+void *_ZN3gmx7CpuInfo6detectEv(void *ret)
+{
+  void *(*real)(void *) = (void *(*)(void *))dlsym(RTLD_NEXT, "_ZN3gmx7CpuInfo6detectEv");
+  real(ret);
+  if (*(int *)ret > 1) *(int *)ret = 1;
+  return ret;
+}
+"""
+
+
+def cpu_has_rdtscp():
+    try:
+        return any(ln.startswith("flags") and "rdtscp" in ln.split() for ln in open("/proc/cpuinfo"))
+    except OSError:
+        return True
+
+
+def gmx_run(args, cwd, stdin=None):
+    """`gmx -quiet ARGS` in cwd (no backup files); mdrun with the rdtscp shim when the CPU flag is hidden."""
+    env = dict(os.environ, GMX_MAXBACKUP="-1")
+    if args[0] == "mdrun" and not cpu_has_rdtscp():
+        so = os.path.join(cwd, "gmx_rdtscp_shim.so")
+        if not os.path.exists(so):
+            with open(so[:-3] + ".c", "w") as f:
+                f.write(GMX_RDTSCP_SHIM)
+            subprocess.run(["cc", "-O2", "-shared", "-fPIC", so[:-3] + ".c", "-o", so, "-ldl"], check=True)
+        env["LD_PRELOAD"] = so
+    return subprocess.run(["gmx", "-quiet"] + args, cwd=cwd, input=stdin, capture_output=True, text=True, env=env)
+
+
+# The box of 256 waters is 1.97 nm wide: GROMACS's buffered pair-list cutoff (r_c plus the buffer that
+# verlet-buffer-tolerance 0.005 kJ/mol/ps asks for at nstlist steps of h) must not exceed half of it,
+# 0.986 nm.  At 4 fs and GROMACS's default nstlist = 10 it is 1.069 nm and grompp refuses the run, so
+# gromacs_prepare takes the largest of these that grompp accepts (mdrun may raise it within the limit).
+# At the shared start: nstlist 10 at 1-2 fs, 6 at 3-4 fs, 5 at 5 fs, 4 at 6 fs, 3 at 8-10 fs.
+GMX_NSTLIST = (10, 8, 6, 5, 4, 3, 2, 1)
+
+
+def gromacs_prepare(work, pre, h_ps, steps, every, integrator="sd", tau_t=TAU_LANGEVIN):
+    """Write PRE.gro (the shared start of work/start.json), PRE.top, PRE.mdp and run grompp to PRE.tpr
+    with the largest nstlist of GMX_NSTLIST that it accepts; returns '' or grompp's error."""
+    st = json.load(open(os.path.join(work, "start.json")))
+    ck, pos, vel = start_sites(st)
+    gromacs_gro(pre + ".gro", ck, pos, vel)
+    with open(pre + ".top", "w") as f:
+        f.write(gromacs_topology(st.get("model", "tip4p")))
+    for nstlist in GMX_NSTLIST:
+        with open(pre + ".mdp", "w") as f:
+            f.write(gromacs_mdp(h_ps, steps, every, integrator, tau_t) + "nstlist = %d\n" % nstlist)
+        p = gmx_run(["grompp", "-f", pre + ".mdp", "-c", pre + ".gro", "-p", pre + ".top", "-o", pre + ".tpr",
+                     "-po", pre + "_out.mdp", "-maxwarn", "0"], work)
+        if not p.returncode:
+            return ""
+        err = [x for x in (p.stdout + p.stderr).splitlines() if x.strip()]
+        if "pair-list cut-off" not in " ".join(err):
+            break
+    return "grompp: " + " ".join(err[-6:])
+
+
+def gromacs_mdrun(work, pre):
+    """`gmx mdrun` of PRE.tpr on one thread, CPU non-bonded, GROMACS's own pinning off (a caller's
+    affinity is inherited), no final configuration or checkpoint (-noconfout: 7 % of a 300-step
+    timing run otherwise); returns (returncode, error line, wall seconds of the whole process)."""
+    t0 = time.perf_counter()
+    p = gmx_run(["mdrun", "-s", pre + ".tpr", "-deffnm", pre, "-nt", "1", "-pin", "off", "-nb", "cpu",
+                 "-noconfout"], work)
+    wall = time.perf_counter() - t0
+    err = ""
+    if p.returncode:
+        lines = [x for x in (p.stdout + p.stderr).splitlines() if x.strip()]
+        err = "mdrun: " + " ".join(lines[-4:])
+    return p.returncode, err, wall
+
+
+def gromacs_log_wall(pre):
+    """The 'Wall t (s)' of PRE.log's final 'Time:' line: mdrun's timing of its MD loop (from the first
+    step to the last, pair search included; without reading the tpr and detecting the hardware)."""
+    for ln in open(pre + ".log"):
+        if ln.strip().startswith("Time:"):
+            return float(ln.split()[2])
+    raise RuntimeError("no Time: line in %s.log" % pre)
+
+
+def gromacs_task(work, steps, every, pdb, h_fs=2.0, integrator="sd", tau_t=TAU_LANGEVIN):
+    """One GROMACS (`gmx`, Debian's 2022 build, mixed precision) NVT run of this script's system
+    from the shared start (work/start.json), returning openmm_task's record so that `analyse` reads it.
+
+    Topology: gromacs_topology (SETTLE, M a virtual site).  Run: gromacs_mdp, integrator sd
+    (friction 1/tau_t, default 1/ps) or v-rescale, `steps` steps at h_fs, full-precision frames
+    (.trr, positions and velocities) and energies every `every` steps, one thread.  Start: the
+    site positions and rigid-body velocities that openmm_worker gives OpenMM.
+    The frames after the first (t = every h ... steps h) go to PRE.dcd with the topology of
+    rotleap's PDB; the rows: U = `gmx energy` Potential, T = its Temperature (GROMACS's leap-frog
+    estimator, the mean of the two half-step kinetic energies, 6N - 3 degrees of freedom),
+    T_trans and T_rot from the .trr velocities (which are leap-frog's half-step velocities
+    v(t - h/2)), cons = Conserved-En. (Total Energy if absent).
+
+    Energies: every pair term is exactly as in rotleap and OpenMM (LJ cut plainly at 0.9 nm,
+    reaction field q_i q_j k_c (1/r + k_rf r^2 - c_rf) per intermolecular site pair within 0.9 nm),
+    so GROMACS's forces are rotleap's.  GROMACS's Verlet scheme accepts vdw-modifier = None, used
+    here.  (With Potential-shift, its default, every O-O pair inside the cutoff gets -U_LJ(r_c) =
+    +0.0047930 kJ/mol for TIP4P at 0.9 nm: the forces are unchanged, U/N is raised by that times
+    the number of O-O pairs within r_c per molecule, 13045 / 256 = 50.96 at the shared start of
+    bench/sampling_speed.py --quick, i.e. +0.2442 kJ/mol: measured +62.525 kJ/mol on the 256
+    molecules against 62.524 predicted.  That count fluctuates, so the shift is a constant only on
+    average and would bias nothing in the sampling but blur U/N comparisons.)
+    What differs is GROMACS's reaction-field exclusion correction: its Verlet kernels add for every
+    excluded (intramolecular) pair q_i q_j k_c (k_rf r_ij^2 - c_rf) and for every site
+    -q_i^2 k_c c_rf / 2.  The c_rf parts sum to -k_c c_rf (sum_i q_i)^2 / 2 = 0 for a neutral
+    molecule, which leaves k_c k_rf (q_H^2 r_HH^2 + 2 q_H q_M r_HM^2) per rigid molecule, a constant:
+    gromacs_rf_exclusion() = -0.19 kJ/mol for TIP4P (k_rf = (eps_rf - 1) / ((2 eps_rf + 1) r_c^3)).
+    The U of the rows has it subtracted (U = Potential - N gromacs_rf_exclusion()), so that U/N
+    is comparable with the other codes; the raw Potential is kept in the rows as U_gmx."""
+    import numpy as np
+    import mdtraj as md
+    from mdtraj.formats import TRRTrajectoryFile
+    if integrator not in GROMACS_INTEGRATORS:
+        raise ValueError("integrator %r is not one of %s" % (integrator, ", ".join(GROMACS_INTEGRATORS)))
+    pre = os.path.join(work, "gmx_%s_h%g" % (integrator, h_fs))
+    h_ps = h_fs * 1e-3
+    base = dict(label="GROMACS %s h=%g" % (integrator, h_fs), code="gromacs",
+                thermostat="sd" if integrator == "sd" else "bussi", h_fs=h_fs, steps=steps, dcd=pre + ".dcd",
+                pdb=pre + ".pdb", summary={}, own_D="", rows=[], wall_s=0.0, tau_t=tau_t, integrator=integrator)
+    err = gromacs_prepare(work, pre, h_ps, steps, every, integrator, tau_t)
+    if err:
+        return dict(base, rc=1, error=err)
+    rc, err, wall = gromacs_mdrun(work, pre)
+    base["wall_s"] = wall
+    shutil.copy(pdb, pre + ".pdb")
+    if not os.path.exists(pre + ".trr"):
+        return dict(base, rc=rc or 1, error=err or "no trajectory")
+    with TRRTrajectoryFile(pre + ".trr") as f:
+        xyz, tt, stp, _, _, vel, _ = f._read(len(f), None, True, False)  # MDTraj 1.9.7: read() has no velocities
+    # GROMACS puts every atom back into the box at its pair searches: unwrap each site from frame to
+    # frame (minimum image of its displacement, far below half the box at 40-120 fs), starting from
+    # the whole molecules of the start, so that molecules stay whole and the MSD sees no jumps
+    st = json.load(open(os.path.join(work, "start.json")))
+    ck, pos0, _ = start_sites(st)
+    bx = np.array(ck["box"])
+    d = np.diff(np.concatenate([pos0[None], np.asarray(xyz, dtype=np.float64)]), axis=0)
+    d -= bx * np.round(d / bx)
+    xyz = pos0[None] + np.cumsum(d, axis=0)
+    p = gmx_run(["energy", "-f", pre + ".edr", "-o", pre + "_energy.xvg"], work,
+                stdin="Potential\nTemperature\nTotal-Energy\nConserved-En.\n\n")
+    if p.returncode or not os.path.exists(pre + "_energy.xvg"):
+        return dict(base, rc=1, error="gmx energy failed: " + (p.stderr.strip().splitlines() or [""])[-1])
+    te, E = read_xvg(pre + "_energy.xvg")
+    en = {int(round(t / h_ps)): k for k, t in enumerate(te)}
+    cons = E.get("Conserved En.", E.get("Total Energy"))
+    mass = np.array([M_O, M_H, M_H, 0.0])
+    Mmol = mass.sum()
+    corr = N * gromacs_rf_exclusion()
+    rows, frames = [], []
+    for k in range(len(tt)):
+        s = int(stp[k])
+        if s == 0 or s % every or s not in en:
+            continue
+        vv = np.asarray(vel[k], dtype=np.float64).reshape(N, 4, 3)
+        ke = 0.5 * float((mass[None, :, None] * vv * vv).sum())
+        pmol = (mass[None, :, None] * vv).sum(1)
+        ket = 0.5 * float((pmol * pmol).sum()) / Mmol
+        j = en[s]
+        u = E["Potential"][j]
+        if not math.isfinite(u) or not np.isfinite(xyz[k]).all():
+            err = err or "step %d: non-finite energy or coordinates" % s
+            break
+        rows.append(dict(step=s, t=s * h_ps, U=u - corr, U_gmx=u, T=E["Temperature"][j],
+                         Tt=2 * ket / ((3 * N - 3) * KB), Tr=2 * (ke - ket) / (3 * N * KB), cons=cons[j]))
+        frames.append(np.asarray(xyz[k], dtype=np.float32))
+    if frames:
+        top = md.load_topology(pdb)
+        traj = md.Trajectory(np.array(frames), top, unitcell_lengths=np.tile(bx, (len(frames), 1)),
+                             unitcell_angles=np.full((len(frames), 3), 90.0))
+        traj.save_dcd(pre + ".dcd")
+    if not err and len(rows) < steps // every:
+        err = "only %d of %d frames" % (len(rows), steps // every)
+    return dict(base, rc=1 if (rc or err) else 0, error=err, rows=rows)
+
+
+def gromacs_single_point(work):
+    """GROMACS's Potential (kJ/mol, all N molecules) of the shared start (work/start.json): a 0-step
+    mdrun with gromacs_mdp's parameters.  Minus N gromacs_rf_exclusion() it is rotleap's U of the
+    same configuration to single precision.  At bench/sampling_speed.py --quick's start: GROMACS
+    LJ 2164.7051, Coulomb -12943.1816, Potential -10778.4766 kJ/mol; rotleap (`rotleap energy`)
+    LJ 2164.7078, Coulomb -12893.9796, U -10729.2718; Coulomb difference -49.2020, of which
+    256 x -0.192094 = -49.1760 is the exclusion constant: -0.026 kJ/mol (1e-4 per molecule) left in
+    the Coulomb sum and -0.003 in LJ, GROMACS's single-precision sums and the .gro's 1e-7 nm.
+    (Debian's double-precision gmx_d, not used here, gives LJ 2161.873: the sum of the O-O pairs to
+    0.9126 nm, not 0.9; its kernel does not seem to cut LJ at rvdw with vdw-modifier = None when the
+    pair list reaches beyond it.  The mixed-precision gmx used here cuts at 0.9 nm.)"""
+    pre = os.path.join(work, "gmx_single_point")
+    err = gromacs_prepare(work, pre, 0.001, 0, 1)
+    rc, err2, _ = gromacs_mdrun(work, pre) if not err else (1, err, 0.0)
+    if rc:
+        raise RuntimeError(err2 or "mdrun failed")
+    p = gmx_run(["energy", "-f", pre + ".edr", "-o", pre + ".xvg"], work, stdin="Potential\n\n")
+    if p.returncode:
+        raise RuntimeError("gmx energy failed")
+    return read_xvg(pre + ".xvg")[1]["Potential"][0]
+
+
+def gromacs_rf_exclusion(model="tip4p"):
+    """GROMACS's reaction-field exclusion energy per rigid molecule (kJ/mol): k_c k_rf sum over the
+    intramolecular charge pairs of q_i q_j r_ij^2 (the c_rf terms of the excluded pairs and the
+    self terms cancel for a neutral molecule; see gromacs_task)."""
+    import watermodels
+    p = watermodels.MODELS[model]
+    half = math.radians(p["angle"]) / 2.0
+    h1 = (p["roh"] * math.sin(half), p["roh"] * math.cos(half))
+    m = (0.0, p["rom"])
+    krf = (EPS_RF - 1.0) / ((2.0 * EPS_RF + 1.0) * CUTOFF ** 3)
+    qh, qm = p["qh"], -2.0 * p["qh"]
+    sites = [((h1[0], h1[1]), qh), ((-h1[0], h1[1]), qh), (m, qm)]  # O at the origin (q_O = 0 if 4-site)
+    s = sum(qa * qb * ((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2)
+            for i, (a, qa) in enumerate(sites) for (b, qb) in sites[i + 1:])
+    return KC_GMX * krf * s
 
 
 # -------------------------------------------------------------------------------- analysis

@@ -26,6 +26,10 @@ MODELS = {
     # Horn et al., J. Chem. Phys. 120, 9665 (2004): sigma 3.16435 A, eps 0.16275 kcal/mol
     "tip4p-ew": dict(roh=0.09572, angle=104.52, rom=0.0125, qh=0.52422, sigma=0.316435,
                      eps=0.16275 * KCAL),
+    # Abascal & Vega, J. Chem. Phys. 123, 234505 (2005): sigma 3.1589 A, eps/k 93.2 K, d_OM 0.1546 A,
+    # q_H 0.5564 e
+    "tip4p-2005": dict(roh=0.09572, angle=104.52, rom=0.01546, qh=0.5564, sigma=0.31589,
+                       eps=93.2 * 0.0083144626),
     # Berendsen et al., J. Phys. Chem. 91, 6269 (1987); LJ as GROMACS spce.itp / OpenMM spce.xml
     "spc-e": dict(roh=0.1, angle=109.47, rom=0.0, qh=0.4238, sigma=0.316557, eps=0.650194),
     # Jorgensen et al. 1983: sigma 3.15061 A, eps 0.1521 kcal/mol
@@ -78,13 +82,14 @@ def check_geometry(model, d):
     return max(dev)
 
 
-def build_system(model, nmol, box, cutoff, eps_rf, rigid=False, pme_tolerance=None):
+def build_system(model, nmol, box, cutoff, eps_rf, rigid=False, pme_tolerance=None, dispersion_correction=False):
     """OpenMM System: NonbondedForce CutoffPeriodic (reaction field) with every intramolecular
     pair excluded, plain LJ (no switch, no dispersion correction), M as a ThreeParticleAverageSite.
     rigid=True adds O-H, O-H, H-H distance constraints (OpenMM recognises them as SETTLE).
     pme_tolerance: smooth PME instead of reaction field, alpha and grid from that
     ewaldErrorTolerance (eps_rf is then ignored); rotleap's coulomb = pme with ewald_tolerance
-    derives the same ones (validate/ewald_openmm.py checks it)."""
+    derives the same ones (validate/ewald_openmm.py checks it).  dispersion_correction: OpenMM's LJ
+    long-range correction (rotleap's interactions.dispersion_correction = yes)."""
     p = MODELS[model]
     sites = site_params(model)
     ns = len(sites)
@@ -99,7 +104,7 @@ def build_system(model, nmol, box, cutoff, eps_rf, rigid=False, pme_tolerance=No
     else:
         nb.setNonbondedMethod(mm.NonbondedForce.PME)
         nb.setEwaldErrorTolerance(pme_tolerance)
-    nb.setUseDispersionCorrection(False)
+    nb.setUseDispersionCorrection(dispersion_correction)
     nb.setUseSwitchingFunction(False)
     w = vsite_weights(model) if four_site(model) else None
     rhh = 2 * p["roh"] * math.sin(math.radians(p["angle"]) / 2.0)
