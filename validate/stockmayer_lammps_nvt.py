@@ -130,26 +130,39 @@ def lammps_run(args, work, steps):
             "n": len(rows), "T": blocks([r[3] for r in rows], args.blocks), "wall": wall, "version": ver}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def arguments(doc, md, steps, rf_steps, seed, lammps):
+    """The command line of this script and of stockmayer_dielectric.py."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rotleap", default=os.path.join(ROOT, "build", "rotleap"))
-    ap.add_argument("--lmp", default="lmp")
+    if lammps:
+        ap.add_argument("--lmp", default="lmp")
     ap.add_argument("--count", type=int, default=256)
-    ap.add_argument("--steps", type=int, default=40000)
-    ap.add_argument("--rf-steps", type=int, default=100000)
+    ap.add_argument("--steps", type=int, default=steps)
+    ap.add_argument("--rf-steps", type=int, default=rf_steps)
     ap.add_argument("--blocks", type=int, default=20)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--md", default=os.path.join(HERE, "stockmayer_lammps_nvt.md"))
-    args = ap.parse_args()
-    t0 = time.time()
+    ap.add_argument("--seed", type=int, default=seed)
+    ap.add_argument("--md", default=os.path.join(HERE, md))
+    return ap.parse_args()
+
+
+def ewald_then_rf(args, between=None):
+    """The tin-foil Ewald run, between(args, work) if given, and the reaction-field run with eps_rf the
+    Ewald run's dielectric constant (rounded to 0.1): (ewald, between's result, rf, eps_rf)."""
     with tempfile.TemporaryDirectory() as work:
         ew = rotleap_run(args, work, "ewald", EWALD, args.steps)
         print("rotleap Ewald:", ew, flush=True)
-        lm = lammps_run(args, work, args.steps)
-        print("LAMMPS:", lm, flush=True)
+        mid = between(args, work) if between else None
         eps_rf = round(ew["eps"][0], 1)
         rf = rotleap_run(args, work, "rf", "coulomb = rf\ndipole = rf\neps_rf = %r" % eps_rf, args.rf_steps)
         print("rotleap RF:", rf, flush=True)
+    return ew, mid, rf, eps_rf
+
+
+def main():
+    args = arguments(__doc__, "stockmayer_lammps_nvt.md", 40000, 300000, 1, True)
+    t0 = time.time()
+    ew, lm, rf, eps_rf = ewald_then_rf(args, lambda a, w: lammps_run(a, w, a.steps))
+    print("LAMMPS:", lm, flush=True)
     zu, zp, ze = z(ew["U"], lm["U"]), z(ew["P"], lm["P"]), z(rf["eps"], ew["eps"])
     ok = all(abs(v) <= 3 for v in (zu, zp, ze))
     cmd = "/usr/bin/python3 validate/stockmayer_lammps_nvt.py --count %d --steps %d --rf-steps %d" % (
