@@ -41,8 +41,16 @@ struct analysis {
   int nmarks;
   int nrdf;
   rl_rdf *rdf[MAX_RDF];
-  int rdf_site[MAX_RDF][2];
-  char rdf_name[MAX_RDF][24];
+  int rdf_site[MAX_RDF][2], rdf_sp[MAX_RDF][2]; /* output.rdf: each pair's sites and species */
+  char rdf_name[MAX_RDF][48];
+  /* a mixture (d->nspecies > 1; else nsp = 0): each species' bodies (consecutive), rotational
+   * dof per body and name, its temperatures per step (translational, rotational) and whether
+   * its bodies carry the vector of P1/P2 (orient) */
+  int nsp;
+  int sp_first[RL_DECK_MAX_SPECIES], sp_count[RL_DECK_MAX_SPECIES], sp_rot[RL_DECK_MAX_SPECIES];
+  int sp_orient[RL_DECK_MAX_SPECIES];
+  const char *sp_name[RL_DECK_MAX_SPECIES];
+  rl_trace *vs[RL_DECK_MAX_SPECIES][2];
   rl_vec_series *axis, *vel, *omega, *pos;
   double (*unwrapped)[3], (*buf)[3], (*dip)[3]; /* unwrapped: the centres of the last sample */
   rl_species_ff sff[RL_DECK_MAX_SPECIES]; /* each species', d->nspecies of them */
@@ -147,7 +155,8 @@ typedef struct {
   int64_t energy_every, sample_every, tcf_cap;
   char model[64];
   int32_t tconf; /* output.tconf; only in the header of a journal with it or with baro (so the others are as before) */
-  int32_t baro;  /* run.barostat; only in the header of a journal with it */
+  int32_t baro;  /* run.barostat; only in the header of a journal with it or of a mixture */
+  int32_t nsp;   /* a mixture's species; only in the header of a mixture's journal */
 } jheader;
 
 /* Copy k bytes between *x and buf + *off, in the direction `out` (1: x to buf). */
@@ -177,8 +186,9 @@ static size_t header_io(jheader *h, unsigned char *buf, int out)
   io(buf, &o, &h->sample_every, 8, out);
   io(buf, &o, &h->tcf_cap, 8, out);
   io(buf, &o, h->model, sizeof h->model, out);
-  if (out ? h->tconf || h->baro : h->bytes > o) io(buf, &o, &h->tconf, 4, out);
-  if (out ? h->baro : h->bytes > o) io(buf, &o, &h->baro, 4, out);
+  if (out ? h->tconf || h->baro || h->nsp : h->bytes > o) io(buf, &o, &h->tconf, 4, out);
+  if (out ? h->baro || h->nsp : h->bytes > o) io(buf, &o, &h->baro, 4, out);
+  if (out ? h->nsp : h->bytes > o) io(buf, &o, &h->nsp, 4, out);
   return o;
 }
 
@@ -191,6 +201,7 @@ static void header_of(const analysis *a, jheader *h)
   h->bom = JOURNAL_BOM;
   h->tconf = a->tconf;
   h->baro = a->baro;
+  h->nsp = a->nsp;
   unsigned char scratch[JOURNAL_HEADER_MAX];
   h->bytes = (uint32_t)header_io(h, scratch, 1);
   h->n = a->n;
@@ -200,8 +211,8 @@ static void header_of(const analysis *a, jheader *h)
   h->nrdf = a->nrdf;
   h->nbins = RDF_BINS;
   for (int q = 0; q < a->nrdf; q++) {
-    h->site[q][0] = a->rdf_site[q][0];
-    h->site[q][1] = a->rdf_site[q][1];
+    h->site[q][0] = a->rdf_site[q][0] | a->rdf_sp[q][0] << 16; /* one species: the site */
+    h->site[q][1] = a->rdf_site[q][1] | a->rdf_sp[q][1] << 16;
   }
   h->rmax = a->nrdf ? rl_rdf_rmax(a->rdf[0]) : 0.0;
   memcpy(h->box, a->box, sizeof h->box);
@@ -224,6 +235,9 @@ static int header_check(const jheader *got, const jheader *want, const char *pat
                     want->tconf ? "yes" : "no");
   if (got->version == want->version && got->baro != want->baro)
     return rl_error(RL_EINVAL, "%s was written with run.barostat %d, this run has %d", path, got->baro, want->baro);
+  if (got->version == want->version && got->nsp != want->nsp)
+    return rl_error(RL_EINVAL, "%s was written for %d species (system.species), this run has %d", path,
+                    got->nsp > 1 ? got->nsp : 1, want->nsp > 1 ? want->nsp : 1);
   if (got->version != want->version || got->bytes != want->bytes)
     return rl_error(RL_EINVAL, "%s is an analysis journal of version %u (%u header bytes); this rotleap reads "
                     "version %u (%u bytes)", path, got->version, got->bytes, want->version, want->bytes);
@@ -280,9 +294,28 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mols, const rl_sys
   else rl_system_box(sys, a->box);
   double rmax = 0.5 * fmin(a->box[0], fmin(a->box[1], a->box[2]));
   if (d->barostat) rmax = fmin(rmax, d->ff.cutoff); /* the box may shrink to twice the cutoff, not below */
-  const int nrdf = rl_deck_rdf_pairs(d->rdf, mol, a->rdf_site, a->rdf_name);
+  rl_deck_rdf_pair pairs[MAX_RDF];
+  const int nrdf = rl_deck_rdf_species_pairs(d->rdf, mols, d->nspecies, pairs);
   if (nrdf < 0) { analysis_free(a); return NULL; }
-  for (; a->nrdf < nrdf; a->nrdf++) a->rdf[a->nrdf] = rl_rdf_alloc(rmax, RDF_BINS);
+  for (; a->nrdf < nrdf; a->nrdf++) {
+    const rl_deck_rdf_pair *p = &pairs[a->nrdf];
+    for (int k = 0; k < 2; k++) {
+      a->rdf_site[a->nrdf][k] = p->site[k];
+      a->rdf_sp[a->nrdf][k] = p->species[k];
+    }
+    memcpy(a->rdf_name[a->nrdf], p->name, sizeof p->name);
+    a->rdf[a->nrdf] = rl_rdf_alloc(rmax, RDF_BINS);
+  }
+  if (d->nspecies > 1) { /* a mixture: the species' temperatures, MSD and diffusion */
+    a->nsp = d->nspecies;
+    for (int k = 0, first = 0; k < a->nsp; k++) {
+      a->sp_first[k] = first;
+      first += a->sp_count[k] = rl_system_species_count(sys, k);
+      a->sp_rot[k] = rl_kind_rotational_dof(rl_system_species_kind(sys, k));
+      a->sp_name[k] = mols[k].name;
+      for (int q = 0; q < 2; q++) ok = (a->vs[k][q] = rl_trace_alloc(0)) && ok;
+    }
+  }
   a->tcf_cap = (long)(RL_TCF_MEMORY / (4.0 * sizeof(double[3]) * (a->n > 0 ? a->n : 1)));
   if (a->tcf_cap < 8) a->tcf_cap = 8;
   a->axis = rl_vec_series_alloc(a->n);
@@ -295,8 +328,8 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mols, const rl_sys
   a->mark_c = calloc(RL_RDF_MARKS, sizeof *a->mark_c);
   a->mark_every = 1;
   /* the largest record: a sample that still feeds the correlation functions */
-  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n + 8 * (1 + NV + NB) +
-                  sizeof(double[4]) + sizeof(double[3]));
+  a->rec = malloc((size_t)a->nrdf * (16 + 4 * RDF_BINS) + 24 + 4 * sizeof(double[3]) * (size_t)a->n +
+                  8 * (1 + NV + NB + 2 * (size_t)a->nsp) + sizeof(double[4]) + sizeof(double[3]));
   a->hist = malloc(sizeof *a->hist * RDF_BINS);
   ok = ok && a->axis && a->vel && a->omega && a->pos && a->unwrapped && a->buf && a->dip && a->mark_c && a->rec &&
        a->hist;
@@ -312,6 +345,24 @@ analysis *analysis_alloc(const rl_deck *d, const rl_molecule *mols, const rl_sys
     a->dipolar |= net_dipole(&mols[k]);
   }
   choose_orientation(a, d->model ? d->model->name : mol->name);
+  if (a->nsp) { /* a mixture: P1/P2 over the species whose bodies carry the vector */
+    char which[160] = "";
+    for (int k = 0, at = 0; k < a->nsp; k++) {
+      const rl_kind kk = mols[k].natural_kind;
+      a->sp_orient[k] = a->dipolar ? net_dipole(&mols[k])
+                                   : kk == RL_KIND_LINEAR || kk == RL_KIND_DIPOLE || kk == RL_KIND_SYMMETRIC;
+      if (a->sp_orient[k] && at < (int)sizeof which)
+        at += snprintf(which + at, sizeof which - (size_t)at, "%s%s", at ? ", " : "", mols[k].name);
+    }
+    if (!a->dipolar) a->orient = which[0] ? ORIENT_AXIS : ORIENT_NONE;
+    if (a->orient == ORIENT_NONE)
+      snprintf(a->orient_text, sizeof a->orient_text, "n/a (no species of the mixture has a net dipole or a unique "
+               "molecular axis; tcf.csv columns dipole_P1, dipole_P2 are n/a)");
+    else
+      snprintf(a->orient_text, sizeof a->orient_text, "%s of the molecules of %s (the species that have one; tcf.csv "
+               "columns %s_P1, %s_P2)", a->dipolar ? "molecular dipole mu_i" : "molecular axis (rho, or body Z of a "
+               "symmetric top)", which, a->dipolar ? "dipole" : "axis", a->dipolar ? "dipole" : "axis");
+  }
   return a;
 }
 
@@ -322,6 +373,8 @@ void analysis_free(analysis *a)
   for (int k = 0; k < 3; k++) rl_trace_free(a->M[k]);
   for (int k = 0; k < 6; k++) rl_trace_free(a->tc[k]);
   for (int k = 0; k < NB; k++) rl_trace_free(a->b[k]);
+  for (int k = 0; k < a->nsp; k++)
+    for (int q = 0; q < 2; q++) rl_trace_free(a->vs[k][q]);
   rl_trace_free(a->M2);
   for (int k = 0; k < a->nrdf; k++) rl_rdf_free(a->rdf[k]);
   rl_vec_series_free(a->axis);
@@ -370,20 +423,22 @@ static size_t sample_bytes(const analysis *a)
   return len;
 }
 
-/* Bytes of a step record's payload: t, the NV values and, under a barostat, the NB of the box. */
-static size_t step_bytes(const analysis *a) { return 8 * (size_t)(1 + NV + (a->baro ? NB : 0)); }
+/* Bytes of a step record's payload: t, the NV values, under a barostat the NB of the box, and in
+ * a mixture each species' translational and rotational temperature. */
+static size_t step_bytes(const analysis *a) { return 8 * (size_t)(1 + NV + (a->baro ? NB : 0) + 2 * a->nsp); }
 
 static int consume_step(analysis *a, const unsigned char *p)
 {
-  double x[1 + NV + NB];
-  const int nx = (int)(step_bytes(a) / 8);
+  double x[1 + NV + NB + 2 * RL_DECK_MAX_SPECIES];
+  const int nx = (int)(step_bytes(a) / 8), nb = a->baro ? NB : 0;
   memcpy(x, p, step_bytes(a));
   for (int k = 0; k < nx; k++)
     if (!isfinite(x[k])) return rl_error(RL_ENONFINITE, "analysis: a step record with a non-finite value (%d)", k);
   if (a->nstep == 0) a->t_first = x[0];
   a->t_last = x[0];
   for (int k = 0; k < nx - 1; k++) {
-    int st = rl_trace_add(k < NV ? a->v[k] : a->b[k - NV], x[1 + k]);
+    rl_trace *t = k < NV ? a->v[k] : k < NV + nb ? a->b[k - NV] : a->vs[(k - NV - nb) / 2][(k - NV - nb) % 2];
+    int st = rl_trace_add(t, x[1 + k]);
     if (st) return st;
   }
   a->nstep++;
@@ -502,7 +557,7 @@ int analysis_step(analysis *a, const rl_step_info *info, double pressure, const 
     int r = rl_system_rot_index(sys, i);
     if (r >= 0) k2 += F->k[r][0] * F->k[r][0] + F->k[r][1] * F->k[r][1] + F->k[r][2] * F->k[r][2];
   }
-  double x[1 + NV + NB];
+  double x[1 + NV + NB + 2 * RL_DECK_MAX_SPECIES];
   x[0] = info->t;
   x[1 + V_U] = info->potential / a->n;
   x[1 + V_T] = info->temperature;
@@ -523,6 +578,13 @@ int analysis_step(analysis *a, const rl_step_info *info, double pressure, const 
     x[1 + NV + B_RHO] = a->mass / V;
     for (int k = 0; k < 3; k++) x[1 + NV + B_LX + k] = L[k];
     x[1 + NV + B_H] = (info->total + a->d->pressure * V) / a->n;
+  }
+  if (a->nsp && (!info->species || info->nspecies < a->nsp))
+    return rl_error(RL_EINVAL, "analysis_step: the step report has no kinetic energies per species (%d of %d)",
+                    info->species ? info->nspecies : 0, a->nsp);
+  for (int k = 0, o = 1 + NV + (a->baro ? NB : 0); k < a->nsp; k++) {
+    x[o + 2 * k] = info->species[k].t_trans;
+    x[o + 2 * k + 1] = info->species[k].t_rot;
   }
   const size_t len = step_bytes(a);
   for (size_t k = 0; k < len / 8; k++) /* a record is whole or not at all */
@@ -561,8 +623,8 @@ int analysis_sample(analysis *a, const rl_system *sys)
   for (int q = 0; q < a->nrdf; q++) {
     double pairs;
     int na;
-    if ((st = rl_rdf_count_sites(a->rdf[q], sys, 0, a->rdf_site[q][0], 0, a->rdf_site[q][1], a->hist,
-                                 &pairs, &na)))
+    if ((st = rl_rdf_count_sites(a->rdf[q], sys, a->rdf_sp[q][0], a->rdf_site[q][0], a->rdf_sp[q][1],
+                                 a->rdf_site[q][1], a->hist, &pairs, &na)))
       return st;
     const int32_t na32 = na, pad = 0;
     memcpy(p, &pairs, 8);
@@ -1002,6 +1064,7 @@ typedef struct {
   const analysis *a;
   long lag;
   double dt, *c[5];
+  double *msd[RL_DECK_MAX_SPECIES]; /* a mixture: each species' MSD (NULL: n/a) */
 } tcf_table;
 
 static void write_tcf(FILE *fp, const void *ctx)
@@ -1009,12 +1072,16 @@ static void write_tcf(FILE *fp, const void *ctx)
   const tcf_table *t = ctx;
   const units_text u = units_of(t->a->d->units);
   const char *vec = t->a->orient == ORIENT_AXIS ? "axis" : "dipole";
-  fprintf(fp, "%s,%s_P1,%s_P2,%s,%s,%s\n", u.t_col, vec, vec, u.vacf_col, u.wacf_col, u.msd_col);
+  fprintf(fp, "%s,%s_P1,%s_P2,%s,%s,%s", u.t_col, vec, vec, u.vacf_col, u.wacf_col, u.msd_col);
+  for (int q = 0; q < t->a->nsp; q++) fprintf(fp, ",%s_%s", u.msd_col, t->a->sp_name[q]);
+  fputc('\n', fp);
   for (long k = 0; k <= t->lag; k++) {
     fprintf(fp, "%.6g", k * t->dt);
-    for (int q = 0; q < 5; q++)
-      if (t->c[q]) fprintf(fp, ",%.6g", t->c[q][k]);
+    for (int q = 0; q < 5 + t->a->nsp; q++) {
+      const double *c = q < 5 ? t->c[q] : t->msd[q - 5];
+      if (c) fprintf(fp, ",%.6g", c[k]);
       else fputs(",n/a", fp);
+    }
     fputc('\n', fp);
   }
 }
@@ -1077,8 +1144,10 @@ static char *file_name(const char *prefix, const char *ext, const char *suffix)
 }
 
 /* Self-diffusion from the MSD c[lag + 1] of the nf frames from j0, with a block error: the
- * standard error of D over D_BLOCKS consecutive parts of those frames, each fitted alike. */
-static void diffusion_line(FILE *f, const analysis *a, const double *msd, long j0, long nf, long lag, double dt)
+ * standard error of D over D_BLOCKS consecutive parts of those frames, each fitted alike.  Of the
+ * bodies b0 .. b0 + nb - 1 (all of them, or a species: then the line is self_diffusion_NAME). */
+static void diffusion_line(FILE *f, const analysis *a, const double *msd, long j0, long nf, long lag, double dt,
+                           const char *name, int b0, int nb)
 {
   const units_text u = units_of(a->d->units);
   double D, Dfit;
@@ -1087,21 +1156,45 @@ static void diffusion_line(FILE *f, const analysis *a, const double *msd, long j
   double Db[D_BLOCKS], *c = plag >= 5 ? malloc(sizeof(double) * (size_t)(plag + 1)) : NULL;
   int ok = c != NULL;
   for (int b = 0; b < D_BLOCKS && ok; b++)
-    ok = !rl_tcf_compute_range(a->pos, j0 + b * part, part, RL_TCF_MSD, plag, 1, c) &&
+    ok = !rl_tcf_compute_bodies(a->pos, j0 + b * part, part, b0, nb, RL_TCF_MSD, plag, 1, c) &&
          !rl_diffusion_einstein(c, plag + 1, dt, plag / 5, plag, &Db[b], NULL);
   free(c);
   if (ok) {
     double mean = 0.0, s = 0.0;
     for (int b = 0; b < D_BLOCKS; b++) mean += Db[b] / D_BLOCKS;
     for (int b = 0; b < D_BLOCKS; b++) s += (Db[b] - mean) * (Db[b] - mean);
-    fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples; error: standard error of D over "
+    fprintf(f, "self_diffusion%s%s = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples; error: standard error of D over "
                "%d consecutive parts of the samples, each fitted alike (lags %ld-%ld); the fit's own error, %.2g, is a "
-               "lower bound: it ignores the correlation between lags)\n", D, sqrt(s / (D_BLOCKS * (D_BLOCKS - 1.0))),
-            u.D, lag / 5, lag, D_BLOCKS, plag / 5, plag, Dfit);
+               "lower bound: it ignores the correlation between lags)\n", name ? "_" : "", name ? name : "", D,
+            sqrt(s / (D_BLOCKS * (D_BLOCKS - 1.0))), u.D, lag / 5, lag, D_BLOCKS, plag / 5, plag, Dfit);
   } else
-    fprintf(f, "self_diffusion = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples; error: the fit's error of the "
+    fprintf(f, "self_diffusion%s%s = %.4g +- %.2g %s (Einstein, MSD lags %ld-%ld samples; error: the fit's error of the "
                "slope, a lower bound: it ignores the correlation between lags; too few samples for a block error)\n",
-            D, Dfit, u.D, lag / 5, lag);
+            name ? "_" : "", name ? name : "", D, Dfit, u.D, lag / 5, lag);
+}
+
+/* A correlation function of the nf frames from j0 (rl_tcf_compute_range's arguments): over every
+ * body, or in a mixture over the bodies of the species with mask[k] set (mask NULL: all of
+ * them), the mean of the species' functions weighted by their counts. */
+static int tcf_of(const analysis *a, const rl_vec_series *src, long j0, long nf, rl_tcf_kind kind, long lag,
+                  const int *mask, double *c)
+{
+  if (!a->nsp || !mask) return rl_tcf_compute_range(src, j0, nf, kind, lag, 1, c);
+  double *part = malloc(sizeof(double) * (size_t)(lag + 1));
+  if (!part) return rl_error(RL_ENOMEM, "out of memory");
+  long bodies = 0;
+  int st = RL_OK;
+  for (long k = 0; k <= lag; k++) c[k] = 0.0;
+  for (int q = 0; q < a->nsp && !st; q++) {
+    if (!mask[q]) continue;
+    st = rl_tcf_compute_bodies(src, j0, nf, a->sp_first[q], a->sp_count[q], kind, lag, 1, part);
+    for (long k = 0; k <= lag && !st; k++) c[k] += a->sp_count[q] * part[k];
+    bodies += a->sp_count[q];
+  }
+  free(part);
+  if (!st && !bodies) st = rl_error(RL_EINVAL, "no species of the mixture has it");
+  for (long k = 0; k <= lag && !st; k++) c[k] /= (double)bodies;
+  return st;
 }
 
 /* The correlation functions of the nf stored frames from j0, their file and the diffusion. */
@@ -1124,20 +1217,32 @@ static void correlation_lines(FILE *f, const analysis *a, long j0, const char *p
   double *c[5] = {NULL, NULL, NULL, NULL, NULL};
   rl_tcf_kind kinds[5] = {RL_TCF_P1, RL_TCF_P2, RL_TCF_DOT, RL_TCF_DOT, RL_TCF_MSD};
   rl_vec_series *src[5] = {a->axis, a->axis, a->vel, a->omega, a->pos};
+  const int *mask[5] = {a->sp_orient, a->sp_orient, NULL, a->sp_rot, NULL}; /* a mixture: the bodies that have it */
   for (int k = a->orient == ORIENT_NONE ? 2 : 0; k < 5; k++) {
     if (!(c[k] = calloc((size_t)lag + 1, sizeof(double))))
       fprintf(f, "correlation_error = %s: out of memory\n", col[k]);
-    else if (rl_tcf_compute_range(src[k], j0, nf, kinds[k], lag, 1, c[k])) {
+    else if (tcf_of(a, src[k], j0, nf, kinds[k], lag, mask[k], c[k])) {
       fprintf(f, "correlation_error = %s: %s\n", col[k], rl_last_error());
       free(c[k]);
       c[k] = NULL;
     }
   }
-  if (c[4]) diffusion_line(f, a, c[4], j0, nf, lag, dt_sample);
-  tcf_table t = {a, lag, dt_sample, {c[0], c[1], c[2], c[3], c[4]}};
+  if (c[4]) diffusion_line(f, a, c[4], j0, nf, lag, dt_sample, NULL, 0, a->n);
+  tcf_table t = {a, lag, dt_sample, {c[0], c[1], c[2], c[3], c[4]}, {NULL}};
+  for (int q = 0; q < a->nsp; q++) { /* a mixture: each species' MSD and self-diffusion */
+    if (!(t.msd[q] = calloc((size_t)lag + 1, sizeof(double))))
+      fprintf(f, "correlation_error = msd_%s: out of memory\n", a->sp_name[q]);
+    else if (rl_tcf_compute_bodies(a->pos, j0, nf, a->sp_first[q], a->sp_count[q], RL_TCF_MSD, lag, 1, t.msd[q])) {
+      fprintf(f, "correlation_error = msd_%s: %s\n", a->sp_name[q], rl_last_error());
+      free(t.msd[q]);
+      t.msd[q] = NULL;
+    } else
+      diffusion_line(f, a, t.msd[q], j0, nf, lag, dt_sample, a->sp_name[q], a->sp_first[q], a->sp_count[q]);
+  }
   if (!path) add_failure(errs, nerrs, "tcf.csv: out of memory for its name");
   else if (write_file(path, write_tcf, &t, errs, nerrs)) fprintf(f, "# could not write %s\n", rl_last_error());
   for (int k = 0; k < 5; k++) free(c[k]);
+  for (int q = 0; q < a->nsp; q++) free(t.msd[q]);
 }
 
 /* The RDFs of the samples from j0 and their file. */
@@ -1406,6 +1511,14 @@ int analysis_write(analysis *a, const char *prefix, const char *suffix, double d
   line_mean(f, "temperature", a->v[V_T], w.i0, u.T);
   line_mean(f, "temperature_translational", a->v[V_TT], w.i0, u.T);
   line_mean(f, "temperature_rotational", a->v[V_TR], w.i0, u.T);
+  for (int k = 0; k < a->nsp; k++) { /* a mixture: each species' (rl_species_kinetic: the dof shared) */
+    char name[96];
+    snprintf(name, sizeof name, "temperature_translational_%s", a->sp_name[k]);
+    line_mean(f, name, a->vs[k][0], w.i0, u.T);
+    snprintf(name, sizeof name, "temperature_rotational_%s", a->sp_name[k]);
+    if (a->sp_rot[k]) line_mean(f, name, a->vs[k][1], w.i0, u.T);
+    else fprintf(f, "%s = n/a (%s: point particles, no rotational degrees of freedom)\n", name, a->sp_name[k]);
+  }
   line_mean(f, "pressure", a->v[V_P], w.i0, u.P);
   if (a->baro) barostat_lines(f, a, w.i0, per, w.dt_rec);
   line_mean(f, "mean_square_force", a->v[V_F2], w.i0, u.F2);

@@ -27,6 +27,7 @@ static const key_def keys[NKEYS] = {
     [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
+    [K_RESIDUES] = {"system", "residues", K_STRING, Q_NONE, NULL, NULL, "residue names of a .pdb start and the species they stand for, RES:SPECIES each (\"SOL:tip4p-ew NA:na-tip4pew CL:cl-tip4pew\"; at most 16; any case). Without it a mixture's residues go by name: the species' own, or HOH WAT SOL H2O TIP3 TIP4 T3P T4P T4E SPC for the deck's one water, NA NA+ SOD for its Na+, CL CL- CLA for its Cl- (docs/files.md, PDB)"},
     [K_LATTICE] = {"system", "lattice", K_CHOICE, Q_NONE, "sc", "sc|fcc|random", "starting lattice; random: centres inserted at random (system.seed) where no LJ site pair of two molecules comes closer than 0.7 of its sigma (Lorentz-Berthelot), up to 10000 tries per molecule"},
     [K_ORIENT] = {"system", "orientations", K_CHOICE, Q_NONE, "random", "random|aligned", "starting orientations"},
     [K_SEED] = {"system", "seed", K_INT, Q_NONE, "1", NULL, "seed of the starting-state random numbers (GSL mt19937)"},
@@ -77,7 +78,7 @@ static const key_def keys[NKEYS] = {
     [K_CHECKPOINT] = {"output", "checkpoint_every", K_INT, Q_NONE, "0", NULL, "steps between checkpoints PREFIX.chk (written atomically; 0: only at the end)"},
     [K_TRAJ] = {"output", "trajectory_every", K_INT, Q_NONE, "0", NULL, "steps between trajectory frames (0: none; at most 2147483647, DCD's 32-bit interval): PREFIX.dcd + PREFIX.pdb for models with several sites (water, CO2, 2CLJ, ...), whose DCD also limits run.steps to 2147483647; PREFIX.xyz (with orientations) for point dipoles and atoms"},
     [K_SAMPLE] = {"output", "sample_every", K_INT, Q_NONE, "10", NULL, "steps between configurations sampled for RDFs, correlation functions, diffusion and the dielectric constant (0: none)"},
-    [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites)"},
+    [K_RDF] = {"output", "rdf", K_STRING, Q_NONE, "", NULL, "site pairs for PREFIX.rdf.csv by site name, e.g. \"O-O, H1-H1\" (rotleap models lists the sites); in a mixture also between species, each side SPECIES:SITE or the name of a species of one site: \"spc-e:O-spc-e:O, na-spce-cl-spce, spc-e:O-na-spce\" (a bare SITE is the first species'; at most 8 pairs)"},
     [K_DISCARD] = {"output", "discard", K_STRING, Q_NONE, "auto", NULL, "steps left out of every average in PREFIX.results.txt, .rdf.csv and .tcf.csv, counted from the run's first step: auto (the equilibrated region detected from U per molecule: Chodera's start that maximises the uncorrelated samples, docs/observables.md) or a whole number of steps (0: average everything)"},
     [K_TCONF] = {"output", "tconf", K_BOOL, Q_NONE, "no", NULL, "configurational temperature (translational, rotational, total) of every sampled configuration in PREFIX.results.txt: <|F|^2>/<Laplacian U> from forces and torques, independent of the velocities, so it says whether the configurations are sampled at the thermostat's T at large steps, where the on-step kinetic temperature reads low (docs/observables.md). Costs an O(N^2) pass over molecule pairs per sample; exact only for forces continuous at the cutoff (lj = shifted-force or switched, eps_rf = inf, dipole = sf)"},
     [K_PROGRESS] = {"output", "progress", K_CHOICE, Q_NONE, "auto", "auto|yes|no", "progress line on stderr (auto: when stderr is a terminal)"},
@@ -94,36 +95,117 @@ const rl_deck_integrator rl_deck_integrators[] = {
 };
 const int rl_deck_nintegrators = (int)(sizeof rl_deck_integrators / sizeof rl_deck_integrators[0]);
 
-int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24])
+/* "a b c": the names of the sites of m, or of the species mols[ns]. */
+static void site_list(const rl_molecule *m, char *buf, size_t n)
+{
+  buf[0] = '\0';
+  for (int a = 0, at = 0; a < m->nsites && at < (int)n; a++)
+    at += snprintf(buf + at, n - (size_t)at, "%s%s", a ? " " : "", m->site_names[a]);
+}
+static void species_list(const rl_molecule *mols, int ns, char *buf, size_t n)
+{
+  buf[0] = '\0';
+  for (int k = 0, at = 0; k < ns && at < (int)n; k++) at += snprintf(buf + at, n - (size_t)at, "%s%s", k ? ", " : "", mols[k].name);
+}
+
+static int site_index(const rl_molecule *m, const char *name)
+{
+  for (int a = 0; a < m->nsites; a++)
+    if (!strcmp(m->site_names[a], name)) return a;
+  return -1;
+}
+
+/* One side of an output.rdf pair (rl_deck_rdf_species_pairs): 1 with *sp, *site, else 0 with why. */
+static int rdf_side(const char *x, const rl_molecule *mols, int ns, int *sp, int *site, char *why, size_t n)
+{
+  char have[256], all[256];
+  species_list(mols, ns, all, sizeof all);
+  const char *colon = strchr(x, ':');
+  if (colon) {
+    const size_t len = (size_t)(colon - x);
+    for (int k = 0; k < ns; k++)
+      if (strlen(mols[k].name) == len && !strncmp(mols[k].name, x, len)) {
+        if ((*site = site_index(&mols[k], colon + 1)) >= 0) { *sp = k; return 1; }
+        site_list(&mols[k], have, sizeof have);
+        snprintf(why, n, "species %s has no site '%s' (its sites: %s)", mols[k].name, colon + 1, have);
+        return 0;
+      }
+    snprintf(why, n, "'%.*s' is not a species of the deck (%s)", (int)len, x, all);
+    return 0;
+  }
+  if ((*site = site_index(&mols[0], x)) >= 0) { *sp = 0; return 1; }
+  site_list(&mols[0], have, sizeof have);
+  if (ns == 1) {
+    snprintf(why, n, "model %s has no site '%s' (its sites: %s)", mols[0].name, x, have);
+    return 0;
+  }
+  for (int k = 0; k < ns; k++)
+    if (!strcmp(mols[k].name, x)) {
+      if (mols[k].nsites == 1) { *sp = k; *site = 0; return 1; }
+      site_list(&mols[k], have, sizeof have);
+      snprintf(why, n, "species %s has %d sites: name one as %s:SITE (its sites: %s)", x, mols[k].nsites, x, have);
+      return 0;
+    }
+  snprintf(why, n, "'%s' is neither a site of the first species %s (its sites: %s) nor a species of one site; "
+           "write SPECIES:SITE (species: %s)", x, mols[0].name, have, all);
+  return 0;
+}
+
+int rl_deck_rdf_species_pairs(const char *spec, const rl_molecule *mols, int nspecies, rl_deck_rdf_pair *out)
 {
   char *buf = strdup(spec), *save;
   if (!buf) return rl_error(RL_ENOMEM, "output.rdf: out of memory"), -1;
   int n = 0;
   for (char *tok = strtok_r(buf, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
-    char *dash = strchr(tok, '-');
-    if (!dash) rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok);
-    else if (n == RL_DECK_MAX_RDF) rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF);
-    if (!dash || n == RL_DECK_MAX_RDF) { n = -1; break; }
-    *dash = '\0';
-    const char *want[2] = {tok, dash + 1};
-    int missing = 0;
-    for (int k = 0; k < 2 && !missing; k++) {
-      site[n][k] = -1;
-      for (int a = 0; a < m->nsites; a++)
-        if (!strcmp(m->site_names[a], want[k])) site[n][k] = a;
-      if (site[n][k] < 0) {
-        char have[256] = "";
-        for (int a = 0, at = 0; a < m->nsites && at < (int)sizeof have; a++)
-          at += snprintf(have + at, sizeof have - (size_t)at, "%s%s", a ? " " : "", m->site_names[a]);
-        rl_error(RL_EINVAL, "output.rdf: model %s has no site '%s' (its sites: %s)", m->name, want[k], have);
-        missing = 1;
+    if (!strchr(tok, '-')) { rl_error(RL_EINVAL, "output.rdf: '%s' is not SITE-SITE", tok); n = -1; break; }
+    if (n == RL_DECK_MAX_RDF) { rl_error(RL_EINVAL, "output.rdf: more than %d pairs", RL_DECK_MAX_RDF); n = -1; break; }
+    /* every '-' as the separator: the one reading whose both sides resolve */
+    char why[512] = "", first[48] = "";
+    int found = 0, best = -1;
+    for (char *dash = strchr(tok, '-'); dash; dash = strchr(dash + 1, '-')) {
+      *dash = '\0';
+      int sp[2], site[2], ok[2];
+      char w[2][512];
+      for (int k = 0; k < 2; k++) ok[k] = rdf_side(k ? dash + 1 : tok, mols, nspecies, &sp[k], &site[k], w[k], sizeof w[k]);
+      if (ok[0] && ok[1]) {
+        if (found++ == 0) {
+          snprintf(first, sizeof first, "%s' - '%s", tok, dash + 1);
+          rl_deck_rdf_pair *p = &out[n];
+          for (int k = 0; k < 2; k++) { p->species[k] = sp[k]; p->site[k] = site[k]; }
+        } else {
+          rl_error(RL_EINVAL, "output.rdf: '%s-%s' reads two ways, '%s' and '%s' - '%s': write SPECIES:SITE", tok,
+                   dash + 1, first, tok, dash + 1);
+          *dash = '-';
+          found = -1;
+          break;
+        }
+      } else if (ok[0] + ok[1] > best) { /* the reading closest to one: its message */
+        best = ok[0] + ok[1];
+        snprintf(why, sizeof why, "%s", ok[0] ? w[1] : w[0]);
       }
+      *dash = '-';
     }
-    if (missing) { n = -1; break; }
-    snprintf(name[n], 24, "%.11s-%.11s", want[0], want[1]);
+    if (found <= 0) {
+      if (found == 0) rl_error(RL_EINVAL, "output.rdf: %s", why);
+      n = -1;
+      break;
+    }
+    snprintf(out[n].name, sizeof out[n].name, "%.47s", tok);
     n++;
   }
   free(buf);
+  return n;
+}
+
+int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24])
+{
+  rl_deck_rdf_pair p[RL_DECK_MAX_RDF];
+  const int n = rl_deck_rdf_species_pairs(spec, m, 1, p);
+  for (int q = 0; q < n; q++) {
+    site[q][0] = p[q].site[0];
+    site[q][1] = p[q].site[1];
+    snprintf(name[q], 24, "%.23s", p[q].name);
+  }
   return n;
 }
 
@@ -1160,17 +1242,20 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
     deck_problem(&r, r.line[K_RDF], "output.rdf has %zu characters, at most %zu", strlen(rdf), sizeof d->rdf - 1);
   else if (!r.bad[K_RDF]) {
     memcpy(d->rdf, rdf, strlen(rdf) + 1);
-    if (d->rdf[0] && d->model) { /* the pairs against the model's sites, before anything runs */
-      rl_molecule m;
-      int site[RL_DECK_MAX_RDF][2];
-      char name[RL_DECK_MAX_RDF][24];
-      if (!rl_model_build(d->model, d->params, 0, &m) && rl_deck_rdf_pairs(d->rdf, &m, site, name) < 0)
+    if (d->rdf[0] && d->model) { /* the pairs against the species' sites, before anything runs */
+      rl_molecule m[RL_DECK_MAX_SPECIES];
+      rl_deck_rdf_pair pairs[RL_DECK_MAX_RDF];
+      int built = d->nspecies > 0;
+      for (int k = 0; k < d->nspecies && built; k++)
+        built = !rl_model_build(d->species[k].model, k ? NULL : d->params, 0, &m[k]);
+      if (built && rl_deck_rdf_species_pairs(d->rdf, m, d->nspecies, pairs) < 0)
         deck_problem(&r, r.line[K_RDF], "%s", rl_last_error());
     }
   }
   d->discard = strcmp(val(&r, K_DISCARD), "auto") ? integer(&r, K_DISCARD, 0, 0) : -1;
   d->tconf = boolean(&r, K_TCONF);
   if (!r.bad[K_START] && strcmp(val(&r, K_START), "lattice")) start_file(&r, d, val(&r, K_START));
+  if (r.val[K_RESIDUES] && !r.bad[K_RESIDUES] && d->nspecies) deck_residues(&r, d);
   int pr = choice(&r, K_PROGRESS);
   d->progress = pr == 0 ? -1 : pr == 1 ? 1 : 0;
 
@@ -1273,11 +1358,15 @@ void rl_deck_print_keys(FILE *f, int md)
                "catalogue model (with its default parameters) or a `[molecule NAME]`, all in one unit system, at "
                "most %d. The molecules are numbered species by species in the order given (the numbering of "
                "checkpoints, XYZ and PDB files); on a lattice the species take the lattice sites at random "
-               "(system.seed), `system.lattice = random` inserts the molecules at random centres, an XYZ start names each body's species. Unlike LJ sites mix by `interactions.mixing` "
+               "(system.seed), `system.lattice = random` inserts the molecules at random centres, an XYZ start names each body's species, a PDB start's residue names give them (water, Na+ and Cl- by the names GROMACS, OpenMM and AMBER write; others by `system.residues`; docs/files.md). Unlike LJ sites mix by `interactions.mixing` "
                "(Lorentz-Berthelot unless every species' model mixes geometrically, as OPLS and EPM2 do), and "
                "`interactions.pairs` sets single site pairs (at most %d). The summary has one `species` line per "
-               "species (family, rotation path); the pair kernel line names the kernels of the whole mixture. For a "
-               "mixture, output.rdf names sites of the first species.\n\n"
+               "species (family, rotation path); the pair kernel line names the kernels of the whole mixture and `pair_kernels_by_species` which "
+               "kernel takes the pairs of each two species (`spc-e/spc-e: charge-lj; spc-e/na-spce: general`: bodies "
+               "of one species take its kernel, pairs of two species the reference routine). In a mixture "
+               "`output.rdf` takes pairs between the species' sites (`spc-e:O-na-spce`), the thermo file has each "
+               "species' `t_trans_NAME` and, if it rotates, `t_rot_NAME`, PREFIX.results.txt its temperatures and "
+               "`self_diffusion_NAME`, PREFIX.tcf.csv its MSD (docs/observables.md, \"Mixtures\").\n\n"
                "```\n[system]\nspecies = stockmayer:27 lj:81\ndensity = 0.8\nlattice = fcc\n"
                "[molecule lj]\nunits = lj\nsite = A 0 0 0 mass 1 sigma 1.2 epsilon 0.8\n"
                "[interactions]\ncutoff = 2.0\nmixing = lorentz-berthelot\n"

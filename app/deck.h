@@ -55,6 +55,7 @@ typedef struct {
  * species); interactions.pairs: LJ parameters of site pairs that replace the mixing rule's. */
 #define RL_DECK_MAX_SPECIES 8
 #define RL_DECK_MAX_PAIRS 16
+#define RL_DECK_MAX_RESIDUES 16
 typedef struct {
   const rl_model *model;    /* a catalogue model (its default parameters) or a deck molecule */
   int count;
@@ -83,6 +84,8 @@ typedef struct {
   unsigned long seed;
   double temperature;       /* initial Maxwell-Boltzmann temperature                    */
   char start[RL_DECK_PATH_MAX]; /* "" = lattice; else a .pdb, .xyz or .chk file (a regular file) */
+  rl_pdb_residue residues[RL_DECK_MAX_RESIDUES]; /* system.residues: a .pdb start's names  */
+  int nresidues;
   /* [interactions] */
   rl_ff_params ff;
   rl_deck_mixing mixing;    /* interactions.mixing                                        */
@@ -165,6 +168,19 @@ double rl_deck_thermal_omega(const rl_deck *d);
  * that is not SITE-SITE, a site the model does not have (naming those it has), or too many. */
 #define RL_DECK_MAX_RDF 8
 int rl_deck_rdf_pairs(const char *spec, const rl_molecule *m, int site[][2], char name[][24]);
+/* One pair of output.rdf in a deck of several species: species (indices into the species,
+ * the system's order) and sites, and its name as the deck wrote it (the rdf.csv column g_NAME). */
+typedef struct {
+  int species[2], site[2];
+  char name[48];
+} rl_deck_rdf_pair;
+/* output.rdf against the species mols[nspecies] (mols[k].name the species' name): each pair is
+ * A-B, each side SPECIES:SITE, or a bare NAME: a site of the first species (the one-species
+ * syntax, "O-O"), else a species of one site ("na-cl"); names with '-' in them (spc-e:O) are
+ * read at the one '-' where both sides resolve.  The number of pairs, or -1 with the message set
+ * for a side that resolves to nothing (naming the sites or species there are), a pair read two
+ * ways, or too many pairs. */
+int rl_deck_rdf_species_pairs(const char *spec, const rl_molecule *mols, int nspecies, rl_deck_rdf_pair *out);
 
 /* Parse `path` with the overrides `sets` ("section.key=value", nsets of them).  Every problem is
  * reported, one line each ("FILE:LINE: message", "--set section.key: message"), to `err`;

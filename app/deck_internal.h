@@ -22,7 +22,7 @@ typedef struct {
 } key_def;
 
 enum {
-  K_MODEL, K_MOLFILE, K_COUNT, K_SPECIES, K_BOX, K_DENSITY, K_START, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL, K_INERTIA,
+  K_MODEL, K_MOLFILE, K_COUNT, K_SPECIES, K_BOX, K_DENSITY, K_START, K_RESIDUES, K_LATTICE, K_ORIENT, K_SEED, K_TEMP, K_GENERAL, K_INERTIA,
   K_CUTOFF, K_SCHEME, K_LJ, K_SWITCH, K_DISP, K_EPSRF, K_MIXING, K_PAIRS, K_COULOMB, K_ETOL, K_EALPHA, K_PGRID, K_PORDER, K_EKMAX,
   K_EKMAX2, K_EBOUND, K_DIPOLE, K_SKIN, K_KERNEL, K_PRECISION,
   K_STEPS, K_DT, K_INTEGRATOR, K_ENSEMBLE, K_TTEMP, K_TAU, K_TAUROT, K_TGROUPS, K_TSEED, K_EQSTEPS, K_EQDT, K_THREADS,
@@ -81,5 +81,7 @@ int deck_new_molecule(raw_deck *r, const char *name);
 void deck_resolve_model(raw_deck *r, rl_deck *d);
 /* interactions.pairs against the resolved species (units: d->units). */
 void deck_pairs(raw_deck *r, rl_deck *d);
+/* system.residues against the resolved species (a .pdb start only). */
+void deck_residues(raw_deck *r, rl_deck *d);
 
 #endif

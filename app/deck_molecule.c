@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 /* The molecule a [molecule NAME] section defines: its index, or -1 if section is not one. */
@@ -483,6 +484,51 @@ void deck_pairs(raw_deck *r, rl_deck *d)
     p.sigma = v[0];
     p.epsilon = v[1];
     d->pairs[d->npairs++] = p;
+  }
+  free(buf);
+}
+
+/* system.residues = RES:SPECIES ...: d->residues (species by their system.species names). */
+void deck_residues(raw_deck *r, rl_deck *d)
+{
+  const int line = r->line[K_RESIDUES];
+  const size_t len = strlen(d->start);
+  if (len < 4 || strcmp(d->start + len - 4, ".pdb")) {
+    deck_problem(r, line, "system.residues: names the residues of a .pdb start, and system.start is %s",
+                 d->start[0] ? d->start : "lattice");
+    return;
+  }
+  char *buf = strdup(r->val[K_RESIDUES]), *save;
+  if (!buf) { deck_problem(r, line, "out of memory"); return; }
+  for (char *t = strtok_r(buf, " \t", &save); t; t = strtok_r(NULL, " \t", &save)) {
+    char *colon = strchr(t, ':');
+    if (!colon || colon == t || !colon[1]) {
+      deck_problem(r, line, "system.residues: '%s' is not RES:SPECIES (SOL:tip4p-ew)", t);
+      continue;
+    }
+    *colon = '\0';
+    if (strlen(t) > 4) {
+      deck_problem(r, line, "system.residues: residue name '%s' has more than 4 characters (PDB columns 18-21)", t);
+      continue;
+    }
+    int k = 0;
+    while (k < d->nspecies && strcmp(d->species[k].model->name, colon + 1)) k++;
+    if (k == d->nspecies) {
+      char have[RL_DECK_MAX_SPECIES * 40] = "";
+      for (int q = 0; q < d->nspecies; q++)
+        snprintf(have + strlen(have), sizeof have - strlen(have), "%s%s", q ? ", " : "", d->species[q].model->name);
+      deck_problem(r, line, "system.residues: %s:%s: '%s' is not a species of the deck (%s)", t, colon + 1, colon + 1, have);
+      continue;
+    }
+    int twice = 0;
+    for (int j = 0; j < d->nresidues; j++) twice |= !strcasecmp(d->residues[j].name, t);
+    if (twice) { deck_problem(r, line, "system.residues: residue name %s is given twice", t); continue; }
+    if (d->nresidues == RL_DECK_MAX_RESIDUES) {
+      deck_problem(r, line, "system.residues: more than %d residue names", RL_DECK_MAX_RESIDUES);
+      break;
+    }
+    snprintf(d->residues[d->nresidues].name, sizeof d->residues[0].name, "%s", t);
+    d->residues[d->nresidues++].species = k;
   }
   free(buf);
 }

@@ -178,8 +178,10 @@ static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (S
  * term (terms.h: lj, coulomb, dipolar, quadrupolar, dispersion for the pair term), kinetic
  * energies, temperatures, pressure, the conserved quantity, calE and the mid-step temperatures;
  * under a barostat also the volume, the density (g/cm3; reduced: mass per volume), the box
- * edges and the pressure tensor (thermo_row).  malloc'd. */
-static char *thermo_header(const rl_terms *t, int baro)
+ * edges and the pressure tensor (thermo_row); in a mixture (nsp species of s, else nsp = 0) then
+ * each species' translational and, if it rotates, rotational temperature (rl_species_kinetic).
+ * malloc'd. */
+static char *thermo_header(const rl_terms *t, int baro, const scene *s, int nsp)
 {
   char *h = NULL;
   size_t n = 0;
@@ -188,7 +190,12 @@ static char *thermo_header(const rl_terms *t, int baro)
   fputs("step,time,total,potential", f);
   for (int j = 0; j < rl_terms_nenergies(t); j++) fprintf(f, ",%s", rl_terms_energy_name(t, j));
   fputs(",ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,calE,t_trans_mid,t_rot_mid", f);
-  fputs(baro ? ",volume,density,Lx,Ly,Lz,Pxx,Pyy,Pzz,Pxy,Pxz,Pyz\n" : "\n", f);
+  fputs(baro ? ",volume,density,Lx,Ly,Lz,Pxx,Pyy,Pzz,Pxy,Pxz,Pyz" : "", f);
+  for (int k = 0; k < nsp; k++) {
+    fprintf(f, ",t_trans_%s", s->mols[k].name);
+    if (rl_kind_rotational_dof(rl_system_species_kind(s->sys, k))) fprintf(f, ",t_rot_%s", s->mols[k].name);
+  }
+  fputc('\n', f);
   if (fclose(f)) { free(h); return NULL; }
   return h;
 }
@@ -201,7 +208,7 @@ static char *thermo_header(const rl_terms *t, int baro)
  * its trace/3 is the pressure column and its anisotropy the virial's; scaled by pscale (to bar). */
 static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *info, const rl_terms *t,
                       const double *comp, double pr, const running *E, const double *box, double mass,
-                      const double *W, double pscale)
+                      const double *W, double pscale, const rl_system *sys, int nsp)
 {
   int bad = fprintf(f, "%ld,%.10g,%.10g,%.10g", k, info->t, info->total, info->potential) < 0;
   for (int j = 0; j < rl_terms_nenergies(t) && !bad; j++) bad = fprintf(f, ",%.10g", comp[j]) < 0;
@@ -216,6 +223,11 @@ static int thermo_row(FILE *f, const char *path, long k, const rl_step_info *inf
     static const int ab[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
     for (int q = 0; q < 6 && !bad; q++)
       bad = fprintf(f, ",%.10g", pscale * ((q < 3 ? kin : 0.0) + (W ? W[3 * ab[q][0] + ab[q][1]] : NAN)) / V) < 0;
+  }
+  for (int q = 0; q < nsp && !bad; q++) {
+    const rl_species_kinetic *sk = q < info->nspecies && info->species ? &info->species[q] : NULL;
+    bad = fprintf(f, ",%.6g", sk ? sk->t_trans : NAN) < 0;
+    if (!bad && rl_kind_rotational_dof(rl_system_species_kind(sys, q))) bad = fprintf(f, ",%.6g", sk ? sk->t_rot : NAN) < 0;
   }
   if (!bad) bad = fputc('\n', f) == EOF;
   if (bad) return rl_error(RL_EINVAL, "cannot write %s: %s", path, strerror(errno));
@@ -766,6 +778,14 @@ static int write_summary(run_ctx *c, const char *path, const char *status, const
   fprintf(f, "pair_kernels = %s (%s rows, %d thread(s), %s precision)\nwall_seconds = %.3f\nfallbacks = %ld\n",
           ff ? rl_forcefield_kernel(ff) : "none", ff ? rl_forcefield_rows(ff) : "no", ff ? rl_forcefield_threads(ff) : 1,
           ff ? rl_forcefield_precision(ff) : "double", wall, c->in ? rl_integrator_fallbacks(c->in) : 0L);
+  if (d->nspecies > 1) { /* a mixture: which kernel computes the pairs of each two species */
+    fprintf(f, "pair_kernels_by_species =");
+    for (int a = 0; a < d->nspecies; a++)
+      for (int b = a; b < d->nspecies; b++)
+        fprintf(f, "%s %s/%s: %s", a + b ? ";" : "", c->s.mols[a].name, c->s.mols[b].name,
+                ff ? rl_forcefield_pair_kernel(ff, a, b) : "general");
+    fprintf(f, " (general: the reference routine)\n");
+  }
   fprintf(f, "U_per_molecule = %s\ntemperature = %s\npressure = %s\n", au, at, ap);
   fprintf(f, "calE = %s (relative fluctuation of the conserved quantity: the total energy%s)\ncalU = %s\n"
           "calE_over_calU = %s\n", rel_fluct_text(cE, sizeof cE, calE),
@@ -829,7 +849,7 @@ static int report_thermo(void *ctx, const rl_run_report *r)
   const int st = thermo_row(c->thermo, outputs_part(c->out, OUT_THERMO), r->step, r->info, r->terms, r->energies,
                             scene_pressure_out(c->d, r->pressure), &c->E, c->d->barostat ? r->box : NULL,
                             scene_density_mass(c->d, c->s.sys), r->forces ? r->forces->virial : NULL,
-                            scene_pressure_out(c->d, 1.0));
+                            scene_pressure_out(c->d, 1.0), c->s.sys, c->d->nspecies > 1 ? c->d->nspecies : 0);
   return st && !r->last ? rl_error_wrap(st, "step %ld", r->step) : st;
 }
 
@@ -1030,7 +1050,7 @@ int rl_app_run(const rl_deck *d)
   rec.relax_step = -1;
   int cont = 0;
   st = scene_build(d, &c.s);
-  if (!st && !(c.header = thermo_header(c.s.terms, d->barostat != 0))) st = rl_error(RL_ENOMEM, "out of memory");
+  if (!st && !(c.header = thermo_header(c.s.terms, d->barostat != 0, &c.s, d->nspecies > 1 ? d->nspecies : 0))) st = rl_error(RL_ENOMEM, "out of memory");
   if (!st) st = decide_continuation(&c, &rec, &cont);
   const int relax_cont = cont && rec.relax_step >= 0; /* a checkpoint of a stopped relaxation */
   c.resumed = cont && c.same_prefix;

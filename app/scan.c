@@ -268,7 +268,7 @@ static void one_run(const rl_deck *d, const scene *base, const rl_system *start,
   dr.timestep = r->h;
   dr.energy_every = 1;
   dr.sample_every = sample;
-  analysis *an = o->analysis && sys ? analysis_alloc(&dr, &base->mol, sys) : NULL;
+  analysis *an = o->analysis && sys ? analysis_alloc(&dr, base->mols, sys) : NULL;
   if (an) analysis_set_tconf(an, ff, scan_tconf_ff(d, ff));
   int st = !sys || !ff || (o->analysis && !an) ? RL_EINVAL : RL_OK; /* these say why */
   if (!st && (!E || !U || !r->curve || (sample && !r->rdf) || (d->barostat && (!sV || !srho))))

@@ -130,7 +130,7 @@ int scene_build(const rl_deck *d, scene *s)
     const rl_molecule *mols[RL_DECK_MAX_SPECIES];
     for (int k = 0; k < d->nspecies; k++) mols[k] = &s->mols[k];
     double rms;
-    if (rl_pdb_read_state(d->start, s->sys, mols, 0.0, &rms, box)) return 1;
+    if (rl_pdb_read_state_residues(d->start, s->sys, mols, d->residues, d->nresidues, 0.0, &rms, box)) return 1;
   } else if (rl_xyz_read_state(d->start, s->sys, box)) return 1;
   /* the start's box must be the deck's, to the precision its file holds: a PDB's CRYST1 has
    * 0.001 file units (A, or sigma in reduced units; GROMACS and OpenMM write it so too), so the

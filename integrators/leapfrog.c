@@ -52,6 +52,8 @@ struct rl_integrator {
   int threads;        /* of the rotation solves and the per-body loops: p.threads resolved */
   double *part;       /* [2 (ceil(n / RL_SUM_BLOCK) + 1)] the kinetic sums' block partials */
   rl_forces kept;     /* rl_stepop_forces_keep's copy of F (arrays allocated at the first keep) */
+  int nspecies;       /* the system's species at alloc: entries of spk                     */
+  rl_species_kinetic *spk; /* the last on-step report's per-species values (rl_step_info)   */
 };
 
 /* The per-body loops of a step run on in->threads threads (from RL_THREAD_MIN_BODIES bodies on,
@@ -275,7 +277,9 @@ rl_integrator *rl_integrator_alloc(rl_system *sys, const rl_integrator_params *p
   if (need_q) in->q = calloc((size_t)sys->nmat, sizeof *in->q);
   if (need_lprev) in->lprev = calloc((size_t)sys->nrot, sizeof *in->lprev);
   in->part = malloc(sizeof *in->part * (size_t)(2 * (nblocks(sys->n) + 1)));
-  if (!in->F.f || !in->F.k || !in->part || (need_q && !in->q) || (need_lprev && !in->lprev)) {
+  in->nspecies = sys->nspecies;
+  in->spk = calloc((size_t)(sys->nspecies > 0 ? sys->nspecies : 1), sizeof *in->spk);
+  if (!in->F.f || !in->F.k || !in->part || !in->spk || (need_q && !in->q) || (need_lprev && !in->lprev)) {
     rl_integrator_free(in);
     rl_error(RL_ENOMEM, "rl_integrator_alloc: out of memory");
     return NULL;
@@ -297,6 +301,7 @@ void rl_integrator_free(rl_integrator *in)
   free(in->q);
   free(in->lprev);
   free(in->part);
+  free(in->spk);
   for (int k = 0; k < in->nops; k++) {
     if (in->ops[k].type->free) in->ops[k].type->free(&in->ops[k]);
     free(in->ops[k].par);
@@ -678,14 +683,27 @@ static void onstep_info(rl_integrator *in, rl_step_info *info)
       pt[q] = kt;
       pr[q] = kr;
     }
-    double kt = 0.0;
+    double kt = 0.0, kr = 0.0;
     for (int q = 0; q < nb; q++) {
       kt += pt[q];
       ker += pr[q];
+      kr += pr[q];
     }
     ket += 0.5 * sp->mass * kt;
+    if (k < in->nspecies) {
+      in->spk[k].ke_trans = 0.5 * sp->mass * kt;
+      in->spk[k].ke_rot = kr;
+    }
   }
   int gt = dof_trans(s, in->ops, in->nops), gr = rl_system_dof_rotational(s), g = gt + gr;
+  for (int k = 0; k < in->nspecies && k < s->nspecies; k++) { /* the dof shared as rl_species_kinetic says */
+    const rl_species *sp = &s->sp[k];
+    const double gtk = (double)gt * sp->count / s->n, grk = (double)sp->count * rl_kind_rotational_dof(sp->kind);
+    in->spk[k].t_trans = gtk > 0.0 ? 2.0 * in->spk[k].ke_trans / (gtk * s->kB) : 0.0;
+    in->spk[k].t_rot = grk > 0.0 ? 2.0 * in->spk[k].ke_rot / (grk * s->kB) : 0.0;
+  }
+  info->nspecies = in->nspecies < s->nspecies ? in->nspecies : s->nspecies;
+  info->species = in->spk;
   info->ke_trans = ket;
   info->ke_rot = ker;
   info->total = ket + ker + info->potential;

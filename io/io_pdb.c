@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* ---------------------------------------------------------------------------- writing */
 
@@ -96,7 +97,7 @@ typedef struct {
 
 typedef struct {
   int first, count, line, seq;
-  char name[4];
+  char name[5];
 } pdb_res;
 
 typedef struct {
@@ -105,6 +106,8 @@ typedef struct {
   int natoms, nres, cap_atoms, cap_res;
   double box[3];
   int has_box;
+  int coarse; /* every coordinate's third decimal is 0: the file holds 0.01 file units (GROMACS's,
+                 from .gro's 0.001 nm) */
 } pdb_data;
 
 static void pdb_data_free(pdb_data *p)
@@ -144,6 +147,7 @@ static int number(const char *path, int lineno, const char *line, size_t len, in
 static int parse_pdb(const char *path, pdb_data *p)
 {
   memset(p, 0, sizeof *p);
+  p->coarse = 1;
   FILE *fp;
   long long size;
   int st = rl_io_fopen_read(path, "", &fp, &size);
@@ -151,7 +155,7 @@ static int parse_pdb(const char *path, pdb_data *p)
   char *line = NULL;
   size_t cap = 0;
   int lineno = 0, new_res = 1, got;
-  char prev_key[16] = "";
+  char prev_key[24] = "";
   while (!(st = rl_io_getline(fp, path, lineno + 1, PDB_MAX_LINE, &line, &cap, &got)) && got) {
     lineno++;
     size_t len = strlen(line);
@@ -188,10 +192,11 @@ static int parse_pdb(const char *path, pdb_data *p)
     static const char *axis[3] = {"x", "y", "z"};
     for (int c = 0; c < 3 && !st; c++) st = number(path, lineno, line, len, 31 + 8 * c, 38 + 8 * c, axis[c], &at->x[c]);
     if (st) break;
+    for (int c = 0; c < 3; c++) p->coarse &= line[37 + 8 * c] == '0';
     field(line, len, 13, 16, at->name, sizeof at->name);
     at->line = lineno;
-    char key[16], resname[4], seq[8];
-    field(line, len, 18, 20, resname, sizeof resname);
+    char key[24], resname[5], seq[8];
+    field(line, len, 18, 21, resname, sizeof resname); /* 18-20; 21 too for CHARMM's TIP3 */
     field(line, len, 23, 26, seq, sizeof seq);
     snprintf(key, sizeof key, "%c|%s|%s", len >= 22 ? line[21] : ' ', seq, resname);
     if (new_res || strcmp(key, prev_key) != 0) {
@@ -272,84 +277,273 @@ static int fit_rotation(int n, const double (*z)[3], const double (*y)[3], doubl
   return RL_OK;
 }
 
+/* ------------------------------------------------------------ residue names and atom names */
+
+/* The species a default residue-name alias stands for: water (a species whose molecule has
+ * sites O, H1, H2 and at most one more, massless), Na+ or Cl- (a species named na..., cl...
+ * with one site, or whose one site is Na, Cl). */
+enum { ALIAS_WATER, ALIAS_NA, ALIAS_CL };
+static const struct { const char *name; int what; } res_alias[] = {
+    {"HOH", ALIAS_WATER}, {"WAT", ALIAS_WATER}, {"SOL", ALIAS_WATER}, {"H2O", ALIAS_WATER},
+    {"TIP3", ALIAS_WATER}, {"TIP4", ALIAS_WATER}, {"T3P", ALIAS_WATER}, {"T4P", ALIAS_WATER},
+    {"T4E", ALIAS_WATER}, {"SPC", ALIAS_WATER}, {"NA", ALIAS_NA}, {"NA+", ALIAS_NA},
+    {"SOD", ALIAS_NA}, {"CL", ALIAS_CL}, {"CL-", ALIAS_CL}, {"CLA", ALIAS_CL}};
+
+static int site_named(const rl_molecule *m, const char *name)
+{
+  for (int a = 0; a < m->nsites; a++)
+    if (!strcasecmp(m->site_names[a], name)) return a;
+  return -1;
+}
+
+static int species_is(const rl_system *sys, const rl_molecule *const *mols, int k, int what)
+{
+  const rl_molecule *m = mols ? mols[k] : NULL;
+  const char *nm = sys->sp[k].name;
+  if (what == ALIAS_WATER) {
+    if (!m || m->nsites < 3 || m->nsites > 4 || site_named(m, "O") < 0 || site_named(m, "H1") < 0 ||
+        site_named(m, "H2") < 0)
+      return 0;
+    int virt = 0; /* the site besides O, H1, H2 (if any) massless; they have masses */
+    for (int a = 0; a < m->nsites; a++) virt += m->site_mass[a] == 0.0;
+    return virt == m->nsites - 3;
+  }
+  const char *el = what == ALIAS_NA ? "na" : "cl";
+  if (m && m->nsites == 1 && !strcasecmp(m->site_names[0], el)) return 1;
+  return (!m || m->nsites == 1) && !strncasecmp(nm, el, 2) && !isalpha((unsigned char)nm[2]);
+}
+
+/* The species of residue name res: the map's, else the species whose own name or the residue
+ * name rotleap writes for it (rl_io_res_name) it is, else a default alias that fits one
+ * species only.  -1: none, -2: more than one. */
+static int residue_species(const rl_system *sys, const rl_molecule *const *mols, const rl_pdb_residue *map,
+                           int nmap, const char *res)
+{
+  for (int j = 0; j < nmap; j++)
+    if (!strcasecmp(map[j].name, res)) return map[j].species;
+  int found = -1;
+  for (int k = 0; k < sys->nspecies; k++) {
+    char own[4];
+    rl_io_res_name(sys, k, own);
+    if (!strcasecmp(sys->sp[k].name, res) || !strcasecmp(own, res)) {
+      if (found >= 0) return -2;
+      found = k;
+    }
+  }
+  if (found >= 0) return found;
+  for (size_t j = 0; j < sizeof res_alias / sizeof res_alias[0]; j++) {
+    if (strcasecmp(res_alias[j].name, res)) continue;
+    for (int k = 0; k < sys->nspecies; k++)
+      if (species_is(sys, mols, k, res_alias[j].what)) {
+        if (found >= 0) return -2;
+        found = k;
+      }
+    return found;
+  }
+  return -1;
+}
+
+/* Whether atom name nm (any case) names site a of species k: the site's name, rotleap's name
+ * for it (MW for TIP4P's M), GROMACS's (the element letter + W: OW HW1 HW2 MW), CHARMM's OH2 for
+ * O, and for the one massless site of a molecule the names codes give virtual sites (M, MW, EP
+ * for OpenMM's extra particles, EPW for AMBER's, OM, LP).  A one-site species takes any name:
+ * the residue name identified it. */
+static int atom_is_site(const rl_system *sys, const rl_molecule *const *mols, int k, int a, int nvirt,
+                        const char *nm)
+{
+  const rl_molecule *m = mols ? mols[k] : NULL;
+  char want[8];
+  rl_io_site_name(sys, mols, k, a, want);
+  if (!strcasecmp(nm, want)) return 1;
+  if (!m || a >= m->nsites) return 0;
+  if (m->nsites == 1) return 1;
+  const char *orig = m->site_names[a];
+  char w[12];
+  snprintf(w, sizeof w, "%c%c%s", orig[0], 'W', orig[0] ? orig + 1 : "");
+  if (!strcasecmp(nm, orig) || (orig[0] && isalpha((unsigned char)orig[0]) && !strcasecmp(nm, w)) ||
+      (!strcasecmp(orig, "O") && !strcasecmp(nm, "OH2")))
+    return 1;
+  if (m->site_mass[a] == 0.0 && nvirt == 1) {
+    static const char *const virt[] = {"M", "MW", "EP", "EPW", "EP1", "OM", "LP"};
+    for (size_t j = 0; j < sizeof virt / sizeof virt[0]; j++)
+      if (!strcasecmp(nm, virt[j])) return 1;
+  }
+  return 0;
+}
+
+/* Which atom of residue r is site a (site[a]; -1: a massless site the file leaves out), by
+ * position first, then by name; an error names the atom that fits no site. */
+static int match_atoms(const char *path, const rl_system *sys, const rl_molecule *const *mols, int k,
+                       const pdb_data *p, const pdb_res *r, int i, int *site)
+{
+  const rl_species *sp = &sys->sp[k];
+  const rl_molecule *m = mols ? mols[k] : NULL;
+  const int ns = sp->nsites > 0 ? sp->nsites : 1;
+  int nvirt = 0;
+  if (m && m->nsites == ns)
+    for (int a = 0; a < ns; a++) nvirt += m->site_mass[a] == 0.0;
+  const int missing = r->count == ns - nvirt && nvirt > 0 && ns - nvirt >= (rl_kind_is_axis(sp->kind) ? 2 : 3);
+  if (r->count != ns && !missing) {
+    char alt[64] = "";
+    if (nvirt > 0 && ns - nvirt >= (rl_kind_is_axis(sp->kind) ? 2 : 3))
+      snprintf(alt, sizeof alt, " (or %d without its massless sites)", ns - nvirt);
+    return rl_error(RL_EINVAL, "%s:%d: residue %s %d (molecule %d) has %d atoms, species '%s' has %d sites%s", path,
+                    r->line, r->name, r->seq, i + 1, r->count, sp->name, ns, alt);
+  }
+  const pdb_atom *at = &p->atoms[r->first];
+  if (!m) {
+    for (int a = 0; a < ns; a++) site[a] = a;
+    return RL_OK;
+  }
+  int used[RL_MOLECULE_MAX_SITES] = {0};
+  for (int a = 0; a < ns; a++) {
+    site[a] = -1;
+    if (a < r->count && !used[a] && atom_is_site(sys, mols, k, a, nvirt, at[a].name)) site[a] = a;
+    for (int b = 0; b < r->count && site[a] < 0; b++)
+      if (!used[b] && atom_is_site(sys, mols, k, a, nvirt, at[b].name)) site[a] = b;
+    if (site[a] >= 0) used[site[a]] = 1;
+    else if (!(missing && m->site_mass[a] == 0.0)) {
+      char want[8];
+      rl_io_site_name(sys, mols, k, a, want);
+      int b = a < r->count && !used[a] ? a : 0; /* the atom in its place, or the first left over */
+      while (b < r->count && used[b]) b++;
+      if (b == r->count) b = r->count - 1;
+      return rl_error(RL_EINVAL, "%s:%d: residue %s %d atom '%s' is not site %d '%s' of species '%s'%s", path,
+                      at[b].line, r->name, r->seq, at[b].name, a + 1, want, sp->name,
+                      a < r->count && b == a ? "" : " (and no other atom of the residue is)");
+    }
+  }
+  return RL_OK;
+}
+
 int rl_pdb_read_state(const char *path, rl_system *sys, const rl_molecule *const *mols, double tol,
                       double *rms_max, double box[3])
 {
-  if (!path || !sys) return rl_error(RL_EINVAL, "rl_pdb_read_state: NULL argument");
+  return rl_pdb_read_state_residues(path, sys, mols, NULL, 0, tol, rms_max, box);
+}
+
+int rl_pdb_read_state_residues(const char *path, rl_system *sys, const rl_molecule *const *mols,
+                               const rl_pdb_residue *map, int nmap, double tol, double *rms_max, double box[3])
+{
+  if (!path || !sys || (nmap > 0 && !map) || nmap < 0)
+    return rl_error(RL_EINVAL, "rl_pdb_read_state: NULL argument");
+  for (int j = 0; j < nmap; j++)
+    if (map[j].species < 0 || map[j].species >= sys->nspecies)
+      return rl_error(RL_EINVAL, "rl_pdb_read_state: residue %.8s: species %d out of range", map[j].name, map[j].species);
   pdb_data p;
   int st = parse_pdb(path, &p);
   if (st) return st;
   double s = rl_io_length_scale(sys);
   const char *lu = sys->units == RL_UNITS_REAL ? "A" : "sigma";
-  if (tol <= 0.0) tol = 0.01 / s;
-  if (p.nres != sys->n) {
+  const int coarse = tol <= 0.0 && p.coarse && p.natoms > 0;
+  if (tol <= 0.0) tol = (coarse ? 0.1 : 0.01) / s; /* 10x the resolution of the file's coordinates */
+  /* body[ri]: the body residue ri sets; by residue name with several species or a map, else in order */
+  int *body = NULL;
+  int by_name = nmap > 0;
+  if (!by_name && sys->nspecies > 1) { /* a mixture rl_pdb_write wrote (names as it writes them, in order) reads in order */
+    by_name = p.nres != sys->n;
+    for (int ri = 0; ri < p.nres && !by_name; ri++) {
+      char own[4];
+      rl_io_res_name(sys, sys->species_of[ri], own);
+      by_name = strcasecmp(own, p.res[ri].name) != 0;
+    }
+  }
+  if (!by_name && p.nres != sys->n) {
     st = rl_error(RL_EINVAL, "%s: %d residues (molecules), the system has %d", path, p.nres, sys->n);
     goto done;
+  }
+  if (by_name) {
+    int seen[64] = {0}, first_line[64] = {0};
+    if (sys->nspecies > 64) { st = rl_error(RL_EINVAL, "%s: more than 64 species", path); goto done; }
+    if (!(body = malloc(sizeof *body * (size_t)(p.nres > 0 ? p.nres : 1)))) {
+      st = rl_error(RL_ENOMEM, "%s: out of memory", path);
+      goto done;
+    }
+    int k = -1;
+    for (int ri = 0; ri < p.nres; ri++) {
+      const pdb_res *r = &p.res[ri];
+      if (ri == 0 || strcmp(r->name, p.res[ri - 1].name)) k = residue_species(sys, mols, map, nmap, r->name);
+      if (k < 0) {
+        char have[64 * 8] = "";
+        for (int q = 0; q < sys->nspecies && strlen(have) < sizeof have - 80; q++)
+          snprintf(have + strlen(have), sizeof have - strlen(have), "%s%s", q ? ", " : "", sys->sp[q].name);
+        st = rl_error(RL_EINVAL, "%s:%d: residue %s %d: %s species of the system (%s) has the residue name '%s'; "
+                      "map it to one (a deck's system.residues = %s:SPECIES)", path, r->line, r->name, r->seq,
+                      k == -2 ? "more than one" : "no", have, r->name, r->name[0] ? r->name : "RES");
+        goto done;
+      }
+      if (!seen[k]) first_line[k] = r->line;
+      if (seen[k] == sys->sp[k].count) {
+        st = rl_error(RL_EINVAL, "%s:%d: residue %s %d is molecule %d of species '%s' (residues from line %d), the "
+                      "system has %d", path, r->line, r->name, r->seq, seen[k] + 1, sys->sp[k].name, first_line[k],
+                      sys->sp[k].count);
+        goto done;
+      }
+      body[ri] = sys->sp[k].first + seen[k]++;
+    }
+    for (int q = 0; q < sys->nspecies; q++)
+      if (seen[q] != sys->sp[q].count) {
+        st = rl_error(RL_EINVAL, "%s: %d residues of species '%s', the system has %d", path, seen[q], sys->sp[q].name,
+                      sys->sp[q].count);
+        goto done;
+      }
   }
   double L[3];
   for (int c = 0; c < 3; c++) L[c] = p.has_box ? p.box[c] / s : 0.0;
   double worst = 0.0;
-  for (int i = 0; i < sys->n && !st; i++) {
+  for (int ri = 0; ri < p.nres && !st; ri++) {
+    const int i = body ? body[ri] : ri;
     int k = sys->species_of[i];
     const rl_species *sp = &sys->sp[k];
-    const pdb_res *r = &p.res[i];
+    const pdb_res *r = &p.res[ri];
     int ns = sp->nsites > 0 ? sp->nsites : 1;
-    if (r->count != ns) {
-      st = rl_error(RL_EINVAL, "%s:%d: residue %s %d (molecule %d) has %d atoms, species '%s' has %d sites",
-                    path, r->line, r->name, r->seq, i + 1, r->count, sp->name, ns);
-      break;
-    }
-    const pdb_atom *at = &p.atoms[r->first];
-    if (mols && mols[k]) {
-      for (int a = 0; a < ns; a++) {
-        char want[8];
-        rl_io_site_name(sys, mols, k, a, want);
-        const char *orig = a < mols[k]->nsites ? mols[k]->site_names[a] : want;
-        if (strcmp(at[a].name, want) != 0 && strcmp(at[a].name, orig) != 0) {
-          st = rl_error(RL_EINVAL, "%s:%d: residue %s %d atom '%s' is not site %d '%s' of species '%s'",
-                        path, at[a].line, r->name, r->seq, at[a].name, a + 1, want, sp->name);
-          break;
-        }
-      }
-      if (st) break;
-    }
-    double y[RL_MOLECULE_MAX_SITES][3], z[RL_MOLECULE_MAX_SITES][3], yc[3] = {0, 0, 0}, zc[3] = {0, 0, 0};
     if (ns > RL_MOLECULE_MAX_SITES) { st = rl_error(RL_EINVAL, "%s: species '%s' has too many sites", path, sp->name); break; }
+    int site[RL_MOLECULE_MAX_SITES];
+    if ((st = match_atoms(path, sys, mols, k, &p, r, i, site))) break;
+    const pdb_atom *at = &p.atoms[r->first];
+    /* the sites the file holds (a massless one may be left out: the fit places it) */
+    int np = 0, idx[RL_MOLECULE_MAX_SITES];
     for (int a = 0; a < ns; a++)
+      if (site[a] >= 0) idx[np++] = a;
+    const double *ref = at[site[idx[0]]].x;
+    double y[RL_MOLECULE_MAX_SITES][3], z[RL_MOLECULE_MAX_SITES][3], yc[3] = {0, 0, 0}, zc[3] = {0, 0, 0};
+    for (int q = 0; q < np; q++)
       for (int c = 0; c < 3; c++) {
-        double v = at[a].x[c] / s;
-        if (a > 0 && L[c] > 0.0) v -= L[c] * round((v - at[0].x[c] / s) / L[c]); /* make whole */
-        y[a][c] = v;
-        z[a][c] = sp->nsites > 0 ? sp->sites[3 * a + c] : 0.0;
-        yc[c] += v / ns;
-        zc[c] += z[a][c] / ns;
+        const int a = idx[q];
+        double v = at[site[a]].x[c] / s;
+        if (q > 0 && L[c] > 0.0) v -= L[c] * round((v - ref[c] / s) / L[c]); /* make whole */
+        y[q][c] = v;
+        z[q][c] = sp->nsites > 0 ? sp->sites[3 * a + c] : 0.0;
+        yc[c] += v / np;
+        zc[c] += z[q][c] / np;
       }
     double A[9];
     rl_system_get_orientation(sys, i, A);
     double R[9] = {A[0], A[3], A[6], A[1], A[4], A[7], A[2], A[5], A[8]}; /* keep: A^T */
     if (ns >= 2 && sp->kind != RL_KIND_POINT) {
-      for (int a = 0; a < ns; a++)
+      for (int a = 0; a < np; a++)
         for (int c = 0; c < 3; c++) { y[a][c] -= yc[c]; z[a][c] -= zc[c]; }
-      if ((st = fit_rotation(ns, (const double(*)[3])z, (const double(*)[3])y, R))) {
+      if ((st = fit_rotation(np, (const double(*)[3])z, (const double(*)[3])y, R))) {
         st = rl_error(st, "%s:%d: residue %s %d: out of memory in the fit", path, r->line, r->name, r->seq);
         break;
       }
-      for (int a = 0; a < ns; a++)
+      for (int a = 0; a < np; a++)
         for (int c = 0; c < 3; c++) { y[a][c] += yc[c]; z[a][c] += zc[c]; }
     }
     /* centre: r = ybar - R zbar; RMS of y_a - (r + R z_a) */
     double rc[3], ss = 0.0;
     for (int c = 0; c < 3; c++) rc[c] = yc[c] - (R[3 * c] * zc[0] + R[3 * c + 1] * zc[1] + R[3 * c + 2] * zc[2]);
-    for (int a = 0; a < ns; a++)
+    for (int a = 0; a < np; a++)
       for (int c = 0; c < 3; c++) {
         double d = y[a][c] - rc[c] - (R[3 * c] * z[a][0] + R[3 * c + 1] * z[a][1] + R[3 * c + 2] * z[a][2]);
         ss += d * d;
       }
-    double rms = sqrt(ss / ns);
+    double rms = sqrt(ss / np);
     if (!(rms <= tol)) {
       st = rl_error(RL_EINVAL, "%s:%d: residue %s %d (molecule %d): its geometry does not match species "
-                    "'%s': RMS fit error %.4g %s > tolerance %.4g %s",
-                    path, r->line, r->name, r->seq, i + 1, sp->name, rms * s, lu, tol * s, lu);
+                    "'%s': RMS fit error %.4g %s > tolerance %.4g %s%s",
+                    path, r->line, r->name, r->seq, i + 1, sp->name, rms * s, lu, tol * s, lu,
+                    coarse ? " (10x the resolution of the file's coordinates, whose third decimals are all 0)" : "");
       break;
     }
     if (rms > worst) worst = rms;
@@ -371,6 +565,7 @@ int rl_pdb_read_state(const char *path, rl_system *sys, const rl_molecule *const
     if (box) for (int c = 0; c < 3; c++) box[c] = L[c];
   }
 done:
+  free(body);
   pdb_data_free(&p);
   return st;
 }

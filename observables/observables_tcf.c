@@ -72,7 +72,16 @@ int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long 
 int rl_tcf_compute_range(const rl_vec_series *all, long first, long count, rl_tcf_kind kind, long max_lag,
                          long origin_stride, double *c)
 {
+  return rl_tcf_compute_bodies(all, first, count, 0, all ? all->n : 0, kind, max_lag, origin_stride, c);
+}
+
+int rl_tcf_compute_bodies(const rl_vec_series *all, long first, long count, int body0, int nbodies, rl_tcf_kind kind,
+                          long max_lag, long origin_stride, double *c)
+{
   if (!all || !c) return rl_error(RL_EINVAL, "rl_tcf_compute: NULL argument");
+  if (body0 < 0 || nbodies < 1 || nbodies > all->n - body0)
+    return rl_error(RL_EINVAL, "rl_tcf_compute: bodies %d to %d are not within the %d bodies", body0, body0 + nbodies - 1,
+                    all->n);
   if (first < 0 || count < 1 || count > all->frames - first)
     return rl_error(RL_EINVAL, "rl_tcf_compute: frames %ld to %ld are not within the %ld frames", first,
                     first + count - 1, all->frames);
@@ -89,7 +98,7 @@ int rl_tcf_compute_range(const rl_vec_series *all, long first, long count, rl_tc
     norm = malloc(sizeof(double) * (size_t)n * (size_t)s->frames);
     if (!norm) return rl_error(RL_ENOMEM, "rl_tcf_compute: out of memory");
     for (long f = 0; f < s->frames; f++)
-      for (int i = 0; i < n; i++) {
+      for (int i = body0; i < body0 + nbodies; i++) {
         const double *a = s->x + 3 * ((size_t)f * n + i);
         double q = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         if (!(q > 0.0)) {
@@ -104,7 +113,7 @@ int rl_tcf_compute_range(const rl_vec_series *all, long first, long count, rl_tc
     long origins = 0;
     for (long t0 = 0; t0 + lag < s->frames; t0 += origin_stride) {
       const double *a = s->x + 3 * (size_t)t0 * n, *b = s->x + 3 * (size_t)(t0 + lag) * n;
-      for (int i = 0; i < n; i++) {
+      for (int i = body0; i < body0 + nbodies; i++) {
         const double *u = a + 3 * i, *w = b + 3 * i;
         double v;
         if (kind == RL_TCF_MSD) {
@@ -121,7 +130,7 @@ int rl_tcf_compute_range(const rl_vec_series *all, long first, long count, rl_tc
       }
       origins++;
     }
-    c[lag] = sum / ((double)origins * n);
+    c[lag] = sum / ((double)origins * nbodies);
   }
   free(norm);
   return RL_OK;

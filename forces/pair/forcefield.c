@@ -479,6 +479,12 @@ const char *rl_forcefield_kernel(const rl_forcefield *ff)
 {
   return ff->fast ? rl_ff_fast_name(ff->fast) : "general";
 }
+const char *rl_forcefield_pair_kernel(const rl_forcefield *ff, int a, int b)
+{
+  if (a < 0 || b < 0 || a >= ff->nspecies || b >= ff->nspecies) return NULL;
+  const char *k = ff->fast && a == b ? rl_ff_fast_species(ff->fast, a) : NULL; /* the lists: same species only */
+  return k ? k : "general";
+}
 const char *rl_forcefield_rows(const rl_forcefield *ff)
 {
   return ff->fast ? rl_ff_fast_rows(ff->fast) : "portable";

@@ -89,6 +89,9 @@ void rl_ff_fast_free(rl_ff_fast *fast);
 int rl_ff_fast_compute(rl_forcefield *ff, rl_acc *acc);
 /* Kernel names for the benchmarks and tests (forcefield.h: rl_forcefield_kernel_name). */
 const char *rl_ff_fast_name(const rl_ff_fast *fast);
+/* The kernel of species k's pairs with itself ("tip4p", "charge-lj", "stockmayer"), or NULL: the
+ * reference routine (rl_forcefield_pair_kernel). */
+const char *rl_ff_fast_species(const rl_ff_fast *fast, int k);
 const char *rl_ff_fast_rows(const rl_ff_fast *fast); /* "avx512", "avx2" or "portable" (+ mixed) */
 int rl_ff_fast_mixed(const rl_ff_fast *fast);         /* 1: the tip4p rows in single precision */
 int rl_ff_fast_threads(const rl_ff_fast *fast);

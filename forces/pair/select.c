@@ -141,6 +141,8 @@ static const char *species_name(const fast_species *K)
                                             : K->kind == K_SITES ? "charge-lj" : NULL;
 }
 
+const char *rl_ff_fast_species(const rl_ff_fast *f, int k) { return species_name(&f->sk[k]); }
+
 void rl_ff_kparams(const rl_forcefield *ff, rl_kparams *kp)
 {
   const double rc = ff->p.cutoff, md = ff->min_distance;

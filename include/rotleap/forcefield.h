@@ -224,6 +224,11 @@ long rl_forcefield_rebuilds(const rl_forcefield *ff);
 /* The kernels in use, e.g. "tip4p", "stockmayer+general", "general" (the reference path), and
  * the number of threads of the pair loop (1 for the reference path). */
 const char *rl_forcefield_kernel(const rl_forcefield *ff);
+/* The kernel that computes the pairs of a body of species a with one of species b: a
+ * specialised one ("tip4p", "charge-lj", "stockmayer") for two bodies of one species whose site
+ * pattern has one (and at least 2 bodies), else "general", the reference routine (every pair of
+ * two species today); NULL for a species out of range. */
+const char *rl_forcefield_pair_kernel(const rl_forcefield *ff, int a, int b);
 /* Which instruction set the dipole and TIP4P kernels' rows use: "avx512" or "avx2" (their
  * register rows, chosen at alloc from the CPU; ROTLEAP_NO_AVX512=1 and ROTLEAP_NO_AVX2=1 in the
  * environment rule either out), or "portable" (compiler-vectorised loops, also for every other

@@ -145,6 +145,17 @@ typedef struct {
 
 void rl_integrator_params_default(rl_integrator_params *p);
 
+/* The on-step kinetic energies and temperatures of one species (rl_step_info.species). */
+typedef struct {
+  double ke_trans, ke_rot; /* its bodies' sums m v^2/2 and J Omega^2/2 (eqs. 9, 12)         */
+  double t_trans, t_rot;   /* 2 K / (g kB): g_rot = count x the kind's rotational dof (0: no
+                              rotational temperature, t_rot = 0); g_trans = the integrator's
+                              translational dof x count / bodies (the constraints of the total
+                              momentum shared in proportion to the bodies, as GROMACS shares
+                              them among its groups), so that sum g T over the species is the
+                              system's g T, translational and rotational                     */
+} rl_species_kinetic;
+
 /* On-step report for the time t a step starts from. */
 typedef struct {
   double t;              /* time of these on-step values                                   */
@@ -189,6 +200,9 @@ typedef struct {
   int quat_max_iterations;
   double quat_norm_defect; /* RL_ROT_FINCHAM: max over bodies of ||q(t+h)| - 1| that the step's
                               rescaling removed (the scheme's own norm error); else 0         */
+  int nspecies;          /* entries of species: the system's species at rl_integrator_alloc */
+  const rl_species_kinetic *species; /* [nspecies] in the system's order, owned by the
+                            integrator: valid until its next step, observe or free           */
 } rl_step_info;
 
 typedef struct rl_integrator rl_integrator;

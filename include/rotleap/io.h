@@ -145,8 +145,9 @@ int rl_pdb_count(const char *path, rl_units units, int *nres, double box[3]);
 /* Set positions and orientations of sys (species and counts already defined) from a PDB: ATOM/
  * HETATM records grouped into residues by (chain, residue number, residue name) in file order;
  * residue k is body k and must have as many atoms as its species has sites (one atom for a
- * site-less species).  If mols[species] is given, atom names must match the site names (MW
- * accepted for M).  Each molecule's centre and rotation come from a least-squares (Kabsch, via
+ * site-less species; a mixture: see rl_pdb_read_state_residues).  If mols[species] is given,
+ * atom names must name the sites (the names rl_pdb_read_state_residues lists; a massless site
+ * may be left out).  Each molecule's centre and rotation come from a least-squares (Kabsch, via
  * Horn's quaternion) fit of the species' body-frame sites to the atoms, after making the residue
  * whole with the CRYST1 box if present.  A fit with RMS deviation above tol (system length units;
  * tol <= 0 selects 0.01 file units = 10x the PDB resolution) is an error naming the residue and
@@ -155,6 +156,28 @@ int rl_pdb_count(const char *path, rl_units units, int *nres, double box[3]);
  * the largest RMS fit error (system units); box (may be NULL) the CRYST1 box. */
 int rl_pdb_read_state(const char *path, rl_system *sys, const rl_molecule *const *mols, double tol,
                       double *rms_max, double box[3]);
+
+/* A residue name (as in columns 18-21 of a PDB, any case) and the species it stands for. */
+typedef struct {
+  char name[8];
+  int species; /* index into the system's species */
+} rl_pdb_residue;
+
+/* rl_pdb_read_state for mixtures: with several species, or a map (nmap > 0), each residue's
+ * species comes from its name (columns 18-21, any case): the map's entry first, then a species
+ * of that name or the residue name rl_pdb_write gives it, then a default alias that fits one
+ * species only: HOH WAT SOL H2O TIP3 TIP4 T3P T4P T4E SPC -> the water (sites O, H1, H2 and
+ * at most one massless more), NA NA+ SOD -> Na+, CL CL- CLA -> Cl- (a one-site species named
+ * na..., cl..., or whose site is Na, Cl).  The residues of a species are its bodies in file
+ * order, in any order among other species; each species' count must be the file's.  Atom names
+ * (any case, any order within the residue) may be the sites', GROMACS's (OW HW1 HW2 MW), CHARMM's
+ * OH2, and for the one massless site of a molecule M, MW, EP (OpenMM), EPW (AMBER), OM or LP;
+ * that massless site may be left out (3-atom waters of a 4-site model) and is then placed by
+ * the fit of the others.  Errors name the file, the line and the residue.  Without a map,
+ * residue k is body k when the system has one species (whatever the residue names), or when
+ * every residue has the name rl_pdb_write gives body k's species (rotleap's own mixtures). */
+int rl_pdb_read_state_residues(const char *path, rl_system *sys, const rl_molecule *const *mols,
+                               const rl_pdb_residue *map, int nmap, double tol, double *rms_max, double box[3]);
 
 /* ---------------------------------------------------------------------- extended XYZ */
 

@@ -275,6 +275,10 @@ int rl_tcf_compute(const rl_vec_series *s, rl_tcf_kind kind, long max_lag, long 
  * of its blocks); max_lag < count. */
 int rl_tcf_compute_range(const rl_vec_series *s, long first, long count, rl_tcf_kind kind,
                          long max_lag, long origin_stride, double *c);
+/* The same over the bodies body0 .. body0 + nbodies - 1 only (a species of a mixture: its bodies
+ * are consecutive); over all of them it is rl_tcf_compute_range, bit for bit. */
+int rl_tcf_compute_bodies(const rl_vec_series *s, long first, long count, int body0, int nbodies,
+                          rl_tcf_kind kind, long max_lag, long origin_stride, double *c);
 
 /* Self-diffusion, Einstein: least-squares line msd(t) = a + 6 D t over lags lag_lo..lag_hi
  * (inclusive; t = lag dt).  `rotleap run` computes lags up to L = min(frames / 2, 1000) and fits

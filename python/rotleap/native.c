@@ -356,7 +356,7 @@ RLPY_API int rlpy_journal_open(rlpy_sim *p, const char *path)
     close(fd);
     return rl_error(RL_EINVAL, "cannot open %s: %s", path, strerror(errno));
   }
-  if (!(p->an = analysis_alloc(&p->d, &p->s.mol, p->s.sys))) st = RL_EINVAL;
+  if (!(p->an = analysis_alloc(&p->d, p->s.mols, p->s.sys))) st = RL_EINVAL;
   if (!st) st = analysis_set_tconf(p->an, p->s.terms, p->s.ff);
   if (!st) st = analysis_set_journal(p->an, p->journal, path);
   if (st) rlpy_journal_close(p);

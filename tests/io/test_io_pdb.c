@@ -112,14 +112,17 @@ static void errors(void **state)
             rl_pdb_read_state(path, t.sys, t.mols, 0.0, NULL, NULL), RL_EINVAL,
             ":3: residue TIP 1 (molecule 1): its geometry does not match species 'spc-e': RMS fit error");
   io_scene_free(&t);
-  io_scene_build(&t, RL_UNITS_REAL, w4, c8, 1, 1.0, 9);
-  CHECK_MSG("3-site residues read as TIP4P: atom count error", rl_pdb_read_state(path, t.sys, t.mols, 0.0, NULL, NULL),
-            RL_EINVAL, ":3: residue TIP 1 (molecule 1) has 3 atoms, species 'tip4p' has 4 sites");
-  io_scene_free(&t);
-
   char lines[256][128];
   int n;
   read_lines(path, lines, &n);
+  io_scene_build(&t, RL_UNITS_REAL, w4, c8, 1, 1.0, 9);
+  lines[3][0] = 'X'; /* H1 of residue 1 gone: 2 atoms */
+  write_lines(path, lines, n);
+  CHECK_MSG("2-atom residue read as TIP4P: atom count error", rl_pdb_read_state(path, t.sys, t.mols, 0.0, NULL, NULL),
+            RL_EINVAL, ":3: residue TIP 1 (molecule 1) has 2 atoms, species 'tip4p' has 4 sites (or 3 without its massless sites)");
+  lines[3][0] = 'A';
+  write_lines(path, lines, n);
+  io_scene_free(&t);
   memcpy(lines[5] + 38, "  12.x45", 8); /* y of atom 3 */
   write_lines(path, lines, n);
   CHECK_MSG("malformed coordinate: error with the line number and columns",
@@ -142,11 +145,144 @@ static void errors(void **state)
   io_scene_free(&s);
 }
 
+/* Rewrite the ATOM/HETATM records of a PDB: residue name (columns 18-21) and atom name (13-16)
+ * through the tables {from, to, ...} (NULL-terminated; to "" drops the atom), and write the
+ * residues whose (new) name is first[0], first[1], ... first, the rest after, in file order. */
+static void rename_pdb(const char *in, const char *out, const char *const *res, const char *const *atoms,
+                       const char *const *first)
+{
+  char lines[256][128], outl[256][128];
+  int n, m = 0;
+  read_lines(in, lines, &n);
+  for (int i = 0; i < n; i++) {
+    char *l = lines[i];
+    if (strncmp(l, "ATOM", 4) && strncmp(l, "HETATM", 6)) continue;
+    for (int j = 0; res[j]; j += 2)
+      if (!strncmp(l + 17, res[j], strlen(res[j])) && l[17 + strlen(res[j])] == ' ') {
+        char f[8];
+        snprintf(f, sizeof f, "%-4s", res[j + 1]);
+        memcpy(l + 17, f, 4);
+        break;
+      }
+    char nm[8];
+    sscanf(l + 12, "%4s", nm);
+    for (int j = 0; atoms[j]; j += 2)
+      if (!strcmp(nm, atoms[j])) {
+        char f[8];
+        if (!atoms[j + 1][0]) { l[0] = '\0'; break; }
+        snprintf(f, sizeof f, strlen(atoms[j + 1]) < 4 ? " %-3s" : "%-4s", atoms[j + 1]);
+        memcpy(l + 12, f, 4);
+        break;
+      }
+  }
+  int atom[256];
+  for (int i = 0; i < n; i++) atom[i] = !strncmp(lines[i], "ATOM", 4) || !strncmp(lines[i], "HETATM", 6);
+  for (int i = 0; i < n; i++) /* the header */
+    if (!atom[i] && !strncmp(lines[i], "CRYST1", 6)) memcpy(outl[m++], lines[i], 128);
+  for (int f = 0; first[f]; f++) /* the residues named first[f] */
+    for (int i = 0; i < n; i++)
+      if (atom[i] && lines[i][0] && !strncmp(lines[i] + 17, first[f], strlen(first[f])) &&
+          lines[i][17 + strlen(first[f])] == ' ') {
+        memcpy(outl[m++], lines[i], 128);
+        lines[i][0] = '\0';
+      }
+  for (int i = 0; i < n; i++) /* the rest */
+    if (atom[i] && lines[i][0]) memcpy(outl[m++], lines[i], 128);
+  snprintf(outl[m++], 128, "END\n");
+  write_lines(out, outl, m);
+}
+
+/* Read path into t (its state first scrambled: a lattice of another seed) and compare with s:
+ * 1 if read and equal to the PDB's resolution. */
+static int read_as(const io_scene *s, io_scene *t, const char *path, const rl_pdb_residue *map, int nmap)
+{
+  for (int i = 0; i < rl_system_count(t->sys); i++) {
+    double r[3] = {0.1 * (i % 7), 0.2 * (i % 5), 0.3 * (i % 3)};
+    assert_int_equal(rl_system_set_position(t->sys, i, r), RL_OK);
+  }
+  double rms, dr, dA;
+  const int st = rl_pdb_read_state_residues(path, t->sys, t->mols, map, nmap, 0.0, &rms, NULL);
+  if (st) printf("error: %s\n", rl_last_error());
+  compare(s->sys, t->sys, &dr, &dA);
+  return st == RL_OK && dr < 1e-4 && dA < 2e-3 && rms < 1e-4;
+}
+
+/* A mixture (water + Na+ + Cl-) read back from the names other codes write: GROMACS (SOL with
+ * OW HW1 HW2 MW, NA, CL), OpenMM (HOH with O H1 H2 M and the ions first), AMBER (WAT with EPW),
+ * and a 3-site file of the 4-site model (M placed by the fit); the residues of a species are
+ * its molecules in file order wherever they stand.  And the errors, naming file and line. */
+static void mixture(void **state)
+{
+  (void)state;
+  const char *names[3] = {"tip4p-ew", "na-tip4pew", "cl-tip4pew"};
+  const int counts[3] = {12, 3, 3};
+  io_scene s, t;
+  io_scene_build(&s, RL_UNITS_REAL, names, counts, 3, 1.5, 7);
+  io_scene_build(&t, RL_UNITS_REAL, names, counts, 3, 1.5, 8);
+  char path[256], mixp[256];
+  io_path(path, sizeof path, "mix.pdb");
+  io_path(mixp, sizeof mixp, "mix2.pdb");
+  assert_int_equal(rl_pdb_write(path, s.sys, s.mols), RL_OK);
+  static const char *const none[] = {NULL};
+  static const char *const gmx_res[] = {"TIP", "SOL", "NAT", "NA", "CLT", "CL", NULL};
+  static const char *const gmx_atoms[] = {"O", "OW", "H1", "HW1", "H2", "HW2", "Na", "NA", "Cl", "CL", NULL};
+  rename_pdb(path, mixp, gmx_res, gmx_atoms, none);
+  CHECK_TRUE("GROMACS names (SOL: OW HW1 HW2 MW; NA; CL) read", read_as(&s, &t, mixp, NULL, 0));
+  static const char *const omm_res[] = {"TIP", "HOH", "NAT", "NA", "CLT", "CL", NULL};
+  static const char *const omm_atoms[] = {"MW", "M", NULL};
+  static const char *const ions_first[] = {"CL", "NA", NULL};
+  rename_pdb(path, mixp, omm_res, omm_atoms, ions_first);
+  CHECK_TRUE("OpenMM names (HOH: O H1 H2 M), Cl- and Na+ residues first in the file", read_as(&s, &t, mixp, NULL, 0));
+  static const char *const amb_res[] = {"TIP", "WAT", "NAT", "Na+", "CLT", "Cl-", NULL};
+  static const char *const amb_atoms[] = {"MW", "EPW", NULL};
+  rename_pdb(path, mixp, amb_res, amb_atoms, none);
+  CHECK_TRUE("AMBER names (WAT: O H1 H2 EPW; Na+, Cl-) read", read_as(&s, &t, mixp, NULL, 0));
+  static const char *const three[] = {"MW", "", NULL};
+  rename_pdb(path, mixp, omm_res, three, none);
+  CHECK_TRUE("3-atom waters of the 4-site model: M placed by the fit of O, H1, H2", read_as(&s, &t, mixp, NULL, 0));
+
+  /* a residue name no species has; then the same name mapped */
+  static const char *const odd_res[] = {"TIP", "XYZ", NULL};
+  rename_pdb(path, mixp, odd_res, none, none);
+  CHECK_MSG("unknown residue name: error naming line and residue, and the way out",
+            rl_pdb_read_state(mixp, t.sys, t.mols, 0.0, NULL, NULL), RL_EINVAL,
+            ":2: residue XYZ 1: no species of the system (tip4p-ew, na-tip4pew, cl-tip4pew) has the residue name 'XYZ'; "
+            "map it to one (a deck's system.residues = XYZ:SPECIES)");
+  rl_pdb_residue map[1] = {{"xyz", 0}};
+  CHECK_TRUE("the residue name mapped (any case) to the water", read_as(&s, &t, mixp, map, 1));
+  /* one Na+ more than the system has: Cl- residues named NA */
+  static const char *const na4[] = {"TIP", "HOH", "NAT", "NA", "CLT", "NA", NULL};
+  rename_pdb(path, mixp, na4, none, none);
+  CHECK_MSG("more residues of a species than molecules: error at the first extra",
+            rl_pdb_read_state(mixp, t.sys, t.mols, 0.0, NULL, NULL), RL_EINVAL,
+            ": residue NA 16 is molecule 4 of species 'na-tip4pew' (residues from line ");
+  /* a two-water mixture: HOH is ambiguous */
+  const char *w2[3] = {"tip4p-ew", "tip3p", "na-tip4pew"};
+  io_scene u;
+  io_scene_build(&u, RL_UNITS_REAL, w2, counts, 3, 1.5, 8);
+  rename_pdb(path, mixp, omm_res, none, none);
+  CHECK_MSG("a default alias that fits two species: error, asking for the map",
+            rl_pdb_read_state(mixp, u.sys, u.mols, 0.0, NULL, NULL), RL_EINVAL,
+            ":2: residue HOH 1: more than one species of the system (tip4p-ew, tip3p, na-tip4pew) has the residue name 'HOH'");
+  io_scene_free(&u);
+  /* an atom name no site has */
+  static const char *const bad_atom[] = {"H2", "HX", NULL};
+  rename_pdb(path, mixp, omm_res, bad_atom, none);
+  CHECK_MSG("an atom that is no site: error naming line, residue and site",
+            rl_pdb_read_state(mixp, t.sys, t.mols, 0.0, NULL, NULL), RL_EINVAL,
+            ":4: residue HOH 1 atom 'HX' is not site 3 'H2' of species 'tip4p-ew'");
+  unlink(mixp);
+  unlink(path);
+  io_scene_free(&s);
+  io_scene_free(&t);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(round_trip),
       cmocka_unit_test(errors),
+      cmocka_unit_test(mixture),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -82,6 +82,19 @@ static void free_particles(void **state)
   }
   CHECK_LE("VACF of free particles constant = <v^2> (relative)", ev, 1e-13);
   CHECK_LE("ballistic MSD = <v^2> t^2 (relative)", em, 1e-13);
+  /* a part of the bodies (a species of a mixture): over all of them it is the whole, bit for
+   * bit; bodies 10..29 have the MSD <v^2>_part t^2 of their own velocities; a window outside
+   * the bodies is refused */
+  double all[60], part[60], v2p = 0.0, ep = 0.0;
+  for (int i = 10; i < 30; i++) v2p += (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]) / 20;
+  assert_int_equal(rl_tcf_compute_bodies(sr, 0, frames, 0, n, RL_TCF_MSD, 59, 1, all), RL_OK);
+  assert_int_equal(rl_tcf_compute_bodies(sr, 0, frames, 10, 20, RL_TCF_MSD, 59, 1, part), RL_OK);
+  for (int k = 1; k < 60; k++) ep = fmax(ep, fabs(part[k] - v2p * k * k * dt * dt) / (v2p * k * k * dt * dt));
+  CHECK_LE("rl_tcf_compute_bodies over every body = rl_tcf_compute, bit for bit (bytes differing)",
+           memcmp(all, msd, sizeof msd) != 0, 0);
+  CHECK_LE("bodies 10..29: MSD = <v^2 of those bodies> t^2 (relative)", ep, 1e-13);
+  CHECK_LE("bodies 40..59 of 50 refused (0: RL_EINVAL)",
+           rl_tcf_compute_bodies(sr, 0, frames, 40, 20, RL_TCF_MSD, 5, 1, part) != RL_EINVAL, 0);
   rl_vec_series_free(sv);
   rl_vec_series_free(sr);
   gsl_rng_free(rng);
