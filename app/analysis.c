@@ -56,7 +56,7 @@ struct analysis {
   rl_species_ff sff[RL_DECK_MAX_SPECIES]; /* each species', d->nspecies of them */
   int dipolar;       /* the molecules have a net dipole: M, its fluctuation, the dielectric constant */
   int orient;        /* the vector of P1/P2: ORIENT_DIPOLE, ORIENT_AXIS or ORIENT_NONE              */
-  char orient_text[240]; /* results.txt's orientation_vector: which vector, or n/a and why          */
+  char orient_text[400]; /* results.txt's orientation_vector: which vector, or n/a and why          */
   int point_dipoles; /* sites with a point dipole: their boundary is dipole_method's */
   long tcf_cap;      /* samples kept for the correlation functions and the MSD (memory bound) */
   long samples;      /* samples taken                                                        */
