@@ -37,6 +37,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from tconf_vs_h import SYSTEMS, ROOT, value, fmt  # noqa: E402  (the same TIP4P deck and parsing)
+from mdtable import write_md  # noqa: E402
 
 T0 = 298.0
 START_LOCK = threading.Lock()
@@ -178,13 +179,7 @@ def main():
             fmt(r["tconf_translational"], 1), zt(r["tconf_translational"]), fmt(r["tconf_rotational"], 1),
             zt(r["tconf_rotational"]), r["samples"], r["wall"], verdict))
     text = "\n".join(lines) + "\n"
-    old = open(args.md).read() if os.path.exists(args.md) else ""
-    i = old.find("\nReading (written after the run")
-    if i >= 0:  # the hand-written reading below the table is kept (it says which run it reads)
-        text += old[i:]
-    with open(args.md + ".part", "w") as f:
-        f.write(text)
-    os.replace(args.md + ".part", args.md)
+    write_md(args.md, text)  # the hand-written reading below the table is kept
     print(text)
 
 

@@ -38,6 +38,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+sys.dont_write_bytecode = True
+from mdtable import blocks, write_md  # noqa: E402
 KB = 0.0083144626  # kJ/mol/K
 BAR = 16.6054  # kJ/mol/nm^3 per bar is 1/16.6054: 1 kJ/mol/nm^3 = 16.6054 bar
 T0 = 298.0
@@ -91,13 +94,6 @@ def run(args, work, name, L, ps, extra):
                 summary=summ, results=res, wall=time.time() - t0)
 
 
-def block_mean(x, nb):
-    n = len(x) // nb
-    means = [sum(x[i * n:(i + 1) * n]) / n for i in range(nb)]
-    m = sum(means) / nb
-    return m, math.sqrt(sum((b - m) ** 2 for b in means) / (nb * (nb - 1)))
-
-
 def kappa_fluct(V, nb):
     """kappa_T = var(V) / (kT <V>) (1/bar) from the whole series, its error from block variances."""
     m = sum(V) / len(V)
@@ -147,11 +143,11 @@ def main():
         sys.exit("; ".join("%s: %s" % (r["name"], r["error"]) for r in bad))
     npt, nvt = res[:2], res[2:]
     for r in npt:
-        r["Vm"] = block_mean(r["V"], args.blocks)
+        r["Vm"] = blocks(r["V"], args.blocks)
         r["kappa"] = kappa_fluct(r["V"], args.blocks)
     pts = []
     for r, s in zip(nvt, rel):
-        p, e = block_mean(r["P"], args.blocks)
+        p, e = blocks(r["P"], args.blocks)
         pts.append((s * V1, p, e))
     # weighted straight line P = a + b V
     w = [1 / e ** 2 for _, _, e in pts]
@@ -191,13 +187,7 @@ def main():
           "(%.2f ± %.2f)e-5 /bar." % (b, eb, chi2, len(pts), 1e5 * ks, 1e5 * eks), "",
           "Both barostats sample the same ensemble by the fixed criteria: **%s**." % ("yes" if ok else "no")]
     text = "\n".join(L) + "\n"
-    old = open(args.md).read() if os.path.exists(args.md) else ""
-    i = old.find("\nReading (written after the run")
-    if i >= 0:
-        text += old[i:]
-    with open(args.md + ".part", "w") as f:
-        f.write(text)
-    os.replace(args.md + ".part", args.md)
+    write_md(args.md, text)
     print(text)
     return 0 if ok else 1
 

@@ -32,6 +32,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+sys.dont_write_bytecode = True
+from mdtable import write_md  # noqa: E402
 
 DECK = """[system]
 species = spc-e:512 na-spce:10 cl-spce:10
@@ -110,9 +113,7 @@ def main():
                                                             "%.2f" % orders[i - 1] if i else ""))
     L += ["", "Second order: **%s** (orders %s)." % ("yes" if ok else "no", ", ".join("%.2f" % p for p in orders))]
     text = "\n".join(L) + "\n"
-    with open(args.md + ".part", "w") as f:
-        f.write(text)
-    os.replace(args.md + ".part", args.md)
+    write_md(args.md, text)
     print(text)
     return 0 if ok else 1
 

@@ -6,6 +6,8 @@ import os
 import subprocess
 import time
 
+from mdtable import blocks, write_md  # noqa: F401  (blocks: re-exported for the Stockmayer scripts)
+
 # LAMMPS: point dipoles of mass 1 (spheres of diameter 1) on an fcc lattice of nc^3 cells at number
 # density rho, random dipoles of length mu, velocities at T (format fields rho, nc, seed, mu, T)
 LAMMPS_START = """units lj
@@ -20,14 +22,6 @@ set type 1 density 1.9098593171027440
 set type 1 dipole/random {seed} {mu!r}
 velocity all create {T} {seed} mom yes rot no dist gaussian
 """
-
-
-def blocks(x, nb):
-    """Mean of x and the standard error of the means of nb equal blocks (the tail is dropped)."""
-    n = len(x) // nb
-    b = [sum(x[i * n:(i + 1) * n]) / n for i in range(nb)]
-    m = sum(b) / nb
-    return m, math.sqrt(sum((v - m) ** 2 for v in b) / (nb - 1) / nb)
 
 
 def z(a, b):
@@ -78,8 +72,7 @@ def run_lammps(lmp, work, name, inp_text, columns):
 def finish(md, lines, ok):
     """Writes the Markdown lines (and an Overall line) to md, prints them; the exit status."""
     text = "\n".join(lines + ["", "Overall: %s." % ("pass" if ok else "FAIL")]) + "\n"
-    with open(md, "w") as f:
-        f.write(text)
+    write_md(md, text)
     print(text)
     return 0 if ok else 1
 
