@@ -24,7 +24,9 @@ TIP4P/2005 0.9979 g/cm^3 (Abascal & Vega, J. Chem. Phys. 123, 234505 (2005)); TI
 (Horn et al., J. Chem. Phys. 120, 9665 (2004)); experiment 0.997 g/cm^3.
 
     /usr/bin/python3 validate/npt_water_openmm.py [--rotleap build/rotleap] [--models tip4p-2005,tip4p-ew]
-        [--ns 1] [--eq-ps 100] [--rotleap-fs 2,5] [--jobs 2] [--md validate/npt_water_openmm.md]
+        [--ns 1] [--eq-ps 100] [--rotleap-fs 2,5] [--jobs 2] [--md validate/npt_water_openmm.md] [--work DIR]
+A finished run's densities are kept in DIR (--work), so that the same command with the same --work after an
+interruption repeats only the unfinished runs.
 Run time at the defaults: hours (512 TIP4P with PME: about 7 ms per step for rotleap and 20 ms
 for OpenMM's CPU platform on one core of this machine, 500,000 steps per nanosecond at 2 fs):
 start it on an otherwise idle machine and leave it.  --ns 0.01 --eq-ps 2 is a smoke test
@@ -154,6 +156,27 @@ def openmm_npt(args, work, model, start, h):
     return dict(code="openmm", model=model, h=h, rho=json.loads(out), wall=time.time() - t0)
 
 
+def cached(fn, args, work, model, start, h):
+    """fn's result, kept in work/<code>_<model>_h<h>.json once a run has finished, so that a run of
+    hours interrupted (a reboot, a kill) and started again with the same --work and settings repeats only
+    the runs that had not finished. The settings are part of the file: other settings run again."""
+    key = dict(count=args.count, cutoff=args.cutoff, tolerance=args.tolerance, ns=args.ns, eq_ps=args.eq_ps,
+               every_ps=args.every_ps)
+    path = os.path.join(work, "%s_%s_h%g.json" % (fn.__name__, model, h))
+    try:
+        with open(path) as f:
+            old = json.load(f)
+        if old.get("settings") == key:
+            return old["result"]
+    except (OSError, ValueError):
+        pass
+    res = fn(args, work, model, start, h)
+    with open(path + ".tmp", "w") as f:
+        json.dump(dict(settings=key, result=res), f)
+    os.replace(path + ".tmp", path)
+    return res
+
+
 def main():
     if len(sys.argv) > 1 and sys.argv[1] == "--openmm-worker":
         return openmm_worker(sys.argv[2:])
@@ -178,10 +201,11 @@ def main():
     t0 = time.time()
     models = [m for m in args.models.split(",") if m]
     starts = {m: make_start(args, work, m) for m in models}
-    tasks = [(openmm_npt, m, 2.0) for m in models]
-    tasks += [(rotleap_npt, m, float(h)) for m in models for h in args.rotleap_fs.split(",") if h]
+    tasks = []  # model by model, so that an interrupted run has finished whole models first
+    for m in models:
+        tasks += [(openmm_npt, m, 2.0)] + [(rotleap_npt, m, float(h)) for h in args.rotleap_fs.split(",") if h]
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as ex:
-        futs = [ex.submit(fn, args, work, m, starts[m], h) for fn, m, h in tasks]
+        futs = [ex.submit(cached, fn, args, work, m, starts[m], h) for fn, m, h in tasks]
         res = []
         for f, (fn, m, h) in zip(futs, tasks):
             try:
