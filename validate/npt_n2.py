@@ -33,7 +33,9 @@ Reference values (sources in the report, validate/npt_n2.md):
     H. Hasse, J. Fischer, Fluid Phase Equilib. 179, 339 (2001) (the correlations Vrabec et al. 2001
     fitted the N2 parameters with), evaluated at the model's Q*^2 = 1.0648, L* = 0.31508,
     T* = 77/34.897: T_c = 126.70 K, rho' = 0.8083 g/cm3 at 77 K (model_density() below, with the
-    coefficients as published; the paper's own simulation table for N2 at 77 K was not found).
+    coefficients as published,
+    read from two public codes that use them, validate/npt_n2.md; the paper's own simulation table
+    for N2 at 77 K was not found).
 
 Pass rule, fixed before the runs:
   1. each 5 fs run's <rho> within 1 % of the experimental 0.8077 g/cm3 (a tolerance fixed here: the
