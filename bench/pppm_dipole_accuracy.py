@@ -3,7 +3,7 @@
 pppm/dipole on relaxed Stockmayer configurations (issue 33, acceptance 6: "equal accuracy").
 
     /usr/bin/python3 bench/pppm_dipole_accuracy.py [--sizes 1000,4000,16000] [--tolerance 1e-2]
-        [--lammps-acc 1e-2,5e-3] [--ffbench build/bench/ffbench]
+        [--lammps-acc 1e-2,5e-3]  (--tolerance: a list too) [--ffbench build/bench/ffbench]
         [--driver build/tests/forces/ewald/ewald_point] [--check-ewald]
 
 Per size: bench/ffbench relaxes a Stockmayer fluid (rho* 0.8, T* 1.35, mu*^2 3, as
@@ -107,7 +107,7 @@ def rms(a, b):
 def measure(ffbench, driver, n, tol, accs, check, tmp):
     """Rows (code, setting, alpha, mesh, est F, meas F, est T, meas T) for one size."""
     dump, cfg, data = (os.path.join(tmp, x) for x in ("state.txt", "config.txt", "data.stockmayer"))
-    relaxed(ffbench, n, tol, dump)
+    relaxed(ffbench, n, tol[0], dump)
     point_config(dump, cfg)
     ls.write_data(dump, data)
     pr, Fr, Tr = rotleap(driver, cfg, ["--method", "pme"] + REF)
@@ -119,9 +119,10 @@ def measure(ffbench, driver, n, tol, accs, check, tmp):
                      pe["dip_terr_total"], rms(Te, Tr)))
         le, Fl, Tl = lammps(data, n, "ewald/dipole 1e-7", 5.0, tmp)
         rows.append(("lmp-ewald", "1e-7", le["g_ewald"], "-", le["acc"], rms(Fl, Fr), float("nan"), rms(Tl, Tr)))
-    p, F, T = rotleap(driver, cfg, ["--method", "pme", "--cutoff", repr(RC), "--tolerance", repr(tol)])
-    rows.append(("rotleap", repr(tol), p["alpha"], "%dx%dx%d p%d" % (tuple(p["grid"]) + (p["order"],)), p["dip_err_total"],
-                 rms(F, Fr), p["dip_terr_total"], rms(T, Tr)))
+    for t in tol:
+        p, F, T = rotleap(driver, cfg, ["--method", "pme", "--cutoff", repr(RC), "--tolerance", repr(t)])
+        rows.append(("rotleap", repr(t), p["alpha"], "%dx%dx%d p%d" % (tuple(p["grid"]) + (p["order"],)), p["dip_err_total"],
+                     rms(F, Fr), p["dip_terr_total"], rms(T, Tr)))
     for acc in accs:
         le, Fl, Tl = lammps(data, n, "pppm/dipole %r" % acc, RC, tmp)
         rows.append(("lammps", repr(acc), le["g_ewald"], le["grid"] + " p5", le["acc"], rms(Fl, Fr), float("nan"),
@@ -132,7 +133,7 @@ def measure(ffbench, driver, n, tol, accs, check, tmp):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", default="1000,4000,16000")
-    ap.add_argument("--tolerance", type=float, default=1e-2)
+    ap.add_argument("--tolerance", default="1e-2", help="rotleap's tolerances, comma-separated")
     ap.add_argument("--lammps-acc", default="1e-2")
     ap.add_argument("--ffbench", default=os.path.join(HERE, "..", "build", "bench", "ffbench"))
     ap.add_argument("--driver", default=os.path.join(HERE, "..", "build", "tests", "forces", "ewald", "ewald_point"))
@@ -147,7 +148,7 @@ def main():
     out = []
     for i, n in enumerate(int(x) for x in a.sizes.split(",")):
         with tempfile.TemporaryDirectory() as tmp:
-            rows = measure(a.ffbench, a.driver, n, a.tolerance, accs, a.check_ewald and i == 0, tmp)
+            rows = measure(a.ffbench, a.driver, n, [float(x) for x in a.tolerance.split(",")], accs, a.check_ewald and i == 0, tmp)
         for r in rows:
             print("%6d %-9s %-7s %8.4f %-14s %9.3g %9.3g %6.2f %9.3g %9.3g" % ((n,) + r[:6] + (r[4] / r[5],) + r[6:]),
                   flush=True)

@@ -23,7 +23,7 @@ reference on the same kind of state.  At the same TOL rotleap's measured force e
 above LAMMPS's (its torque error ~30 % below), so --rl-tolerance T2 adds rows with rotleap at a
 tighter T2 (8.5e-3 for TOL 1e-2: a measured force error at or below LAMMPS's at TOL); the rows
 of rotleap at TOL stay for the plain comparison.  --plot FILE draws time per step against N
-(log-log, with N and N log N guides; matplotlib).
+(log-log, with N and N log N guides; matplotlib); --replot draws it from --csv alone.
 """
 import argparse
 import math
@@ -100,6 +100,7 @@ def plot(path, rows):
     ax.set_title("Stockmayer, dipolar mesh Ewald: rotleap vs LAMMPS")
     ax.legend(fontsize=8)
     fig.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     fig.savefig(path, dpi=120)
 
 
@@ -112,7 +113,15 @@ def main():
     ap.add_argument("--ffbench", default=os.path.join(HERE, "..", "build", "bench", "ffbench"))
     ap.add_argument("--csv", default=os.path.join(HERE, "pppm_dipole_lammps.csv"))
     ap.add_argument("--plot")
+    ap.add_argument("--replot", action="store_true", help="only draw --plot from --csv (e.g. CSVs of separate runs joined)")
     a = ap.parse_args()
+    if a.replot:
+        import csv
+        with open(a.csv) as f:
+            rows = [(int(r["N"]), float(r["tolerance"]), float(r["rotleap_ms_per_step"]), float(r["lammps_ms_per_step"])) +
+                    (None,) * 10 + (float(r["rotleap_tolerance"]),) for r in csv.DictReader(f)]
+        plot(a.plot, rows)
+        return
     tols = [a.tolerance] + ([a.rl_tolerance] if a.rl_tolerance > 0 else [])
     rows = []
     print("Stockmayer rho*=0.8 T*=1.35 mu*^2=3, rc 2.5, dt 0.002, 1 thread, dipolar PME, LAMMPS at accuracy %g: "
