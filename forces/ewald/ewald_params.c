@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Largest mesh (points) and Ewald set (vectors) accepted: a cutoff that needs more leaves the
  * whole sum to reciprocal space. */
@@ -414,6 +415,121 @@ static double dip_alpha(const rl_ewald_info *in)
   return hi / rc;
 }
 
+/* The smallest n' >= n whose prime factors are 2, 3, 5 and 7 (FFTW is fast on these; a prime
+ * such as 137 costs it 3.5 times 135). */
+static int ew_fft_size(int n)
+{
+  for (int m = n > 1 ? n : 1;; m++) {
+    int r = m;
+    for (int f = 2; f <= 7; f++)
+      while (r % f == 0) r /= f;
+    if (r == 1) return m;
+  }
+}
+
+/* The mesh of in->order with n FFT-friendly points along the longest edge, the others in
+ * proportion (ceil, then FFT-friendly), at least lo per axis. */
+static void dip_mesh(int grid[3], const double L[3], int n, int lo)
+{
+  const double Lmax = fmax(L[0], fmax(L[1], L[2]));
+  for (int c = 0; c < 3; c++) {
+    const int g = (int)ceil(n * L[c] / Lmax - 1e-9);
+    grid[c] = ew_fft_size(g > lo ? g : lo);
+  }
+}
+
+/* The dipolar reciprocal force estimate of a mesh of spacing h = Lmax / n at in->alpha and
+ * in->order, evaluated cheaply on a cube of EW_PROXY^3 points (the same spacing, density and
+ * mean mu^2): away from the smallest boxes the estimate depends on alpha, h, p, the density and
+ * mu^2 only (a sum over mesh vectors that is an integral times V).  -1 out of memory. */
+#define EW_PROXY 24
+static int dip_recip_proxy(const rl_ewald_info *in, const double L[3], int n, double *dF)
+{
+  const double h = fmax(L[0], fmax(L[1], L[2])) / n, Lp[3] = {EW_PROXY * h, EW_PROXY * h, EW_PROXY * h};
+  rl_ewald_info t = *in;
+  const double np = in->nsites_dipolar * Lp[0] * Lp[1] * Lp[2] / in->volume;
+  t.nsites_dipolar = np > 1.0 ? (int)lround(np) : 1;
+  t.sum_mu2 = in->sum_mu2 / in->nsites_dipolar * t.nsites_dipolar;
+  t.volume = Lp[0] * Lp[1] * Lp[2];
+  t.grid[0] = t.grid[1] = t.grid[2] = EW_PROXY;
+  double dT;
+  return dip_pme_at(&t, Lp, dF, &dT);
+}
+
+/* Point dipoles alone, PME, the mesh from the tolerance (and the order too when not given), at
+ * the alpha the tolerance gives (dip_alpha: the real-space estimate at in->dip_target; alpha is not
+ * traded against the mesh, because a term "ewald-real" resolved on its own must find the same
+ * alpha): the order and FFT-friendly mesh of least cost whose reciprocal force estimate is at most
+ * in->dip_target.  For each order (p given, else 4..8) the fewest mesh points n along the longest
+ * edge whose estimate on the proxy cube is within the target (doubled, then bisected over the
+ * FFT-friendly sizes), and of these the cheapest by
+ *   cost = M log2 M + EW_COST_POINT N p^3   (M mesh points, N dipoles)
+ * (the two FFTs, and the spreading and gathering over p^3 points per dipole).  EW_COST_POINT = 2
+ * from timings of the "pme" term of 16,000 Stockmayer dipoles (ewald_point --repeat 3, one
+ * thread, a loaded 2-core host): 135^3 p5 0.170 s, 100^3 p6 0.081 s, 81^3 p7 0.061 s, 80^3 p8
+ * 0.076 s, 64^3 p8 0.062 s, i.e. about 2.8 ns per M log2 M and 6 ns per N p^3.  The choice is then
+ * checked on the true box: n raised while the true estimate exceeds the target, lowered while the
+ * next-coarser FFT-friendly mesh still meets it.  -1 out of memory. */
+#define EW_COST_POINT 2.0
+static int dip_pme_choose(rl_ewald_info *in, const rl_ewald_params *p, const double L[3])
+{
+  const int p0 = p->order ? p->order : 4, p1 = p->order ? p->order : 8;
+  const double target = in->dip_target;
+  double best = INFINITY, dF, dT;
+  int bn = 0, bp = 0;
+  for (int order = p0; order <= p1; order++) {
+    const int lo = order > 6 ? order : 6;
+    in->order = order;
+    int nlo = lo, nhi = lo; /* nlo: too coarse (or the floor), nhi: fine enough */
+    for (;;) {
+      if (dip_recip_proxy(in, L, nhi, &dF)) return -1;
+      if (dF <= target || pow(nhi, 3) > EW_MAX_GRID_POINTS) break;
+      nlo = nhi;
+      nhi = ew_fft_size(2 * nhi);
+    }
+    if (dF > target) continue;
+    for (;;) {
+      const int mid = ew_fft_size((nlo + nhi) / 2 + 1);
+      if (mid >= nhi) break;
+      if (dip_recip_proxy(in, L, mid, &dF)) return -1;
+      if (dF <= target) nhi = mid;
+      else nlo = mid;
+    }
+    int g[3];
+    dip_mesh(g, L, nhi, lo);
+    const double M = (double)g[0] * g[1] * g[2], cost = M * log2(M) + EW_COST_POINT * in->nsites_dipolar * pow(order, 3);
+    if (cost < best) {
+      best = cost;
+      bn = nhi;
+      bp = order;
+    }
+  }
+  if (!bp) bp = p0, bn = 1 << 10; /* none fits: the size check refuses it */
+  in->order = bp;
+  const int lo = bp > 6 ? bp : 6;
+  dip_mesh(in->grid, L, bn, lo); /* on the true box: up while too coarse, down while the next coarser fits */
+  if (dip_pme_at(in, L, &dF, &dT)) return -1;
+  while (dF > target && (double)in->grid[0] * in->grid[1] * in->grid[2] <= EW_MAX_GRID_POINTS) {
+    bn = ew_fft_size(bn + 1);
+    dip_mesh(in->grid, L, bn, lo);
+    if (dip_pme_at(in, L, &dF, &dT)) return -1;
+  }
+  while (bn > lo) {
+    int down = bn - 1;
+    while (down > lo && ew_fft_size(down) != down) down--;
+    int g[3];
+    memcpy(g, in->grid, sizeof g);
+    dip_mesh(in->grid, L, down, lo);
+    if (dip_pme_at(in, L, &dF, &dT)) return -1;
+    if (dF > target) {
+      memcpy(in->grid, g, sizeof g);
+      break;
+    }
+    bn = down;
+  }
+  return 0;
+}
+
 /* The mesh (pme) or k cutoff (ewald) for point dipoles: the axes not given in p get
  * max(base[c], ceil(n L_c / L_max)) for the smallest n whose reciprocal force estimate is at most
  * in->dip_target (k cutoff: n counted up; mesh: doubled, then bisected), or the first beyond the
@@ -640,7 +756,11 @@ int ew_resolve(const rl_system *sys, const rl_ewald_params *p, rl_ewald_method m
       if (in->grid[c] < in->order)
         return rl_error(RL_EINVAL, "pme: grid[%d] = %d is below the spline order %d", c, in->grid[c], in->order);
     }
-    if (nd > 0 && !keep && in->grid_derived) {
+    if (nd > 0 && nq == 0 && !keep && p->alpha == 0.0 && !p->grid[0] && !p->grid[1] && !p->grid[2]) {
+      if (dip_pme_choose(in, p, L)) return rl_error(RL_ENOMEM, "pme: out of memory");
+      in->grid_derived = p->order ? 1 : 2; /* 2: the order too */
+      total = (double)in->grid[0] * in->grid[1] * in->grid[2];
+    } else if (nd > 0 && !keep && in->grid_derived) {
       const int lo = in->order > 6 ? in->order : 6;
       const int base[3] = {nq > 0 ? in->grid[0] : lo, nq > 0 ? in->grid[1] : lo, nq > 0 ? in->grid[2] : lo};
       if (dip_kspace(in, p, RL_EWALD_PME, L, base)) return rl_error(RL_ENOMEM, "pme: out of memory");
@@ -697,8 +817,8 @@ int rl_ewald_describe(const rl_ewald_info *in, rl_units units, char *buf, size_t
     snprintf(k, sizeof k, ", |n| <= %d %d %d%s (%s; %ld vectors)", in->kmax[0], in->kmax[1], in->kmax[2], sq,
              in->kmax_derived ? "from the tolerance" : "given", in->nkvec);
   } else if (in->method == RL_EWALD_PME) {
-    snprintf(k, sizeof k, ", grid %d x %d x %d (%s), order %d", in->grid[0], in->grid[1], in->grid[2],
-             in->grid_derived ? "from the tolerance" : "given", in->order);
+    snprintf(k, sizeof k, ", grid %d x %d x %d (%s), order %d%s", in->grid[0], in->grid[1], in->grid[2],
+             in->grid_derived ? "from the tolerance" : "given", in->order, in->grid_derived == 2 ? " (from the tolerance)" : "");
   }
   if (isinf(in->eps_surface)) snprintf(b, sizeof b, "tin-foil boundary");
   else snprintf(b, sizeof b, "dielectric boundary eps' = %.6g", in->eps_surface);

@@ -12,8 +12,12 @@
  *              its torque mu x (-4 pi kc M / ((2 eps' + 1) V)); the self term's value
  *   resolve    the count and sum of mu^2; values derived from a tolerance reach the dipolar target
  *   estimates  the dipolar force and torque error estimates (real-space cut, k sum, mesh) within a
- *              factor 2 of the errors measured against a converged sum */
+ *              factor 2 of the errors measured against a converged sum
+ *   choice     pme from a tolerance (dipoles alone): the measured error within the estimate, the
+ *              mesh FFT-friendly and no finer than the estimate needs */
 #include "ewald_testutil.h"
+
+#define TOL_CHOICE 3e-6
 
 /* Stockmayer dipoles (0.04 e nm), symmetric tops and ions. */
 static void scene_dip(ew_scene *s, const double L[3], int ndip, int ntop, int nion, unsigned long seed)
@@ -278,6 +282,22 @@ static void resolve(void **state)
   ew_scene_free(&s);
 }
 
+/* 150 random Stockmayer dipoles in a 3 nm cube and their converged sum (rc 1.5 nm, alpha 4 /nm,
+ * |n| <= 24): the reference of `estimates` and `choice`. */
+static void converged_150(ew_scene *s, ew_result *ref)
+{
+  const double L[3] = {3.0, 3.0, 3.0};
+  scene_dip(s, L, 150, 0, 0, 21);
+  s->p.cutoff = 1.5;
+  s->p.alpha = 4.0;
+  s->p.tolerance = 0.09;
+  for (int c = 0; c < 3; c++) s->p.kmax[c] = 24;
+  s->p.kmax_sq = 576;
+  rl_terms *t = ew_terms(s, &rl_term_ewald_real, &rl_term_ewald);
+  assert_int_equal(ew_eval(t, s->sys, ref), RL_OK);
+  rl_terms_free(t);
+}
+
 /* The dipolar error estimates against the errors measured against a converged sum (150 random
  * Stockmayer dipoles; each part alone: the real-space cut with a converged k sum, the k sum or
  * the mesh with the reference's cutoff): estimated over measured RMS force and torque within a
@@ -286,17 +306,9 @@ static void estimates(void **state)
 {
   (void)state;
   ew_scene s;
-  const double L[3] = {3.0, 3.0, 3.0};
-  scene_dip(&s, L, 150, 0, 0, 21);
   ew_result ref;
-  s.p.cutoff = 1.5;
-  s.p.alpha = 4.0;
-  s.p.tolerance = 0.09;
-  for (int c = 0; c < 3; c++) s.p.kmax[c] = 24;
-  s.p.kmax_sq = 576;
-  rl_terms *t = ew_terms(&s, &rl_term_ewald_real, &rl_term_ewald);
-  assert_int_equal(ew_eval(t, s.sys, &ref), RL_OK);
-  rl_terms_free(t);
+  converged_150(&s, &ref);
+  rl_terms *t;
   static const struct { const char *what; const rl_term_type *type; double rc, alpha; int k, order; } cases[] = {
       {"real-space cut (rc 0.8 nm, alpha 3 /nm)", &rl_term_ewald, 0.8, 3.0, 24, 0},
       {"k sum (kmax 9)", &rl_term_ewald, 1.5, 4.0, 9, 0},
@@ -336,6 +348,57 @@ static void estimates(void **state)
   ew_scene_free(&s);
 }
 
+static int fft_friendly(int n)
+{
+  for (int f = 2; f <= 7; f++)
+    while (n % f == 0) n /= f;
+  return n == 1;
+}
+
+/* Point dipoles alone, pme, alpha and mesh (and order) from the tolerance (ewald_params.c,
+ * dip_pme_choose): the reciprocal estimate within the target and the measured RMS force error
+ * within the estimated total; the mesh FFT-friendly (factors 2, 3, 5, 7: the old choice, the
+ * smallest integer, gave 43^3 here) and no finer than needed: the next-coarser FFT-friendly mesh
+ * at the chosen alpha and order exceeds the target by the estimate. */
+static void choice(void **state)
+{
+  (void)state;
+  ew_scene s;
+  ew_result ref, r;
+  converged_150(&s, &ref);
+  rl_terms *t;
+  s.p = (rl_ewald_params){.species = s.p.species, .nspecies = s.p.nspecies, .cutoff = 1.2, .tolerance = TOL_CHOICE,
+                          .eps_surface = INFINITY};
+  t = ew_terms(&s, &rl_term_ewald_real, &rl_term_pme);
+  assert_int_equal(ew_eval(t, s.sys, &r), RL_OK);
+  const rl_ewald_info in = *rl_ewald_term_info(rl_terms_state(t, 1));
+  rl_terms_free(t);
+  double df = 0;
+  for (int i = 0; i < r.n; i++)
+    for (int c = 0; c < 3; c++) df += (r.f[i][c] - ref.f[i][c]) * (r.f[i][c] - ref.f[i][c]);
+  df = sqrt(df / r.n);
+  char line[512];
+  rl_ewald_describe(&in, RL_UNITS_REAL, line, sizeof line);
+  printf("%s\nmeasured RMS force error %.3g (target %.3g)\n", line, df, in.dip_target);
+  EW_CHECK_TRUE("reciprocal estimate within the target, measured error within the total estimate",
+                in.dip_err_recip <= in.dip_target && df <= in.dip_err_total);
+  EW_CHECK_TRUE("the mesh is a cube of FFT-friendly size", in.grid[0] == in.grid[1] && in.grid[1] == in.grid[2] && fft_friendly(in.grid[0]));
+  int down = in.grid[0] - 1;
+  while (!fft_friendly(down)) down--;
+  s.p.alpha = in.alpha;
+  s.p.order = in.order;
+  s.p.tolerance = 0.09; /* the coarse-grid check of explicit meshes is for charges */
+  for (int c = 0; c < 3; c++) s.p.grid[c] = down;
+  rl_ewald_info coarser;
+  assert_int_equal(rl_ewald_resolve(s.sys, &s.p, RL_EWALD_PME, &coarser), RL_OK);
+  printf("next coarser mesh %d^3 order %d: reciprocal estimate %.3g\n", down, in.order, coarser.dip_err_recip);
+  EW_CHECK_TRUE("the next-coarser FFT-friendly mesh at the chosen alpha and order exceeds the target",
+                coarser.dip_err_recip > in.dip_target);
+  ew_result_free(&r);
+  ew_result_free(&ref);
+  ew_scene_free(&s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -344,6 +407,7 @@ int main(void)
       cmocka_unit_test_prestate(fd, (void *)&fd_cases[4]), cmocka_unit_test_prestate(fd, (void *)&fd_cases[5]),
       cmocka_unit_test(pme_vs_ewald),                      cmocka_unit_test(alpha),
       cmocka_unit_test(threads),                           cmocka_unit_test(surface),
-      cmocka_unit_test(resolve),                         cmocka_unit_test(estimates)};
+      cmocka_unit_test(resolve),                         cmocka_unit_test(estimates),
+      cmocka_unit_test(choice)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
