@@ -46,7 +46,7 @@ static const key_def keys[NKEYS] = {
     [K_ETOL] = {"interactions", "ewald_tolerance", K_REAL, Q_NONE, "5e-4", NULL, "coulomb = ewald or pme: OpenMM's ewaldErrorTolerance delta, in (0, 0.1): alpha = sqrt(-ln(2 delta)) / cutoff, the PME grid max(6, ceil(2 alpha L / (3 delta^(1/5)))) and the Ewald k vectors as OpenMM 7.7 derives them; explicit values below are checked against it"},
     [K_EALPHA] = {"interactions", "ewald_alpha", K_REAL, Q_INVLENGTH, NULL, NULL, "coulomb = ewald or pme: the splitting parameter alpha (3.2 /nm, 0.32 /A; reduced: 1/sigma, bare); default from ewald_tolerance. alpha cutoff >= 1.27 (the real-space cut leaves erfc(alpha cutoff) <= 0.1)"},
     [K_PGRID] = {"interactions", "pme_grid", K_INTS, Q_NONE, NULL, NULL, "coulomb = pme: mesh points per edge, \"nx ny nz\" or one number for all three (OpenMM's setPMEParameters); default from ewald_tolerance. Refused if too coarse for the tolerance (exp(-k^2 / 4 alpha^2) > 10 ewald_tolerance at the Nyquist vector pi K / L) or below pme_order"},
-    [K_PORDER] = {"interactions", "pme_order", K_INT, Q_NONE, "5", NULL, "coulomb = pme: order of the B-splines, 3 to 12 (5: OpenMM's; GROMACS's pme-order = 4 is 4)"},
+    [K_PORDER] = {"interactions", "pme_order", K_INT, Q_NONE, "5", NULL, "coulomb = pme: order of the B-splines, 3 to 12 (5: OpenMM's; GROMACS's pme-order = 4 is 4). Not given, for point dipoles alone (no charges) with the mesh derived: chosen with the mesh, 4 to 8, at least cost for the tolerance (docs/interactions.md)"},
     [K_EKMAX] = {"interactions", "ewald_kmax", K_INTS, Q_NONE, NULL, NULL, "coulomb = ewald: the k vectors 2 pi (nx/Lx, ny/Ly, nz/Lz) with abs(n_c) <= kmax_c, \"kx ky kz\" or one number; default from ewald_tolerance (OpenMM's kmax - 1: OpenMM sums abs(n_c) < kmax_c). Refused if too coarse for the tolerance"},
     [K_EKMAX2] = {"interactions", "ewald_kmax2", K_REAL, Q_NONE, NULL, NULL, "coulomb = ewald: also nx^2 + ny^2 + nz^2 <= ewald_kmax2, a sphere in units of (2 pi / L)^2 (the NIST SPC/E reference sums: ewald_kmax = 5, ewald_kmax2 = 26); default: no such limit (OpenMM's box of vectors)"},
     [K_EBOUND] = {"interactions", "ewald_boundary", K_STRING, Q_NONE, "tinfoil", NULL, "coulomb = ewald or pme: the dielectric around the sphere of periodic images: tinfoil (conducting, no surface term), vacuum (eps' = 1), or a number eps' >= 1: the surface term 2 pi kc M^2 / ((2 eps' + 1) V). The dielectric constant in PREFIX.results.txt uses it"},
@@ -852,6 +852,12 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
     return; /* reported already: the resolution would only repeat it */
   rl_molecule m;
   if (rl_model_build(d->model, d->params, 0, &m)) return; /* reported with the model */
+  /* point dipoles alone under pme, pme_order not given: the library chooses the order with the
+   * mesh (order 0, forces/ewald/ewald_params.c); with charges it stays 5, OpenMM's */
+  int charged = 0;
+  for (int k = 0; k < m.nsites; k++) charged |= m.charge[k] != 0.0;
+  if (d->coulomb == RL_DECK_COULOMB_PME && !r->val[K_PORDER] && m.has_dipole && !charged && d->nspecies <= 1)
+    d->ewald.order = 0;
   rl_species_desc sd;
   rl_molecule_species(&m, &sd);
   rl_species_ff sff = rl_molecule_ff(&m);

@@ -86,7 +86,9 @@
  * dip_target (tolerance times the force between two unit charges 1 A apart; lj: tolerance
  * epsilon/sigma, LAMMPS's kspace accuracy), then the smallest k cutoff (or mesh, in proportion
  * to the edges) whose reciprocal estimate is below it; with charges too, the larger alpha of the
- * two choices and the finer k cutoff or mesh.
+ * two choices and the finer k cutoff or mesh.  Point dipoles alone under PME with the mesh
+ * derived: an FFT-friendly mesh (factors 2, 3, 5, 7) and, when order is 0, the spline order
+ * (4..8), chosen together at least cost for the target (ewald_params.c, dip_pme_choose).
  *
  * Threads: every loop runs on `threads` OpenMP threads (0: OMP_NUM_THREADS if set, else 1), in
  * shares whose sums never depend on the thread count: structure factors are summed over sites
@@ -133,7 +135,8 @@ typedef struct {
                               (OpenMM sums the whole box of vectors)                          */
   int grid[3];             /* "pme": mesh points per edge; 0 (default): derived (OpenMM's)    */
   int order;               /* "pme": B-spline order p, 3..12; 0 (default): 5 (OpenMM's, fixed
-                              there)                                                           */
+                              there), or for point dipoles alone with the mesh derived, chosen
+                              with the mesh                                                    */
   double eps_surface;      /* eps' of the surroundings of the sphere of images: INFINITY
                               (default) conducting, tin foil, no surface term; >= 1 a
                               dielectric (1: vacuum)                                           */

@@ -143,6 +143,14 @@ sed 's/^dipole = .*/coulomb = ewald/' "$sm" > sm_ewald.ini
 check "Stockmayer, coulomb = ewald: the pair term (with the dipolar real space) and the term ewald" \
   '[ $code -eq 0 ] && ! grep -q "\"dipolar\": 0," sme.json && grep -q "\"terms\": \[\"pair\", \"ewald\"\]" sme.json'
 sed 's/^dipole = .*/coulomb = pme/' "$sm" > sm_pme.ini
+# point dipoles alone without pme_order: the order chosen with the mesh, said, recorded and kept by
+# a continuation (40 steps against 20 + 20, byte for byte); a given order is the deck's
+"$rotleap" run sm_pme.ini --set run.steps=40 --set output.prefix="$work/smpA" >/dev/null 2>smpA.err; code=$?
+"$rotleap" run sm_pme.ini --set run.steps=20 --set output.prefix="$work/smpB" >/dev/null 2>/dev/null
+"$rotleap" run sm_pme.ini --set run.steps=40 --set system.start="$work/smpB.chk" --set output.prefix="$work/smpB" >/dev/null 2>/dev/null
+"$rotleap" run sm_pme.ini --set interactions.pme_order=5 --set run.steps=2 --set output.prefix="$work/smp5" >/dev/null 2>smp5.err
+check "Stockmayer, coulomb = pme, no pme_order: the order chosen from the tolerance, a continuation bit for bit; pme_order = 5 is kept" \
+  '[ $code -eq 0 ] && grep -q "grid [0-9]* x [0-9]* x [0-9]* (from the tolerance), order [4-8] (from the tolerance)" smpA.err && cmp -s smpA.chk smpB.chk && grep -q "(from the tolerance), order 5, " smp5.err'
 # (the mesh given: derived from tolerance 1e-6 for these dipoles it would need more than 512^3 points
 # at order 5, whose dipolar forces converge as h^3)
 "$rotleap" energy sm_pme.ini --json --set interactions.ewald_tolerance=1e-6 --set interactions.pme_grid=64 --set interactions.pme_order=8 >smp.json 2>smp.err; code=$?
