@@ -102,9 +102,10 @@ RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
     rl_integrator_params ip;
     scene_integrator_params(&p->d, SCENE_RUN, &ip);
     p->in = rl_integrator_alloc(p->s.sys, &ip, rl_terms_provider(p->s.terms));
+    st = !p->in ? RL_EINVAL : scene_add_barostat(&p->d, p->in); /* run.barostat, as rotleap run adds it */
     /* a checkpoint holds v and l at half steps: continue from them (without the run record's
-     * random state and list origin, so not bit for bit with `rotleap run`'s continuation) */
-    st = !p->in ? RL_EINVAL : p->s.restart ? rl_integrator_resume(p->in, p->s.step0, p->s.t0) : rl_integrator_init(p->in);
+     * random states and list origin, so not bit for bit with `rotleap run`'s continuation) */
+    if (!st) st = p->s.restart ? rl_integrator_resume(p->in, p->s.step0, p->s.t0) : rl_integrator_init(p->in);
   }
   if (st) {
     if (!rl_last_error()[0]) rl_error(st, "cannot build the simulation of %s", path);
