@@ -30,6 +30,15 @@ CASES = {
     # the Ewald energy terms ewald_recip, ewald_self, ewald_intra, ...
     "pme": (cli_deck("water_pme.ini"), {"run.equilibrate": 10, "run.steps": 10, "system.count": 32,
                                         "interactions.cutoff": "0.45 nm"}),
+    "ewald": (cli_deck("water_pme.ini"), {"run.equilibrate": 10, "run.steps": 10, "system.count": 32,
+                                          "interactions.cutoff": "0.45 nm", "interactions.coulomb": "ewald"}),
+    # the other integrators of the rotation (quaternions; NO_SQUISH) on TIP4P
+    "rl-quaternion": (example("tip4p.ini"), {"run.integrator": "rl-quaternion", "system.count": 64,
+                                             "interactions.cutoff": "0.6 nm", "run.equilibrate": 10,
+                                             "run.steps": 20, "output.thermo_every": 5}),
+    "no-squish": (example("tip4p.ini"), {"run.integrator": "no-squish", "system.count": 64,
+                                         "interactions.cutoff": "0.6 nm", "run.equilibrate": 10,
+                                         "run.steps": 20, "output.thermo_every": 5}),
     "langevin": (SHORT, LANGEVIN),
     "langevin-dot": (SHORT, dict(LANGEVIN, **{"run.ensemble": "nvt-langevin-dot"})),
     "langevin-dot-obabo": (SHORT, dict(LANGEVIN, **{"run.ensemble": "nvt-langevin-dot-obabo"})),
