@@ -24,7 +24,7 @@ static const key_def keys[NKEYS] = {
     [K_MOLFILE] = {"system", "molecules", K_PATH, Q_NONE, NULL, NULL, "a molecule file: [molecule NAME] sections only, in the deck's line format, so that one file serves many decks; a relative path is taken from the deck's directory (from the current directory for a deck read from a pipe)"},
     [K_COUNT] = {"system", "count", K_INT, Q_NONE, NULL, NULL, "number of molecules; required (with system.model). A count whose memory (at least 160 bytes + 130 per site and molecule) exceeds the machine's is refused"},
     [K_SPECIES] = {"system", "species", K_STRING, Q_NONE, NULL, NULL, "a mixture, instead of system.model and system.count: NAME:COUNT for each species (\"spce:500 na:10 cl:10\"), each a catalogue model (with its default parameters) or a [molecule NAME] of the deck, all in one unit system; the molecules are numbered species by species in this order"},
-    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density"},
+    [K_BOX] = {"system", "box", K_STRING, Q_LENGTH, NULL, NULL, "box edge L, or three edges \"Lx Ly Lz\", each with its unit (\"1.8 nm 1.8 nm 2 nm\") or bare with one unit at the end (\"1.8 1.8 2 nm\"); give box or density, or neither with a start file that holds a box (a checkpoint, a PDB's CRYST1, an XYZ's Lattice=): its box"},
     [K_DENSITY] = {"system", "density", K_REAL, Q_DENSITY, NULL, NULL, "mass density (real) or number density (lj); sets a cubic box"},
     [K_START] = {"system", "start", K_PATH, Q_NONE, "lattice", NULL, "lattice, or a file: NAME.pdb (site models; molecules fitted to the model), NAME.xyz (extended XYZ with orientations), NAME.chk (a rotleap checkpoint: continue the run bit for bit; under another run.ensemble, start a new run from its state; with another run.seed, continue with a new random stream). A regular file (a link to one is followed)"},
     [K_RESIDUES] = {"system", "residues", K_STRING, Q_NONE, NULL, NULL, "residue names of a .pdb start and the species they stand for, RES:SPECIES each (\"SOL:tip4p-ew NA:na-tip4pew CL:cl-tip4pew\"; at most 16; any case). Without it a mixture's residues go by name: the species' own, or HOH WAT SOL H2O TIP3 TIP4 T3P T4P T4E SPC for the deck's one water, NA NA+ SOD for its Na+, CL CL- CLA for its Cl- (docs/files.md, PDB)"},
@@ -927,6 +927,37 @@ static void start_file(raw_deck *r, rl_deck *d, const char *v)
   else fclose(t);
 }
 
+/* Neither system.box nor system.density: the box of the start file, as other codes take it (a
+ * checkpoint's box, a PDB's CRYST1, an XYZ's Lattice), in the deck's units.  A file that cannot be
+ * opened is left to start_file's message; one without a box is a problem here. */
+static void start_box(raw_deck *r, rl_units u, const char *path, double box[3])
+{
+  const int line = r->line[K_START];
+  const size_t n = strlen(path);
+  const char *ext = n > 4 ? path + n - 4 : "";
+  struct stat sb;
+  box[0] = box[1] = box[2] = 0.0;
+  if ((strcmp(ext, ".pdb") && strcmp(ext, ".xyz") && strcmp(ext, ".chk")) || stat(path, &sb) || !S_ISREG(sb.st_mode) ||
+      access(path, R_OK))
+    return; /* start_file names the problem */
+  int st, nres;
+  if (!strcmp(ext, ".chk")) {
+    rl_checkpoint_meta meta;
+    memset(&meta, 0, sizeof meta);
+    rl_system *s = rl_checkpoint_load(path, &meta);
+    st = !s;
+    if (s) memcpy(box, meta.box, sizeof meta.box);
+    free((void *)meta.blob);
+    rl_system_free(s);
+  } else if (!strcmp(ext, ".pdb")) st = rl_pdb_count(path, u, &nres, box);
+  else st = rl_xyz_box(path, u, box);
+  if (st) deck_problem(r, line, "system.start: no system.box or system.density, and %s", rl_last_error());
+  else if (!(box[0] > 0 && box[1] > 0 && box[2] > 0))
+    deck_problem(r, line, "system.start: %s holds no box (%s): give system.box or system.density", path,
+                 !strcmp(ext, ".pdb") ? "no CRYST1 record" : !strcmp(ext, ".xyz") ? "no Lattice= on its second line"
+                                                                                  : "a checkpoint without a box");
+}
+
 /* the values the handler stored (strdup'd) */
 static void raw_deck_free(raw_deck *r)
 {
@@ -1107,6 +1138,8 @@ int rl_deck_load(const char *path, char **sets, int nsets, rl_deck *d, FILE *err
         d->box[0] = d->box[1] = d->box[2] = 0.0;
       }
     }
+  } else if (!r.bad[K_START] && strcmp(val(&r, K_START), "lattice")) {
+    start_box(&r, u, val(&r, K_START), d->box);
   } else deck_problem(&r, 0, "give system.box or system.density");
 
   /* [interactions] */

@@ -132,6 +132,8 @@ directory (trajectories); --reanalyse WORKDIR analyses and times an earlier --ke
 import argparse
 import concurrent.futures
 import csv
+import glob
+import hashlib
 import itertools
 import json
 import math
@@ -400,6 +402,9 @@ def main():
     ap.add_argument("--write", action="store_true", help="write the CSV and .md block after --quick too")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--keep", action="store_true", help="keep the work directory (trajectories)")
+    ap.add_argument("--work", metavar="DIR", help="run in DIR and keep it (as --keep); a run interrupted and "
+                    "started again with the same DIR and settings reuses its shared start and every run that had "
+                    "finished, and runs only the others")
     ap.add_argument("--reanalyse", metavar="WORKDIR", help="analyse and time the runs of an earlier --keep "
                     "run (same --quick/--prod-ps/--eq-ps/--blocks)")
     args = ap.parse_args()
@@ -442,14 +447,34 @@ def main():
         if abs(saved["frame_fs"] - frame) > 1e-9:
             sys.exit("--reanalyse: that run stored frames every %g fs, these steps need %g" % (saved["frame_fs"], frame))
     else:
-        work = tempfile.mkdtemp(prefix="rotleap-sampling-")
+        if args.work:
+            work = os.path.abspath(args.work)
+            os.makedirs(work, exist_ok=True)
+        else:
+            work = tempfile.mkdtemp(prefix="rotleap-sampling-")
         print("sampling speed: 256 TIP4P-RF NVT 298 K; %g + %g ps per run, frames every %g fs, %d blocks; "
               "niceness %d; work %s" % (eq_eff, prod_eff, frame, nblocks, niceness, work), flush=True)
-        ck, v, l, F, K, eqinfo = nc.shared_start(rotleap, work, 500 if args.quick else START_EQ_STEPS)
-        with open(os.path.join(work, "start.json"), "w") as f:
-            json.dump(dict(chk=os.path.join(work, "equil.chk"), v=v, l=l, F=F, K=K), f)
-        print("shared start: %d + %d steps in %.0f s: %s" % (eqinfo["relax_steps"], eqinfo["steps"],
-              eqinfo["wall_s"], eqinfo["summary"].get("temperature")), flush=True)
+        # what a finished run depends on besides its own label: an interrupted --work run is continued
+        # only with these settings
+        settings = dict(eq_frames=eq_frames, prod_frames=prod_frames, frame_fs=frame, tau_ps=args.tau,
+                        friction=args.friction, tau_rot=args.tau_rot, precision=args.precision,
+                        gromacs_integrator=args.gromacs_integrator, quick=args.quick, rotleap=rotleap)
+        start_json = os.path.join(work, "start.json")
+        old = json.load(open(start_json)) if args.work and os.path.exists(start_json) else None
+        if old and old.get("settings") == settings and os.path.exists(old["chk"]):
+            ck = rlcheckpoint.read(old["chk"])
+            v, l, F, K, eqinfo = old["v"], old["l"], old["F"], old["K"], old["eqinfo"]
+            print("shared start: reused from %s" % start_json, flush=True)
+        else:
+            ck, v, l, F, K, eqinfo = nc.shared_start(rotleap, work, 500 if args.quick else START_EQ_STEPS)
+            with open(start_json + ".tmp", "w") as f:
+                json.dump(dict(chk=os.path.join(work, "equil.chk"), v=v, l=l, F=F, K=K, eqinfo=eqinfo,
+                               settings=settings), f)
+            os.replace(start_json + ".tmp", start_json)
+            for stale in glob.glob(os.path.join(work, "done", "*.json")):  # runs from another start
+                os.remove(stale)
+            print("shared start: %d + %d steps in %.0f s: %s" % (eqinfo["relax_steps"], eqinfo["steps"],
+                  eqinfo["wall_s"], eqinfo["summary"].get("temperature")), flush=True)
         pdb = os.path.join(work, "topology")
         with open(pdb + ".ini", "w") as f:
             f.write(ns.deck(pdb, 0, 0.002, "nvt-bussi", ck["box"], every=1))
@@ -478,14 +503,36 @@ def main():
         tasks += [(ns.gromacs_task, (work, nfr * every(h), every(h), pdb + ".pdb", h, args.gromacs_integrator,
                                      1.0 / args.friction), "") for h in gmx_fs]
         runs = []
+        done_dir = os.path.join(work, "done")
+        os.makedirs(done_dir, exist_ok=True)
+
+        def done_path(fn, a):  # one file per run, named by the arguments that distinguish the runs
+            key = [x for x in a if isinstance(x, (int, float, str, tuple)) and x not in (rotleap, work, pdb + ".pdb")]
+            return os.path.join(done_dir, "%s-%s.json" % (fn.__name__, hashlib.sha1(repr(key).encode()).hexdigest()[:16]))
+
+        todo = []
+        for fn, a, role in tasks:
+            try:
+                r = json.load(open(done_path(fn, a))) if args.work else None
+            except (OSError, ValueError):
+                r = None
+            if r:
+                print("  %-32s finished earlier (%s)" % (r["label"], done_dir), flush=True)
+                runs.append(r)
+            else:
+                todo.append((fn, a, role))
         with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            futs = {pool.submit(fn, *a): role for fn, a, role in tasks}
+            futs = {pool.submit(fn, *a): (fn, a, role) for fn, a, role in todo}
             for fut in concurrent.futures.as_completed(futs):
                 r = fut.result()
-                r["role"] = futs[fut]
+                fn, a, r["role"] = futs[fut]
                 print("  %-32s %s, %.0f s" % (r["label"], "ok" if not r["rc"] else "STOPPED: " + r["error"],
                                               r["wall_s"]), flush=True)
                 runs.append(r)
+                path = done_path(fn, a)
+                with open(path + ".tmp", "w") as f:
+                    json.dump(r, f)
+                os.replace(path + ".tmp", path)
         t_sim = time.time() - t0
         with open(os.path.join(work, "runs.json"), "w") as f:
             json.dump(dict(runs=runs, eqinfo=eqinfo, t_sim=t_sim, frame_fs=frame, tau_ps=args.tau,
@@ -643,7 +690,7 @@ def main():
         print("wrote", os.path.relpath(args.csv, ROOT))
         if update_md(args.md, runs, ref, choice, ratios, notes, meta):
             print("updated the results block of", os.path.relpath(args.md, ROOT))
-    if args.keep or args.reanalyse:
+    if args.keep or args.reanalyse or args.work:
         print("work directory:", work)
     else:
         shutil.rmtree(work)

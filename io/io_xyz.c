@@ -158,6 +158,45 @@ static int parse_properties(const char *path, char *val, xyz_cols *c)
   return RL_OK;
 }
 
+/* The diagonal of a Lattice= value (9 numbers, orthorhombic) in system units (file units / s). */
+static int parse_lattice(const char *path, const char *val, double s, double L[3])
+{
+  double h[9];
+  const char *p = val;
+  char *end;
+  for (int k = 0; k < 9; k++) {
+    h[k] = strtod(p, &end);
+    if (end == p) return rl_error(RL_EINVAL, "%s:2: Lattice needs 9 numbers: \"%.200s\"", path, val);
+    p = end;
+  }
+  for (int k = 0; k < 9; k++)
+    if (k % 4 != 0 && h[k] != 0.0)
+      return rl_error(RL_EINVAL, "%s:2: Lattice is not orthorhombic (off-diagonal %g); only orthorhombic boxes are supported",
+                      path, h[k]);
+  for (int c = 0; c < 3; c++) L[c] = h[4 * c] / s;
+  return RL_OK;
+}
+
+int rl_xyz_box(const char *path, rl_units units, double box[3])
+{
+  if (!path || !box) return rl_error(RL_EINVAL, "rl_xyz_box: NULL argument");
+  FILE *fp;
+  char *buf = NULL, *val = NULL;
+  size_t cap = 0;
+  int n = 0, got, st = open_count(path, &fp, &n, &buf, &cap);
+  if (st) { free(buf); return st; }
+  box[0] = box[1] = box[2] = 0.0;
+  if (!(st = rl_io_getline(fp, path, 2, RL_IO_MAX_LINE, &buf, &cap, &got)) && got) {
+    int f = find_key(buf, "Lattice", &val);
+    if (f < 0) st = rl_error(RL_ENOMEM, "%s:2: out of memory", path);
+    else if (f > 0) st = parse_lattice(path, val, units == RL_UNITS_REAL ? 10.0 : 1.0, box);
+  }
+  free(val);
+  free(buf);
+  fclose(fp);
+  return st;
+}
+
 int rl_xyz_read_state(const char *path, rl_system *sys, double box[3])
 {
   if (!path || !sys) return rl_error(RL_EINVAL, "rl_xyz_read_state: NULL argument");
@@ -172,21 +211,7 @@ int rl_xyz_read_state(const char *path, rl_system *sys, double box[3])
   if ((st = rl_io_getline(fp, path, 2, RL_IO_MAX_LINE, &buf, &cap, &got))) goto done;
   if (!got) { st = rl_error(RL_EINVAL, "%s:2: missing comment line", path); goto done; }
   int f = find_key(buf, "Lattice", &val);
-  if (f > 0) {
-    double h[9];
-    char *p = val, *end;
-    for (int k = 0; k < 9; k++) {
-      h[k] = strtod(p, &end);
-      if (end == p) { st = rl_error(RL_EINVAL, "%s:2: Lattice needs 9 numbers: \"%.200s\"", path, val); goto done; }
-      p = end;
-    }
-    for (int k = 0; k < 9; k++)
-      if (k % 4 != 0 && h[k] != 0.0) {
-        st = rl_error(RL_EINVAL, "%s:2: Lattice is not orthorhombic (off-diagonal %g); only orthorhombic boxes are supported", path, h[k]);
-        goto done;
-      }
-    for (int c = 0; c < 3; c++) L[c] = h[4 * c] / s;
-  }
+  if (f > 0 && (st = parse_lattice(path, val, s, L))) goto done;
   free(val);
   val = NULL;
   if (f >= 0) f = find_key(buf, "Properties", &val);

@@ -203,6 +203,9 @@ int rl_xyz_write(const char *path, const rl_system *sys, double time, long step)
 int rl_xyz_read_state(const char *path, rl_system *sys, double box[3]);
 /* Number of bodies announced by the first line. */
 int rl_xyz_count(const char *path, int *n);
+/* The box of the Lattice= key on the comment line, in system units of `units` (file lengths in A
+ * for real units, sigma for LJ); zeros without one. */
+int rl_xyz_box(const char *path, rl_units units, double box[3]);
 
 /* ------------------------------------------------------------------------- checkpoints */
 

@@ -100,5 +100,34 @@ check "system.residues: an unknown species and a token without a colon, at the l
 check "system.residues without a .pdb start is refused" \
   '[ $rc = 2 ] && grep -q "system.residues: names the residues of a .pdb start, and system.start is lattice" lat.err'
 
+# no system.box or system.density: the start file's box (CRYST1, Lattice=, the checkpoint's), as
+# GROMACS and OpenMM take a PDB's; a file without one is refused, naming what it lacks
+grep -v "^box = " gromacs.ini > nobox.ini
+"$rotleap" energy nobox.ini > e_nobox.csv 2> nobox.err; rc=$?
+check "a PDB start without system.box: CRYST1's box, the same energies as with box = 18.682 A" \
+  '[ $rc = 0 ] && cmp -s e_sol.csv e_nobox.csv'
+grep -v "^CRYST1" box_gromacs.pdb > nocryst.pdb
+"$rotleap" energy nobox.ini --set system.start=nocryst.pdb > /dev/null 2> nocryst.err; rc=$?
+check "... and one without CRYST1 is refused at the start's line, saying so" \
+  '[ $rc = 2 ] && grep -q "^--set: system.start: nocryst.pdb holds no box (no CRYST1 record): give system.box or system.density" nocryst.err'
+sm="$src/tests/cli/stockmayer_short.ini"
+"$rotleap" run "$sm" --set run.steps=10 --set output.trajectory_every=10 --set output.prefix="$work/smk" >/dev/null 2>&1
+grep -v "^density" "$sm" > sm_nobox.ini
+# (the checkpoint holds the box bit for bit, the XYZ to 10 decimals: 1e-10 sigma)
+for f in smk.chk smk.xyz; do
+  "$rotleap" energy "$sm" --set system.start="$work/$f" --json > "e_$f.json" 2>/dev/null
+  "$rotleap" energy sm_nobox.ini --set system.start="$work/$f" --json > "e_nobox_$f.json" 2> "nobox_$f.err"; rc=$?
+  tol=0; [ $f = smk.xyz ] && tol=1e-9
+  check "a ${f##*.} start without system.density: its box, the same energy (relative $tol)" \
+    '[ $rc = 0 ] && python3 -c "
+import json, sys
+a, b = (json.load(open(f))[\"energy\"][\"total\"] for f in sys.argv[1:3])
+sys.exit(not abs(a - b) <= float(sys.argv[3]) * abs(a))" "e_$f.json" "e_nobox_$f.json" $tol'
+done
+sed '2s/Lattice="[^"]*" *//' smk.xyz > nolat.xyz
+"$rotleap" energy sm_nobox.ini --set system.start="$work/nolat.xyz" > /dev/null 2> nolat.err; rc=$?
+check "... and an XYZ without Lattice= is refused, saying so" \
+  '[ $rc = 2 ] && grep -q "system.start: .*nolat.xyz holds no box (no Lattice= on its second line): give system.box or system.density" nolat.err'
+
 echo "pdb_start_tests: $pass passed, $fail failed"
 [ "$fail" = 0 ]
