@@ -69,6 +69,8 @@ def _load():
         "rlpy_catalog_molecule": (ctypes.c_int, [ctypes.c_int, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
         "rlpy_molecule": (ctypes.c_int, [P, _dbl_p, _dbl_p, ctypes.c_char_p] + [_dbl_p] * 7),
         "rlpy_interactions": (None, [P, _dbl_p]),
+        "rlpy_thermo_header": (ctypes.c_char_p, [P]),
+        "rlpy_thermo_row": (ctypes.c_char_p, [P]),
     }
     for name, (res, args) in sigs.items():
         f = getattr(lib, name)

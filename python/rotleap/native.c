@@ -9,6 +9,7 @@
 #include "runrec.h"
 #include "scan.h"
 #include "scene.h"
+#include "thermo.h"
 
 #include <errno.h>
 #include <math.h>
@@ -49,6 +50,7 @@ typedef struct {
   } streams[OUT_NSTREAMS];
   analysis *an;            /* rotleap run's analysis, journaled to `journal` (or NULL)  */
   FILE *journal;
+  char *text;              /* the last rlpy_thermo_header or rlpy_thermo_row (malloc'd) */
 } rlpy_sim;
 
 typedef struct {
@@ -71,6 +73,7 @@ RLPY_API void rlpy_close(rlpy_sim *p)
   rl_integrator_free(p->in);
   scene_free(&p->s);
   free(p->physics);
+  free(p->text);
   free(p);
 }
 
@@ -102,9 +105,10 @@ RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
     rl_integrator_params ip;
     scene_integrator_params(&p->d, SCENE_RUN, &ip);
     p->in = rl_integrator_alloc(p->s.sys, &ip, rl_terms_provider(p->s.terms));
+    st = !p->in ? RL_EINVAL : scene_add_barostat(&p->d, p->in); /* run.barostat, as rotleap run adds it */
     /* a checkpoint holds v and l at half steps: continue from them (without the run record's
-     * random state and list origin, so not bit for bit with `rotleap run`'s continuation) */
-    st = !p->in ? RL_EINVAL : p->s.restart ? rl_integrator_resume(p->in, p->s.step0, p->s.t0) : rl_integrator_init(p->in);
+     * random states and list origin, so not bit for bit with `rotleap run`'s continuation) */
+    if (!st) st = p->s.restart ? rl_integrator_resume(p->in, p->s.step0, p->s.t0) : rl_integrator_init(p->in);
   }
   if (st) {
     if (!rl_last_error()[0]) rl_error(st, "cannot build the simulation of %s", path);
@@ -204,6 +208,47 @@ RLPY_API int rlpy_observe(rlpy_sim *p, double *out)
   rl_system_box(p->s.sys, r.box); /* the state observed is at the current box */
   values(p, &r, out);
   return RL_OK;
+}
+
+/* ------------------------------------------------------------------------- thermo rows */
+
+/* The thermo file's header and rows, formatted by app/thermo.c as `rotleap run` writes them. */
+static const char *keep_text(rlpy_sim *p, char *text, int ok)
+{
+  free(p->text);
+  p->text = text;
+  if (!ok || !text) {
+    if (!text) rl_error(RL_ENOMEM, "out of memory");
+    return NULL;
+  }
+  return text;
+}
+
+/* The header line (with its newline) of rotleap run's PREFIX.thermo.csv for this simulation: the
+ * energy terms' columns, and those of its barostat and its species.  The string lives until the
+ * next rlpy_thermo_* call or rlpy_close; NULL with a message. */
+RLPY_API const char *rlpy_thermo_header(rlpy_sim *p) { return keep_text(p, thermo_header(&p->d, &p->s), 1); }
+
+/* The row (with its newline) of rotleap run's PREFIX.thermo.csv for the report a step reporter is
+ * called with, its calE from the simulation's running statistics of the conserved quantity over
+ * every step with energies since its production began (those a checkpoint's run record keeps, as
+ * rotleap run's).  As rlpy_thermo_header; NULL outside a step reporter's call. */
+RLPY_API const char *rlpy_thermo_row(rlpy_sim *p)
+{
+  if (!p->cur || !p->cur->info) {
+    rl_error(RL_ESTATE, "a thermo row is read in a step reporter's call");
+    return NULL;
+  }
+  char *row = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&row, &len);
+  if (!f) return keep_text(p, NULL, 0);
+  const int st = thermo_row(f, "the thermo row", &p->d, &p->s, p->cur, &p->avg[0]);
+  if (fclose(f) && !st) {
+    free(row);
+    return keep_text(p, NULL, 0);
+  }
+  return keep_text(p, row, !st);
 }
 
 /* ------------------------------------------------------------------------------ running */

@@ -4,8 +4,6 @@ temperatures, pressure, forces) after the step that leaves k, when k is a multip
 multiple of output.energy_every), and once more with last = True after run()'s last step; a
 'state' reporter after the step to k + 1 when k + 1 is a multiple of every, to read the state
 (positions, orientations, half-step velocities) from the simulation."""
-import io
-import math
 import os
 
 from ._native import lib, THERMO, TRAJ, TOPOLOGY, SAMPLES
@@ -43,13 +41,16 @@ class CallbackReporter(Reporter):
 
 
 class ThermoReporter(Reporter):
-    """The rows of `rotleap run`'s PREFIX.thermo.csv, same columns, same number formats, every
-    `every` steps (default: the deck's output.thermo_every) and the row of the last state.  calE,
-    the running relative standard deviation of the conserved quantity, is taken over every step
-    with energies, as `rotleap run` takes it.  `file`: a path or a text file object.  A file the
-    reporter opened (a path) is a stream the simulation's checkpoints mark, as rotleap run marks
-    its thermo file; when a later run() goes on, its row of the last state is replaced by the
-    row of the next run's first step, as rotleap run's continuation replaces it."""
+    """The rows of `rotleap run`'s PREFIX.thermo.csv, formatted by the code that writes that file
+    (app/thermo.c): the same columns (each energy term's; under a barostat the volume, density,
+    box edges and pressure tensor; in a mixture each species' temperatures) and the same bytes,
+    every `every` steps (default: the deck's output.thermo_every) and the row of the last state.
+    calE, the running relative standard deviation of the conserved quantity, is the simulation's,
+    over every step with energies since its production began, as `rotleap run` takes it.  `file`:
+    a path or a text file object.  A file the reporter opened (a path) is a stream the
+    simulation's checkpoints mark, as rotleap run marks its thermo file; when a later run() goes
+    on, its row of the last state is replaced by the row of the next run's first step, as rotleap
+    run's continuation replaces it."""
 
     def __init__(self, file, every=None):
         super().__init__(every, "step")
@@ -59,10 +60,9 @@ class ThermoReporter(Reporter):
         self._sim = None
         self._size = 0  # bytes written (the rows are ASCII)
         self._pre_last = None  # the size before the row of the last state, until a run goes on
-        self._n, self._mean, self._m2 = 0, 0.0, 0.0
 
     def cadence(self, sim):
-        """Called on every step with energies (for calE); rows every self.every steps."""
+        """Rows every self.every steps (a multiple of output.energy_every)."""
         if self.every is None:
             self.every = sim.thermo_every
         if isinstance(self.every, bool) or not isinstance(self.every, int) or self.every < 1 \
@@ -77,10 +77,13 @@ class ThermoReporter(Reporter):
             self._f.truncate()
             self._size = self._pre_last
         self._pre_last = None
-        return sim.energy_every
+        return self.every
 
     def _write(self, text):
-        self._f.write(text.encode() if self._own else text)
+        if text is None:
+            from .simulation import _fail
+            _fail()
+        self._f.write(text if self._own else text.decode())
         self._size += len(text)
 
     def _open(self, sim):
@@ -92,8 +95,7 @@ class ThermoReporter(Reporter):
         else:
             self._f = self._file
             self._own = False
-        self._write("step,time,total,potential%s,ke_trans,ke_rot,temperature,t_trans,t_rot,pressure,conserved,"
-                    "calE,t_trans_mid,t_rot_mid\n" % "".join("," + n for n in sim.energy_names))
+        self._write(lib.rlpy_thermo_header(sim._handle()))
 
     def _mark_length(self, k):
         """The bytes a checkpoint marks: all but the row of the last state (rotleap run's marks)."""
@@ -101,26 +103,12 @@ class ThermoReporter(Reporter):
         return self._size if self._pre_last is None else self._pre_last
 
     def report(self, sim, r):
-        """Accumulates calE and writes the row of r at the reporter's steps and at the last state."""
+        """Writes the row of r (at the reporter's steps and at the last state)."""
         if self._f is None:
             self._open(sim)
-        if not r.last:  # the running statistics of the conserved quantity (Welford, as runrec.c)
-            self._n += 1
-            d = r.conserved - self._mean
-            self._mean += d / self._n
-            self._m2 += d * (r.conserved - self._mean)
-        if r.step % self.every and not r.last:
-            return
-        sd = math.sqrt(self._m2 / (self._n - 1)) if self._n > 1 else 0.0
-        calE = sd / abs(self._mean) if self._n > 1 else 0.0
-        row = "%d,%.10g,%.10g,%.10g" % (r.step, r.time, r.total, r.potential)
-        row += "".join(",%.10g" % r.energies[n] for n in sim.energy_names)
-        row += ",%.10g,%.10g,%.6g,%.6g,%.6g,%.10g,%.10g,%s,%.6g,%.6g\n" % (
-            r.ke_trans, r.ke_rot, r.temperature, r.t_trans, r.t_rot, r.pressure, r.conserved, _c_e4(calE),
-            r.t_trans_mid, r.t_rot_mid)
         if r.last:
             self._pre_last = self._size
-        self._write(row)
+        self._write(lib.rlpy_thermo_row(sim._handle()))
         if r.last:
             self._f.flush()
 
@@ -259,8 +247,3 @@ class CheckpointReporter(Reporter):
             if sim._h is not None and lib.rlpy_journal_close(sim._h):
                 from .simulation import _fail
                 _fail()
-
-
-def _c_e4(x):
-    """C's %.4e (Python's gives the same digits; the exponent has at least two digits in both)."""
-    return "%.4e" % x

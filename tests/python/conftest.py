@@ -27,8 +27,41 @@ def run_cli(cli, deck, cwd, *sets):
     return p
 
 
+# a mixture deck: Stockmayer dipoles in an LJ solvent (issue 35's species), Bussi NVT
+MIXTURE = """[system]
+species = stockmayer:27 lj:81
+density = 0.8
+lattice = fcc
+temperature = 1.35
+seed = 3
+[molecule lj]
+units = lj
+site = A 0 0 0 mass 1 sigma 1 epsilon 1
+[interactions]
+cutoff = 2.0
+lj = shifted-force
+dipole = sf
+[run]
+ensemble = nvt-bussi
+temperature = 1.35
+tau = 0.2
+steps = 60
+timestep = 0.002
+[output]
+thermo_every = 10
+sample_every = 5
+checkpoint_every = 30
+progress = no
+"""
+
+
 def example(name):
     return os.path.join(SRC, "examples", name)
+
+
+def cli_deck(name):
+    """A deck or molecule file of the CLI tests (tests/cli)."""
+    return os.path.join(SRC, "tests", "cli", name)
 
 
 def _ci():

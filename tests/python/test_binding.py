@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import rotleap
-from conftest import example, run_cli
+from conftest import MIXTURE, example, run_cli
 
 # short versions of the examples: Stockmayer (point dipoles, reduced units, Bussi) and TIP4P
 # (asymmetric tops, real units, Bussi; pressure in bar), each with its relaxation
@@ -338,39 +338,13 @@ def test_rotleap_run_continues_a_python_checkpoint(cli, tmp_path):
         assert (tmp_path / ("py." + ext)).read_bytes() == (tmp_path / ("whole." + ext)).read_bytes(), ext
 
 
-MIXTURE = """[system]
-species = stockmayer:27 lj:81
-density = 0.8
-lattice = fcc
-temperature = 1.35
-seed = 3
-[molecule lj]
-units = lj
-site = A 0 0 0 mass 1 sigma 1 epsilon 1
-[interactions]
-cutoff = 2.0
-lj = shifted-force
-dipole = sf
-[run]
-ensemble = nvt-bussi
-temperature = 1.35
-tau = 0.2
-steps = 60
-timestep = 0.002
-[output]
-thermo_every = 10
-sample_every = 5
-checkpoint_every = 30
-progress = no
-"""
 
 
 def test_mixture_same_run_as_cli(cli, tmp_path):
     """A mixture (Stockmayer dipoles in an LJ solvent) from Python: the analysis journal (which
     holds the box dipole moment, summed over the species that carry one: the binding gave the
     analysis the first species' molecule for every species, and stopped at the first sample) and
-    the final state bit for bit those of rotleap run.  (The Python ThermoReporter does not write
-    the per-species temperature columns yet: docs/python.md.)"""
+    the final state bit for bit those of rotleap run (its thermo file: test_thermo.py)."""
     deck = tmp_path / "mix.ini"
     deck.write_text(MIXTURE)
     run_cli(cli, str(deck), tmp_path, "output.prefix=cli")
