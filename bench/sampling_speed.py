@@ -507,7 +507,11 @@ def main():
         os.makedirs(done_dir, exist_ok=True)
 
         def done_path(fn, a):  # one file per run, named by the arguments that distinguish the runs
-            key = [x for x in a if isinstance(x, (int, float, str, tuple)) and x not in (rotleap, work, pdb + ".pdb")]
+            # numbers, strings and lists of strings (deck lines: a variant's run and system keys); not the
+            # paths of this work directory, nor the start's state arrays
+            key = [tuple(x) if isinstance(x, list) else x for x in a
+                   if (isinstance(x, (int, float, str, tuple)) or (isinstance(x, list) and all(isinstance(y, str) for y in x)))
+                   and x not in (rotleap, work, pdb + ".pdb")]
             return os.path.join(done_dir, "%s-%s.json" % (fn.__name__, hashlib.sha1(repr(key).encode()).hexdigest()[:16]))
 
         todo = []
