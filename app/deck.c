@@ -853,7 +853,9 @@ static void ewald_keys(raw_deck *r, rl_deck *d, rl_units u)
   rl_molecule m;
   if (rl_model_build(d->model, d->params, 0, &m)) return; /* reported with the model */
   /* point dipoles alone under pme, pme_order not given: the library chooses the order with the
-   * mesh (order 0, forces/ewald/ewald_params.c); with charges it stays 5, OpenMM's */
+   * mesh (order 0, forces/ewald/ewald_params.c). With charges the library would take 0 as 5 too,
+   * but the deck keeps writing 5, so that the run records of charged PME decks (pme_order = 5)
+   * stay as they were and their checkpoints continue */
   int charged = 0;
   for (int k = 0; k < m.nsites; k++) charged |= m.charge[k] != 0.0;
   if (d->coulomb == RL_DECK_COULOMB_PME && !r->val[K_PORDER] && m.has_dipole && !charged && d->nspecies <= 1)

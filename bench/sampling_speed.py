@@ -514,7 +514,7 @@ def main():
                    and x not in (rotleap, work, pdb + ".pdb")]
             return os.path.join(done_dir, "%s-%s.json" % (fn.__name__, hashlib.sha1(repr(key).encode()).hexdigest()[:16]))
 
-        todo = []
+        pending = []
         for fn, a, role in tasks:
             try:
                 r = json.load(open(done_path(fn, a))) if args.work else None
@@ -524,9 +524,9 @@ def main():
                 print("  %-32s finished earlier (%s)" % (r["label"], done_dir), flush=True)
                 runs.append(r)
             else:
-                todo.append((fn, a, role))
+                pending.append((fn, a, role))
         with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            futs = {pool.submit(fn, *a): (fn, a, role) for fn, a, role in todo}
+            futs = {pool.submit(fn, *a): (fn, a, role) for fn, a, role in pending}
             for fut in concurrent.futures.as_completed(futs):
                 r = fut.result()
                 fn, a, r["role"] = futs[fut]
