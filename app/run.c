@@ -173,70 +173,6 @@ static void catch_signals(int on)
 
 static const char *signal_text(int sig) { return sig == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)"; }
 
-/* ------------------------------------------------------------ the settings of a simulation */
-
-/* The lines of `old` (len bytes) that `now` gives otherwise, as "key: X -> Y; ..." in msg; their
- * number.  outputs_only: the output.* lines only (the sampling of the files), else the others. */
-static int is_output_key(const char *line) { return !strncmp(line, "output.", 7); }
-
-static int physics_diff(const char *old, size_t len, const char *now_text, int outputs_only, char *msg, size_t cap)
-{
-  int count = 0;
-  size_t used = 0;
-  msg[0] = '\0';
-  const char *end = old + len;
-  /* a line of `old` is "key = value\n" */
-  for (const char *line = old; line < end;) {
-    const char *nl = memchr(line, '\n', (size_t)(end - line));
-    if (!nl) nl = end;
-    const char *eq = memchr(line, '=', (size_t)(nl - line));
-    if (eq && eq > line && is_output_key(line) == outputs_only) {
-      const size_t klen = (size_t)(eq - line); /* "key " */
-      const char *mine = NULL;
-      for (const char *p = now_text; *p;) {
-        const char *pn = strchr(p, '\n');
-        if (!pn) pn = p + strlen(p);
-        if ((size_t)(pn - p) > klen && !strncmp(p, line, klen) && p[klen] == '=') { mine = p; break; }
-        p = *pn ? pn + 1 : pn;
-      }
-      const char *mv = mine ? mine + klen + 2 : "(not used)";
-      const size_t mvlen = mine ? strcspn(mv, "\n") : strlen(mv);
-      const char *ov = eq + 2 <= nl ? eq + 2 : nl;
-      if (mvlen != (size_t)(nl - ov) || strncmp(mv, ov, mvlen)) {
-        count++;
-        const int w = snprintf(msg + used, cap - used, "%s%.*s: %.*s -> %.*s", count > 1 ? "; " : "", (int)(klen - 1),
-                               line, (int)(nl - ov), ov, (int)mvlen, mv);
-        if (w > 0 && (size_t)w < cap - used) used += (size_t)w;
-      }
-    }
-    line = nl < end ? nl + 1 : end;
-  }
-  /* settings the checkpoint's run did not have (a thermostat's temperature after NVE, say) */
-  for (const char *p = now_text; *p;) {
-    const char *pn = strchr(p, '\n');
-    if (!pn) pn = p + strlen(p);
-    const char *eq = memchr(p, '=', (size_t)(pn - p));
-    if (eq && is_output_key(p) == outputs_only) {
-      const size_t klen = (size_t)(eq - p);
-      int found = 0;
-      for (const char *line = old; line < end && !found;) {
-        const char *nl = memchr(line, '\n', (size_t)(end - line));
-        if (!nl) nl = end;
-        found = (size_t)(nl - line) > klen && !strncmp(line, p, klen) && line[klen] == '=';
-        line = nl < end ? nl + 1 : end;
-      }
-      if (!found) {
-        count++;
-        const int w = snprintf(msg + used, cap - used, "%s%.*s: (not used) -> %.*s", count > 1 ? "; " : "",
-                               (int)(klen - 1), p, (int)(pn - eq - 2), eq + 2);
-        if (w > 0 && (size_t)w < cap - used) used += (size_t)w;
-      }
-    }
-    p = *pn ? pn + 1 : pn;
-  }
-  return count;
-}
-
 /* ------------------------------------------------------------------------------ the run */
 
 typedef struct {
@@ -271,26 +207,6 @@ typedef struct {
   int heats;             /* a term's energy jumps at the cutoff by orientation: an NVE run heats */
   char heats_term[64];   /* ... the first such term                                          */
 } run_ctx;
-
-/* The accounts and states of a checkpoint's OPST back into in's operators of the same names: all
- * of them when the checkpoint has the section (one without the state of an operator that keeps
- * one is not this run's); nothing when neither has one. */
-static int load_ops(rl_integrator *in, const run_record *rec, const char *path)
-{
-  for (int k = 0; k < rl_integrator_nops(in); k++) {
-    rl_stepop *op = rl_integrator_op(in, k);
-    const size_t want = rl_stepop_save(op, NULL);
-    if (!want && !rec->nops) continue;
-    int found = -1;
-    for (int q = 0; q < rec->nops && found < 0; q++)
-      if (rec->ops[q].name_len == strlen(op->type->name) && !memcmp(rec->ops[q].name, op->type->name, rec->ops[q].name_len)) found = q;
-    if (found < 0) return rl_error(RL_EINVAL, "%s holds no state of the %s: it was written by a run without it", path, op->type->label);
-    const int st = rl_stepop_load(op, rec->ops[found].bytes, rec->ops[found].size);
-    if (st) return rl_error_wrap(st, "%s", path);
-    op->work = rec->ops[found].work;
-  }
-  return RL_OK;
-}
 
 /* A checkpoint at `step`, `time` of the integrator `in` (the production's, or the relaxation's
  * with relax_step >= 0).  marks: the streams' marks (NULL: taken now, if the streams are open).
@@ -828,16 +744,9 @@ static int decide_continuation(run_ctx *c, run_record *rec, int *cont)
   int st = runrec_decode(s->blob, s->blob_size, rl_system_count(s->sys), d->start, rec);
   if (st) return st;
   char diff[4096] = "", odiff[2048] = "";
-  int other = 0, outputs_other = 0;
-  if (rec->version >= 5) {
-    other = physics_diff(rec->physics, rec->physics_len, c->physics, 0, diff, sizeof diff);
-    outputs_other = physics_diff(rec->physics, rec->physics_len, c->physics, 1, odiff, sizeof odiff);
-  } else if (rec->version >= 2 ? rec->thermostat != (long)d->thermostat
-                               : (rec->rng_size > 0) != (d->thermostat >= RL_THERMO_BUSSI)) {
-    other = 1;
-    snprintf(diff, sizeof diff, "run.ensemble: %s -> %s", rec->thermostat >= 0 ? rl_thermostat_name((rl_thermostat)rec->thermostat) : "?",
-             rl_thermostat_name(d->thermostat));
-  }
+  const int other = runrec_other_simulation(rec, c->physics, d->thermostat, diff, sizeof diff);
+  const int outputs_other =
+    rec->version >= 5 && runrec_physics_diff(rec->physics, rec->physics_len, c->physics, 1, odiff, sizeof odiff);
   if (other && c->same_prefix)
     return rl_error(RL_EINVAL, "%s was written by another simulation than this deck asks for (%s): a continuation under "
                     "the same output.prefix must keep these settings, or its averages and files would mix two "
@@ -862,42 +771,20 @@ static int decide_continuation(run_ctx *c, run_record *rec, int *cont)
   return RL_OK;
 }
 
-/* The neighbour list the checkpoint's run had (before the first force computation), so that the
- * pair sums keep their order. */
-static int restore_list(scene *s, const run_record *rec)
-{
-  const int n = rl_system_count(s->sys);
-  if (rec->list_count != n || n <= 0) return RL_OK;
-  double(*r0)[3] = malloc(sizeof *r0 * (size_t)n);
-  if (!r0) return rl_error(RL_ENOMEM, "out of memory");
-  memcpy(r0, rec->list, sizeof *r0 * (size_t)n);
-  int st = rl_forcefield_set_list_origin(s->ff, (const double(*)[3])r0);
-  if (!st && rec->has_list_box) st = rl_forcefield_set_list_box(s->ff, rec->list_box); /* kept through a barostat's moves */
-  free(r0);
-  return st;
-}
-
 /* The run record's bookkeeping into the production integrator (a continuation). */
 static int restore_record(run_ctx *c, const run_record *rec)
 {
   const rl_deck *d = c->d;
   scene *s = &c->s;
-  if (rec->rng_size != rl_integrator_rng_size(c->in))
-    return rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %zu bytes, this run needs %zu)",
-                    d->start, rec->rng_size, rl_integrator_rng_size(c->in));
-  int st = restore_list(s, rec);
-  if (!st) st = rl_integrator_resume(c->in, s->step0, s->t0);
-  if (st) return st;
   /* a changed run.seed asks for a new random stream: the integrator was seeded with it */
   const int reseed = rec->version >= 2 && rec->rng_size && rec->seed != d->thermostat_seed;
+  int st = runrec_restore(rec, s, c->in, reseed, d->start);
+  if (st) return st;
   if (reseed)
     fprintf(stderr, "rotleap run: run.seed = %lu differs from the seed %lu of the run that wrote %s: the "
                     "%s thermostat continues with a new random stream from seed %lu (not bit for bit "
                     "with a continuation that keeps seed %lu)\n", d->thermostat_seed, rec->seed, d->start,
             rl_thermostat_name(d->thermostat), d->thermostat_seed, rec->seed);
-  else if (rec->rng_size) memcpy(rl_integrator_rng_state(c->in), rec->rng, rec->rng_size);
-  rl_integrator_set_thermostat_work(c->in, rec->thermo_work);
-  if ((st = load_ops(c->in, rec, d->start))) return st;
   c->E = rec->E; c->U = rec->U; c->T = rec->T; c->Tt = rec->Tt; c->Tr = rec->Tr; c->P = rec->P;
   if (rec->has_watch) c->watch = rec->watch;
   c->last_chk = s->step0;
@@ -918,7 +805,7 @@ static int relax(run_ctx *c, const run_record *rec)
   const rl_deck *d = c->d;
   const long k0 = rec ? rec->relax_step : 0;
   if (d->equilibrate_steps <= 0 || k0 >= d->equilibrate_steps) return RL_OK;
-  if (rec && restore_list(&c->s, rec)) return RL_EINVAL;
+  if (rec && runrec_restore_list(rec, &c->s)) return RL_EINVAL;
   scene_relaxation *r = scene_relax_begin(d, &c->s, k0, rec ? rec->relax_time : 0.0);
   if (!r) return RL_EINVAL;
   rl_integrator *in = scene_relax_integrator(r);

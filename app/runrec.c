@@ -539,3 +539,122 @@ int runrec_write_checkpoint(const char *path, const rl_system *sys, const rl_for
   r->has_list_box = 0;
   return st;
 }
+
+/* ------------------------------------------------------------------------- continuing */
+
+static int is_output_key(const char *line) { return !strncmp(line, "output.", 7); }
+
+int runrec_physics_diff(const char *old, size_t len, const char *now_text, int outputs_only, char *msg, size_t cap)
+{
+  int count = 0;
+  size_t used = 0;
+  msg[0] = '\0';
+  const char *end = old + len;
+  /* a line of `old` is "key = value\n" */
+  for (const char *line = old; line < end;) {
+    const char *nl = memchr(line, '\n', (size_t)(end - line));
+    if (!nl) nl = end;
+    const char *eq = memchr(line, '=', (size_t)(nl - line));
+    if (eq && eq > line && is_output_key(line) == outputs_only) {
+      const size_t klen = (size_t)(eq - line); /* "key " */
+      const char *mine = NULL;
+      for (const char *p = now_text; *p;) {
+        const char *pn = strchr(p, '\n');
+        if (!pn) pn = p + strlen(p);
+        if ((size_t)(pn - p) > klen && !strncmp(p, line, klen) && p[klen] == '=') { mine = p; break; }
+        p = *pn ? pn + 1 : pn;
+      }
+      const char *mv = mine ? mine + klen + 2 : "(not used)";
+      const size_t mvlen = mine ? strcspn(mv, "\n") : strlen(mv);
+      const char *ov = eq + 2 <= nl ? eq + 2 : nl;
+      if (mvlen != (size_t)(nl - ov) || strncmp(mv, ov, mvlen)) {
+        count++;
+        const int w = snprintf(msg + used, cap - used, "%s%.*s: %.*s -> %.*s", count > 1 ? "; " : "", (int)(klen - 1),
+                               line, (int)(nl - ov), ov, (int)mvlen, mv);
+        if (w > 0 && (size_t)w < cap - used) used += (size_t)w;
+      }
+    }
+    line = nl < end ? nl + 1 : end;
+  }
+  /* settings the checkpoint's run did not have (a thermostat's temperature after NVE, say) */
+  for (const char *p = now_text; *p;) {
+    const char *pn = strchr(p, '\n');
+    if (!pn) pn = p + strlen(p);
+    const char *eq = memchr(p, '=', (size_t)(pn - p));
+    if (eq && is_output_key(p) == outputs_only) {
+      const size_t klen = (size_t)(eq - p);
+      int found = 0;
+      for (const char *line = old; line < end && !found;) {
+        const char *nl = memchr(line, '\n', (size_t)(end - line));
+        if (!nl) nl = end;
+        found = (size_t)(nl - line) > klen && !strncmp(line, p, klen) && line[klen] == '=';
+        line = nl < end ? nl + 1 : end;
+      }
+      if (!found) {
+        count++;
+        const int w = snprintf(msg + used, cap - used, "%s%.*s: (not used) -> %.*s", count > 1 ? "; " : "",
+                               (int)(klen - 1), p, (int)(pn - eq - 2), eq + 2);
+        if (w > 0 && (size_t)w < cap - used) used += (size_t)w;
+      }
+    }
+    p = *pn ? pn + 1 : pn;
+  }
+  return count;
+}
+
+/* The accounts and states of a checkpoint's OPST back into in's operators of the same names: all
+ * of them when the checkpoint has the section (one without the state of an operator that keeps
+ * one is not this run's); nothing when neither has one. */
+static int load_ops(rl_integrator *in, const run_record *rec, const char *path)
+{
+  for (int k = 0; k < rl_integrator_nops(in); k++) {
+    rl_stepop *op = rl_integrator_op(in, k);
+    const size_t want = rl_stepop_save(op, NULL);
+    if (!want && !rec->nops) continue;
+    int found = -1;
+    for (int q = 0; q < rec->nops && found < 0; q++)
+      if (rec->ops[q].name_len == strlen(op->type->name) && !memcmp(rec->ops[q].name, op->type->name, rec->ops[q].name_len)) found = q;
+    if (found < 0) return rl_error(RL_EINVAL, "%s holds no state of the %s: it was written by a run without it", path, op->type->label);
+    const int st = rl_stepop_load(op, rec->ops[found].bytes, rec->ops[found].size);
+    if (st) return rl_error_wrap(st, "%s", path);
+    op->work = rec->ops[found].work;
+  }
+  return RL_OK;
+}
+
+int runrec_restore_list(const run_record *rec, scene *s)
+{
+  const int n = rl_system_count(s->sys);
+  if (rec->list_count != n || n <= 0) return RL_OK;
+  double(*r0)[3] = malloc(sizeof *r0 * (size_t)n);
+  if (!r0) return rl_error(RL_ENOMEM, "out of memory");
+  memcpy(r0, rec->list, sizeof *r0 * (size_t)n);
+  int st = rl_forcefield_set_list_origin(s->ff, (const double(*)[3])r0);
+  if (!st && rec->has_list_box) st = rl_forcefield_set_list_box(s->ff, rec->list_box); /* kept through a barostat's moves */
+  free(r0);
+  return st;
+}
+
+int runrec_restore(const run_record *rec, scene *s, rl_integrator *in, int reseed, const char *path)
+{
+  if (rec->rng_size != rl_integrator_rng_size(in))
+    return rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %zu bytes, this run needs %zu)",
+                    path, rec->rng_size, rl_integrator_rng_size(in));
+  int st = runrec_restore_list(rec, s);
+  if (!st) st = rl_integrator_resume(in, s->step0, s->t0);
+  if (st) return st;
+  if (rec->rng_size && !reseed) memcpy(rl_integrator_rng_state(in), rec->rng, rec->rng_size);
+  rl_integrator_set_thermostat_work(in, rec->thermo_work);
+  return load_ops(in, rec, path);
+}
+
+int runrec_other_simulation(const run_record *rec, const char *physics, rl_thermostat thermostat, char *diff, size_t cap)
+{
+  diff[0] = '\0';
+  if (rec->version >= 5) return runrec_physics_diff(rec->physics, rec->physics_len, physics, 0, diff, cap) > 0;
+  if (rec->version >= 2 ? rec->thermostat == (long)thermostat : (rec->rng_size > 0) == (thermostat >= RL_THERMO_BUSSI))
+    return 0;
+  snprintf(diff, cap, "run.ensemble: %s -> %s",
+           rec->thermostat >= 0 ? rl_thermostat_name((rl_thermostat)rec->thermostat) : "?", rl_thermostat_name(thermostat));
+  return 1;
+}

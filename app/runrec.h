@@ -79,4 +79,23 @@ char *runrec_physics(const rl_deck *d);
 int runrec_write_checkpoint(const char *path, const rl_system *sys, const rl_forcefield *ff, rl_integrator *in,
                             run_record *r, long step, double time);
 
+/* The lines of the PHYS text old (len bytes) that now_text gives otherwise, as "key: X -> Y; ..."
+ * in msg (cap bytes); their number.  outputs_only: the output.* lines only (the sampling of the
+ * files), else the others (the simulation). */
+int runrec_physics_diff(const char *old, size_t len, const char *now_text, int outputs_only, char *msg, size_t cap);
+/* 1 if the record's run is another simulation than the one of the deck settings `physics`
+ * (runrec_physics) with this thermostat, the differences in diff (cap bytes): the PHYS lines
+ * other than output.* (version 5), the thermostat (older records); else 0. */
+int runrec_other_simulation(const run_record *rec, const char *physics, rl_thermostat thermostat, char *diff, size_t cap);
+/* The neighbour list the record's run had, its origin (and its box under a barostat), set on the
+ * scene's force field before the first force computation, so that the pair sums keep their
+ * order. */
+int runrec_restore_list(const run_record *rec, scene *s);
+/* A continuation: the record's state into `in`, the production integrator of the scene built
+ * from its checkpoint: the neighbour list, `in` resumed at the start's step and time, the
+ * thermostat's random state (with reseed, `in` keeps the new stream of its own seed), its account
+ * and every step operator's state (a barostat's).  RL_EINVAL naming path when the record is not
+ * this integrator's (another thermostat, an operator's state missing). */
+int runrec_restore(const run_record *rec, scene *s, rl_integrator *in, int reseed, const char *path);
+
 #endif

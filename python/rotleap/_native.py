@@ -49,6 +49,7 @@ def _load():
         "rlpy_traj_skip": (ctypes.c_long, [P]),
         "rlpy_real_units": (ctypes.c_int, [P]),
         "rlpy_model": (ctypes.c_char_p, [P]),
+        "rlpy_note": (ctypes.c_char_p, [P]),
         "rlpy_fallbacks": (ctypes.c_long, [P]),
         "rlpy_kind": (ctypes.c_int, [P]),
         "rlpy_nenergies": (ctypes.c_int, [P]),

@@ -51,6 +51,9 @@ typedef struct {
   analysis *an;            /* rotleap run's analysis, journaled to `journal` (or NULL)  */
   FILE *journal;
   char *text;              /* the last rlpy_thermo_header or rlpy_thermo_row (malloc'd) */
+  char note[RL_DECK_PATH_MAX + 4096 + 256]; /* what the start did, as rotleap run notes it on stderr:
+                              a checkpoint of other settings started a new run, a new run.seed
+                              a new random stream ("" if nothing)                        */
 } rlpy_sim;
 
 typedef struct {
@@ -77,6 +80,52 @@ RLPY_API void rlpy_close(rlpy_sim *p)
   free(p);
 }
 
+/* A checkpoint start, as rotleap run decides it (app/run.c, decide_continuation): the run of the
+ * same settings continues with its run record (*cont = 1); one of other settings gives only its
+ * state, completed to on-step, to a new run from step 0 (a note says so); a checkpoint written
+ * during the relaxation is refused (rotleap run finishes that relaxation). */
+static int start_record(rlpy_sim *p, run_record *rec, int *cont)
+{
+  const rl_deck *d = &p->d;
+  *cont = 0;
+  int st = runrec_decode(p->s.blob, p->s.blob_size, rl_system_count(p->s.sys), d->start, rec);
+  if (st) return st;
+  if (rec->relax_step >= 0)
+    return rl_error(RL_EINVAL, "%s was written during the relaxation (run.equilibrate, at its step %ld): `rotleap run` "
+                    "with system.start = %s finishes it; start the simulation from the checkpoint that run writes",
+                    d->start, rec->relax_step, d->start);
+  char diff[4096];
+  if (runrec_other_simulation(rec, p->physics, d->thermostat, diff, sizeof diff)) {
+    snprintf(p->note, sizeof p->note, "%s was written by a run with other settings (%s): a new run from its state "
+             "(step 0; v and l completed to on-step with run.timestep = %g)", d->start, diff, d->timestep);
+    st = scene_onstep(d, &p->s);
+    p->s.restart = 0;
+    return st;
+  }
+  *cont = 1;
+  return RL_OK;
+}
+
+/* The run record of a checkpoint start into the production integrator (start_record's *cont):
+ * the neighbour list, random states, accounts and barostat state, the averages and the watch, so
+ * that the simulation goes on bit for bit as `rotleap run`'s continuation does. */
+static int continue_record(rlpy_sim *p, const run_record *rec)
+{
+  const rl_deck *d = &p->d;
+  const int reseed = rec->version >= 2 && rec->rng_size && rec->seed != d->thermostat_seed;
+  const int st = runrec_restore(rec, &p->s, p->in, reseed, d->start);
+  if (st) return st;
+  if (reseed)
+    snprintf(p->note, sizeof p->note, "run.seed = %lu differs from the seed %lu of the run that wrote %s: the %s "
+             "thermostat continues with a new random stream from seed %lu (not bit for bit with a continuation that "
+             "keeps seed %lu)", d->thermostat_seed, rec->seed, d->start, rl_thermostat_name(d->thermostat),
+             d->thermostat_seed, rec->seed);
+  const running *avg[6] = {&rec->E, &rec->U, &rec->T, &rec->Tt, &rec->Tr, &rec->P};
+  for (int k = 0; k < 6; k++) p->avg[k] = *avg[k];
+  if (rec->has_watch) p->watch = rec->watch;
+  return RL_OK;
+}
+
 /* The deck at `path` with the overrides sets[nsets] ("section.key=value"): the scene, the
  * relaxation (run.equilibrate) and the production integrator, at the step the start gives (0,
  * or a checkpoint's).  NULL with the deck's problems, one a line, or the library's message. */
@@ -99,16 +148,23 @@ RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
   }
   free(msg);
   rl_error_clear();
+  rl_watch_init(&p->watch);
+  if (!(p->physics = runrec_physics(&p->d))) {
+    rl_error(RL_ENOMEM, "out of memory");
+    rlpy_close(p);
+    return NULL;
+  }
+  run_record rec;
+  int cont = 0;
   int st = scene_build(&p->d, &p->s) ? RL_EINVAL : RL_OK;
+  if (!st && p->s.restart) st = start_record(p, &rec, &cont);
   if (!st && !p->s.restart) st = scene_relax(&p->d, &p->s);
   if (!st) {
     rl_integrator_params ip;
     scene_integrator_params(&p->d, SCENE_RUN, &ip);
     p->in = rl_integrator_alloc(p->s.sys, &ip, rl_terms_provider(p->s.terms));
     st = !p->in ? RL_EINVAL : scene_add_barostat(&p->d, p->in); /* run.barostat, as rotleap run adds it */
-    /* a checkpoint holds v and l at half steps: continue from them (without the run record's
-     * random states and list origin, so not bit for bit with `rotleap run`'s continuation) */
-    if (!st) st = p->s.restart ? rl_integrator_resume(p->in, p->s.step0, p->s.t0) : rl_integrator_init(p->in);
+    if (!st) st = cont ? continue_record(p, &rec) : rl_integrator_init(p->in);
   }
   if (st) {
     if (!rl_last_error()[0]) rl_error(st, "cannot build the simulation of %s", path);
@@ -116,14 +172,11 @@ RLPY_API rlpy_sim *rlpy_open(const char *path, char **sets, int nsets)
     return NULL;
   }
   p->step = p->s.restart ? p->s.step0 : 0;
-  rl_watch_init(&p->watch);
-  if (!(p->physics = runrec_physics(&p->d))) {
-    rl_error(RL_ENOMEM, "out of memory");
-    rlpy_close(p);
-    return NULL;
-  }
   return p;
 }
+
+/* The note of the start (rlpy_sim.note): "" if nothing to say. */
+RLPY_API const char *rlpy_note(const rlpy_sim *p) { return p->note; }
 
 /* ------------------------------------------------------------------------------ queries */
 

@@ -3,6 +3,7 @@ import ctypes
 import os
 import tempfile
 import threading
+import warnings
 
 import numpy as np
 
@@ -114,6 +115,9 @@ class Simulation:
             if tmp:
                 tmp.cleanup()
         self._h = h
+        note = lib.rlpy_note(h).decode()
+        if note:  # what `rotleap run` notes on stderr for this start
+            warnings.warn(note, RuntimeWarning, stacklevel=2)
         self.count = lib.rlpy_count(h)
         self._nrot = lib.rlpy_nrot(h)
         self.kind = _KINDS.get(lib.rlpy_kind(h), "?")

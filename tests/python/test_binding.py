@@ -4,12 +4,13 @@ import os
 import signal
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
 
 import rotleap
-from conftest import MIXTURE, example, run_cli
+from conftest import MIXTURE, cli_deck, example, run_cli
 
 # short versions of the examples: Stockmayer (point dipoles, reduced units, Bussi) and TIP4P
 # (asymmetric tops, real units, Bussi; pressure in bar), each with its relaxation
@@ -338,6 +339,60 @@ def test_rotleap_run_continues_a_python_checkpoint(cli, tmp_path):
         assert (tmp_path / ("py." + ext)).read_bytes() == (tmp_path / ("whole." + ext)).read_bytes(), ext
 
 
+
+
+# 64 Stockmayer dipoles (reduced units) under each kind of random stream a run record carries
+CONTINUE = {"system.count": 64, "run.ensemble": "nvt-bussi", "run.temperature": 1.35, "run.tau": 0.2,
+            "run.timestep": 0.004, "output.thermo_every": 5, "output.energy_every": 1}
+CONTINUE_CASES = {"bussi": {}, "langevin": {"run.ensemble": "nvt-langevin"},
+                  "barostat-mc": {"run.barostat": "mc", "run.pressure": 1.0, "run.barostat_interval": 5},
+                  "barostat-c-rescale": {"run.barostat": "c-rescale", "run.pressure": 1.0, "run.barostat_interval": 2,
+                                         "run.tau_p": 0.5, "run.compressibility": 0.1}}
+
+
+@pytest.mark.parametrize("case", sorted(CONTINUE_CASES))
+def test_python_continues_a_rotleap_run_checkpoint(cli, tmp_path, case):
+    """A Simulation started from `rotleap run`'s checkpoint at step 30 continues that run with its
+    run record (the thermostat's random stream and account, the barostat's stream and trial
+    size, the neighbour list's origin, the averages): 30 more steps from Python give rotleap run's
+    60-step state bit for bit, and a checkpoint whose BOOK (averages, thermostat account), RNG and
+    OPST (the barostat's state) sections are rotleap run's.  (Before, the state went on without
+    the record: the random streams started again from the seed.)"""
+    deck = cli_deck("stockmayer_short.ini")
+    sets = dict(CONTINUE, **CONTINUE_CASES[case])
+    run_cli(cli, deck, tmp_path, *sets_of(sets), "run.steps=60", "output.prefix=whole")
+    run_cli(cli, deck, tmp_path, *sets_of(sets), "run.steps=30", "output.prefix=half")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the same settings: nothing to note
+        sim = rotleap.Simulation(deck, set=dict(sets, **{"run.steps": 60, "system.start": str(tmp_path / "half.chk")}))
+    assert sim.current_step == 30
+    chk = rotleap.CheckpointReporter(tmp_path / "py.chk", journal=False)
+    sim.run(30, reporters=[chk])
+    chk.close()
+    _, whole, rec_w = checkpoint_parts(tmp_path / "whole.chk")
+    _, py, rec_p = checkpoint_parts(tmp_path / "py.chk")
+    assert py == whole
+    for tag in ("BOOK", "RNG ", "OPST", "LIST"):
+        assert rec_p.get(tag) == rec_w.get(tag), tag
+    assert "RNG " in rec_w and ("OPST" in rec_w) == case.startswith("barostat")
+
+
+def test_checkpoint_of_other_settings_starts_a_new_run(cli, tmp_path):
+    """As rotleap run under another prefix: a checkpoint of other settings gives its state to a
+    new run from step 0, with a warning naming the setting; a new run.seed continues the run with
+    a new random stream, with a warning; a checkpoint that is not one is an Error naming it."""
+    deck = cli_deck("stockmayer_short.ini")
+    run_cli(cli, deck, tmp_path, *sets_of(CONTINUE), "run.steps=30", "output.prefix=half")
+    start = {"run.steps": 60, "system.start": str(tmp_path / "half.chk")}
+    with pytest.warns(RuntimeWarning, match=r"other settings \(run.tau: 0.2 reduced -> 0.5 reduced\): a new run from its state"):
+        sim = rotleap.Simulation(deck, set=dict(CONTINUE, **start, **{"run.tau": 0.5}))
+    assert sim.current_step == 0
+    with pytest.warns(RuntimeWarning, match=r"run.seed = 7 differs .* new random stream from seed 7"):
+        sim = rotleap.Simulation(deck, set=dict(CONTINUE, **start, **{"run.seed": 7}))
+    assert sim.current_step == 30
+    (tmp_path / "bad.chk").write_bytes((tmp_path / "half.chk").read_bytes()[:-40])
+    with pytest.raises(rotleap.Error, match="bad.chk"):
+        rotleap.Simulation(deck, set=dict(CONTINUE, **dict(start, **{"system.start": str(tmp_path / "bad.chk")})))
 
 
 def test_mixture_same_run_as_cli(cli, tmp_path):
