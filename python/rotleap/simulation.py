@@ -81,7 +81,10 @@ class Report:
 class Simulation:
     """The simulation a deck describes, built as `rotleap run` builds it: the system in its
     starting state, the interactions, the relaxation (run.equilibrate) already done, and the
-    production integrator at step 0 (or at a checkpoint's step).
+    production integrator at step 0, or, from a checkpoint of the same settings (system.start),
+    at its step with its run record (random streams, barostat state, averages): the run goes on
+    bit for bit as `rotleap run`'s continuation.  A checkpoint of other settings starts a new run
+    from its state (RuntimeWarning).
 
     Simulation(path, set={"run.steps": 100}) or Simulation(text=DECK_TEXT); `set` holds deck
     overrides as `--set` gives them.  Relative paths in a deck are relative to the working
