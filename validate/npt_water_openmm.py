@@ -85,6 +85,21 @@ def density(n, V):
     return n * M_WATER * AMU_NM3_TO_G_CM3 / V
 
 
+def tau_int(x, dt):
+    """The integrated autocorrelation time of the series x sampled every dt (the sum of its
+    normalised autocorrelation up to where it first falls below 0.05): the blocks of 1 ns / --blocks
+    must be much longer for their means to be independent."""
+    x = [v - sum(x) / len(x) for v in x]
+    n, var = len(x), sum(v * v for v in x) / len(x)
+    tau = 0.5
+    for k in range(1, n // 2):
+        c = sum(x[i] * x[i + k] for i in range(n - k)) / ((n - k) * var)
+        if c < 0.05:
+            break
+        tau += c
+    return tau * dt
+
+
 def sh(cmd):
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode:
@@ -261,7 +276,8 @@ def main():
          "%d molecules, PME at tolerance %g, rc %g nm, LJ dispersion correction, Langevin 1/ps, MC barostat every "
          "%d steps; %g ps discarded + %g ns production; errors from %d block means." % (
              args.count, args.tolerance, args.cutoff, INTERVAL, args.eq_ps, args.ns, args.blocks), "",
-         "| model | code | h (fs) | <ρ> (g/cm³) | z | published | run (s) |", "|---|---|---|---|---|---|---|"]
+         "| model | code | h (fs) | <ρ> (g/cm³) | z | τ_ρ (ps) | published | run (s) |",
+         "|---|---|---|---|---|---|---|---|"]
     ok, judged = True, True
     for m in models:
         om = next((r for r in res if r["model"] == m and r["code"] == "openmm"), {})
@@ -270,7 +286,7 @@ def main():
             judged = False
         for r in [x for x in res if x["model"] == m]:
             if "error" in r:
-                L.append("| %s | %s | %g | failed: %s | | | |" % (m, r["code"], r["h"], r["error"]))
+                L.append("| %s | %s | %g | failed: %s | | | | |" % (m, r["code"], r["h"], r["error"]))
                 ok = False
                 continue
             ref = om if r["code"] == "rotleap" and r["h"] == 2.0 else rl2 if r["code"] == "rotleap" else None
@@ -280,9 +296,11 @@ def main():
                 if ref is om:
                     ok = ok and abs(float(z)) <= 2
             pub = PUBLISHED.get(m)
-            L.append("| %s | %s | %g | %.4f ± %.4f | %s | %s | %.0f |" % (
-                m, r["code"], r["h"], r["mean"][0], r["mean"][1], z, "%g (%s)" % pub if pub else "", r["wall"]))
-    L += ["", "z: rotleap 2 fs against OpenMM; rotleap at other steps against rotleap 2 fs. rotleap's density at 2 fs "
+            L.append("| %s | %s | %g | %.4f ± %.4f | %s | %.1f | %s | %.0f |" % (
+                m, r["code"], r["h"], r["mean"][0], r["mean"][1], z, tau_int(r["rho"], args.every_ps),
+                "%g (%s)" % pub if pub else "", r["wall"]))
+    L += ["", "τ_ρ: the density's integrated autocorrelation time (the blocks must be much longer). "
+          "z: rotleap 2 fs against OpenMM; rotleap at other steps against rotleap 2 fs. rotleap's density at 2 fs "
           "within 2 combined errors of OpenMM's for every model: **%s**." % (
               ("yes" if ok else "no") if judged else "not judged (a model without both runs)")]
     text = "\n".join(L) + "\n"
