@@ -776,15 +776,10 @@ static int restore_record(run_ctx *c, const run_record *rec)
 {
   const rl_deck *d = c->d;
   scene *s = &c->s;
-  /* a changed run.seed asks for a new random stream: the integrator was seeded with it */
-  const int reseed = rec->version >= 2 && rec->rng_size && rec->seed != d->thermostat_seed;
-  int st = runrec_restore(rec, s, c->in, reseed, d->start);
+  char note[RL_DECK_PATH_MAX + 512];
+  const int st = runrec_restore(rec, s, c->in, d->thermostat_seed, d->start, note, sizeof note);
   if (st) return st;
-  if (reseed)
-    fprintf(stderr, "rotleap run: run.seed = %lu differs from the seed %lu of the run that wrote %s: the "
-                    "%s thermostat continues with a new random stream from seed %lu (not bit for bit "
-                    "with a continuation that keeps seed %lu)\n", d->thermostat_seed, rec->seed, d->start,
-            rl_thermostat_name(d->thermostat), d->thermostat_seed, rec->seed);
+  if (note[0]) fprintf(stderr, "rotleap run: %s\n", note);
   c->E = rec->E; c->U = rec->U; c->T = rec->T; c->Tt = rec->Tt; c->Tr = rec->Tr; c->P = rec->P;
   if (rec->has_watch) c->watch = rec->watch;
   c->last_chk = s->step0;

@@ -635,15 +635,22 @@ int runrec_restore_list(const run_record *rec, scene *s)
   return st;
 }
 
-int runrec_restore(const run_record *rec, scene *s, rl_integrator *in, int reseed, const char *path)
+int runrec_restore(const run_record *rec, scene *s, rl_integrator *in, unsigned long seed, const char *path,
+                   char *note, size_t cap)
 {
+  note[0] = '\0';
   if (rec->rng_size != rl_integrator_rng_size(in))
     return rl_error(RL_EINVAL, "%s was written with another thermostat (random state of %zu bytes, this run needs %zu)",
                     path, rec->rng_size, rl_integrator_rng_size(in));
   int st = runrec_restore_list(rec, s);
   if (!st) st = rl_integrator_resume(in, s->step0, s->t0);
   if (st) return st;
-  if (rec->rng_size && !reseed) memcpy(rl_integrator_rng_state(in), rec->rng, rec->rng_size);
+  const int reseed = rec->version >= 2 && rec->rng_size && rec->seed != seed;
+  if (reseed)
+    snprintf(note, cap, "run.seed = %lu differs from the seed %lu of the run that wrote %s: the %s thermostat continues "
+             "with a new random stream from seed %lu (not bit for bit with a continuation that keeps seed %lu)", seed,
+             rec->seed, path, rl_thermostat_name((rl_thermostat)rec->thermostat), seed, rec->seed);
+  else if (rec->rng_size) memcpy(rl_integrator_rng_state(in), rec->rng, rec->rng_size);
   rl_integrator_set_thermostat_work(in, rec->thermo_work);
   return load_ops(in, rec, path);
 }

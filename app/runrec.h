@@ -93,9 +93,11 @@ int runrec_other_simulation(const run_record *rec, const char *physics, rl_therm
 int runrec_restore_list(const run_record *rec, scene *s);
 /* A continuation: the record's state into `in`, the production integrator of the scene built
  * from its checkpoint: the neighbour list, `in` resumed at the start's step and time, the
- * thermostat's random state (with reseed, `in` keeps the new stream of its own seed), its account
- * and every step operator's state (a barostat's).  RL_EINVAL naming path when the record is not
- * this integrator's (another thermostat, an operator's state missing). */
-int runrec_restore(const run_record *rec, scene *s, rl_integrator *in, int reseed, const char *path);
+ * thermostat's random state, its account and every step operator's state (a barostat's).  A
+ * run.seed other than the record's (`seed`) asks for a new random stream: `in` keeps the one of
+ * its own seed, and note (cap bytes) says so ("" otherwise).  RL_EINVAL naming path when the
+ * record is not this integrator's (another thermostat, an operator's state missing). */
+int runrec_restore(const run_record *rec, scene *s, rl_integrator *in, unsigned long seed, const char *path,
+                   char *note, size_t cap);
 
 #endif

@@ -112,14 +112,8 @@ static int start_record(rlpy_sim *p, run_record *rec, int *cont)
 static int continue_record(rlpy_sim *p, const run_record *rec)
 {
   const rl_deck *d = &p->d;
-  const int reseed = rec->version >= 2 && rec->rng_size && rec->seed != d->thermostat_seed;
-  const int st = runrec_restore(rec, &p->s, p->in, reseed, d->start);
+  const int st = runrec_restore(rec, &p->s, p->in, d->thermostat_seed, d->start, p->note, sizeof p->note);
   if (st) return st;
-  if (reseed)
-    snprintf(p->note, sizeof p->note, "run.seed = %lu differs from the seed %lu of the run that wrote %s: the %s "
-             "thermostat continues with a new random stream from seed %lu (not bit for bit with a continuation that "
-             "keeps seed %lu)", d->thermostat_seed, rec->seed, d->start, rl_thermostat_name(d->thermostat),
-             d->thermostat_seed, rec->seed);
   const running *avg[6] = {&rec->E, &rec->U, &rec->T, &rec->Tt, &rec->Tr, &rec->P};
   for (int k = 0; k < 6; k++) p->avg[k] = *avg[k];
   if (rec->has_watch) p->watch = rec->watch;
